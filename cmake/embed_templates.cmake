@@ -1,0 +1,12 @@
+# Writes OUT: a C++ file defining mbsc::emit::template_text(name) over every DIR/*.in.
+file(GLOB files ${DIR}/*.in)
+list(SORT files)
+set(body "// Generated from templates/*.in by cmake/embed_templates.cmake. Do not edit.\n#include <stdexcept>\n#include <string>\nnamespace mbsc::emit {\nconst std::string& template_text(const std::string& name) {\n")
+foreach(f ${files})
+  get_filename_component(n ${f} NAME)
+  file(READ ${f} content)
+  set(body "${body}  if (name == \"${n}\") { static const std::string s = R\"mbsc_tpl(${content})mbsc_tpl\"; return s; }\n")
+endforeach()
+set(body "${body}  throw std::runtime_error(\"no template named \" + name);\n}\n}  // namespace mbsc::emit\n")
+file(WRITE ${OUT}.tmp "${body}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different ${OUT}.tmp ${OUT})

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The CLI subcommands. Each returns the process exit code: 0 ok, 1 user error
+/// (diagnostics printed to stderr), 2 internal error.
+#include <iosfwd>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace mbsc::driver {
+
+struct CheckArgs {
+  std::string model;
+};
+int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err);
+
+struct PrintArgs {
+  std::string model;
+  std::string node;                 // "" = root; a dotted subsystem name
+  std::vector<std::string> what;    // A B C S f fbar M h eom (empty: a default set)
+  bool latex = false;
+  bool stats = false;
+  std::map<std::string, double> frozen;
+  std::set<std::string> functions;  // for --stats with --outputs
+};
+int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err);
+
+struct GenerateArgs {
+  std::string model;
+  std::string out_dir;              // files go to out_dir/<model name>/
+  std::set<std::string> functions;  // --outputs
+  std::map<std::string, double> frozen;
+  std::string name;                 // --name (default: the model's name)
+};
+int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
+
+/// Parses "name=value" (for --freeze). Returns false on malformed text.
+bool parse_assignment(const std::string& text, std::string& name, double& value);
+
+}  // namespace mbsc::driver

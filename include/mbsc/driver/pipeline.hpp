@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The whole compiler as one call per stage group: model file -> Model -> Eom ->
+/// functions -> files. Only the CLI touches the file system for output.
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/emit/generated_model.hpp"
+#include "mbsc/ir/function_spec.hpp"
+#include "mbsc/model/model.hpp"
+#include "mbsc/sym/eom.hpp"
+
+namespace mbsc::driver {
+
+/// Every function generate can emit, in emission order.
+const std::vector<std::string>& all_function_names();
+
+struct GenerateOptions {
+  std::set<std::string> functions;        // empty: all that the model defines
+  std::map<std::string, double> frozen;   // --freeze name=value
+  std::string name;                       // --name: C++ namespace and file stem (default: the model's name)
+};
+
+/// Parses and builds a model file (includes resolved). nullopt on error.
+std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags);
+
+/// Expression with component formals and frozen parameters substituted.
+GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e);
+
+/// The FunctionSpecs of the requested functions and their input bindings.
+std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                             Diagnostics& diags);
+std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom);
+
+/// Model + Eom -> everything the emitter prints.
+std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                             Diagnostics& diags);
+
+/// 64-bit FNV-1a of a text, as 16 hex digits (banner hash of the model source).
+std::string text_hash(const std::string& text);
+
+}  // namespace mbsc::driver

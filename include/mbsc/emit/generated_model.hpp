@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Everything the emitter prints for one model, and the printed files.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mbsc/ir/program.hpp"
+
+namespace mbsc::emit {
+
+struct GeneratedModel {
+  std::string name;          // model name: C++ namespace and file stem
+  std::string source_hash;   // hex digest of the model text (banner)
+  std::string tool_version;  // banner
+  std::vector<std::string> banner_notes;  // extra banner lines ("frozen: g = 0")
+  std::vector<std::pair<std::string, long>> int_constants;                        // {"kNq", 3}
+  std::vector<std::pair<std::string, std::vector<std::string>>> name_lists;       // {"kStateNames", {...}}
+  std::vector<std::pair<std::string, std::vector<double>>> double_lists;          // {"kParamDefaults", {...}}
+  std::vector<ir::LoweredFunction> functions;
+};
+
+struct GeneratedFiles {
+  std::string header;  // <name>.hpp
+  std::string source;  // <name>.cpp
+};
+
+/// Renders templates/model.hpp.in and templates/model.cpp.in.
+GeneratedFiles emit(const GeneratedModel& model);
+
+/// Shortest decimal text that reads back as the same double ("0.1", "1e-12", "3").
+std::string format_double(double v);
+
+}  // namespace mbsc::emit

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// What the symbolic core hands to the back end: for each emitted function, a list of
+/// steps (symbol definitions and numeric linear solves) and the expressions of its
+/// outputs. The back end lowers this to a Program (CSE, trig hoisting, dead code
+/// dropped) and prints it; it never simplifies the mathematics.
+#include <ginac/ginac.h>
+
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace mbsc::ir {
+
+/// Where an input symbol's value comes from in the emitted C++ ("x[3]", "p[0]", "t").
+struct Binding {
+  GiNaC::symbol sym;
+  std::string cpp;
+};
+
+/// sym := value. The value may use bindings and symbols defined by earlier steps.
+struct Define {
+  GiNaC::symbol sym;
+  GiNaC::ex value;
+};
+
+/// X = A^-1 B, solved numerically in the generated code (LU with partial pivoting).
+/// A: n x n row-major, B: n x k row-major, X: n x k row-major result symbols.
+/// The emitted function returns status 1 when A is singular to working precision.
+struct Solve {
+  std::string label;  // what is solved, for comments ("node R: dependent block B*")
+  int n = 0;
+  int k = 0;
+  std::vector<GiNaC::ex> A;
+  std::vector<GiNaC::ex> B;
+  std::vector<GiNaC::symbol> X;
+};
+
+using Step = std::variant<Define, Solve>;
+
+/// One emitted function:
+///   int NAME(double t, const double* x, const double* u, const double* p, double* OUT)
+/// OUT[i] = outputs[i] (row-major for matrices). Returns 0, 1 (singular solve) or
+/// 2 (a non-finite output).
+struct FunctionSpec {
+  std::string name;       // "rhs"
+  std::string doc;        // one-line description for the header ("state derivative xdot = f(t, x, u, p)")
+  std::string out_name;   // "xdot"
+  std::string out_shape;  // "kNx" or "kNdof*kNdof" (text for the header comment)
+  std::vector<Step> steps;
+  std::vector<GiNaC::ex> outputs;
+};
+
+}  // namespace mbsc::ir

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The validated, indexed subsystem tree. Immutable after build(). Every user
+/// expression is already a GiNaC expression over the symbols of `symbols`.
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+
+namespace mbsc::model {
+
+enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom };
+const char* to_string(LeafKind kind);
+
+/// A generalized coordinate (q0) or quasi-velocity (q1).
+struct Variable {
+  std::string name;  // full dotted path: "left.upper.theta"
+  int node = 0;      // owning node
+  GiNaC::symbol sym;
+  SourcePos pos;
+};
+
+/// A constraint invariant, stored as a residual g == 0.
+///   Position: g(t, q0)          Velocity: g(t, q0, q1) (affine in q1 unless nonlinear)
+struct Constraint {
+  enum class Level { Position, Velocity };
+  std::string name;  // label, or "<node>.<level>[k]"
+  int node = 0;
+  Level level = Level::Position;
+  bool nonlinear = false;
+  GiNaC::ex residual;
+  SourcePos pos;
+};
+
+/// A generalized effective force along a quasi-velocity. May contain the acceleration
+/// symbols (q1dot) of custom leaves; body inertia and gravity are added by sym.
+struct Force {
+  int speed = 0;  // index into Model::speeds
+  GiNaC::ex value;
+  SourcePos pos;
+};
+
+struct NamedExpr {
+  std::string name;
+  GiNaC::ex value;
+  SourcePos pos;
+};
+
+/// A component instance's formal parameter: a symbol bound to the argument expression.
+struct Formal {
+  GiNaC::symbol sym;
+  GiNaC::ex value;
+};
+
+/// One node of the subsystem tree.
+struct Node {
+  std::string name;  // dotted path; "" for the root
+  SourcePos pos;
+  int parent = -1;
+  std::vector<int> children;
+  LeafKind kind = LeafKind::Node;
+  std::string component;      // component name when this node instantiates one, else ""
+  int instance_of = -1;       // earlier node instantiating the same component, or -1
+  std::vector<int> coords;    // own coordinates (leaf variables or extra ⊕ coordinates)
+  std::vector<int> speeds;    // own quasi-velocities
+  std::vector<int> constraints;  // constraints declared at this node (leaf or ⊕ invariants)
+  std::vector<int> independent;  // chosen independent speeds (empty: automatic)
+  SourcePos independent_pos;
+  GiNaC::ex mass, inertia;    // bodies
+  SourcePos mass_pos;
+  GiNaC::ex kinetic, potential;  // user-given energy terms (0 when absent)
+  bool has_kinetic = false;
+};
+
+/// The whole model. Arrays are index-aligned; nodes are stored in post-order
+/// (children before parents, root last).
+struct Model {
+  std::string name;
+  std::string source_text_hash;
+  std::vector<Node> nodes;
+  std::vector<Variable> coords;   // q0
+  std::vector<Variable> speeds;   // q1
+  std::vector<GiNaC::symbol> speed_dots;  // q1dot, aligned with speeds
+  /// Explicit kinematic transformations: d/dt coords[i] = coord_rates[i](t, q0, q1).
+  std::vector<GiNaC::ex> coord_rates;
+  std::vector<Constraint> constraints;
+  std::vector<Force> forces;
+  std::vector<NamedExpr> outputs;
+  bool output_energy = false;
+  std::vector<Variable> params;
+  std::vector<double> param_defaults;
+  std::vector<Variable> inputs;
+  GiNaC::symbol time{"t"};
+  std::vector<GiNaC::ex> gravity;  // 2 or 3 components, empty when none
+  std::map<std::string, Formal> formals;  // by symbol name
+  int root() const { return static_cast<int>(nodes.size()) - 1; }
+};
+
+}  // namespace mbsc::model

@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The syntax tree of a model file. It mirrors the text: user names and nesting are kept,
+/// and every node carries the SourcePos of its first token. No name is resolved here.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+
+namespace mbsc::ast {
+
+struct Expr;
+using ExprPtr = std::shared_ptr<const Expr>;
+
+/// An expression of the model language.
+///   Number  text = literal as written ("0.15", "2", "1e-3")
+///   Name    text = dotted path as written ("m1", "R.u", "left.upper.theta", "t")
+///   Call    text = function name ("sin"), args = arguments
+///   Unary   text = "-" or "+", args = {operand}
+///   Binary  text = "+", "-", "*", "/", "^", args = {lhs, rhs}
+///   Prime   args = {operand}: time derivative written postfix, x' (only of a Name)
+struct Expr {
+  enum class Kind { Number, Name, Call, Unary, Binary, Prime };
+  Kind kind = Kind::Number;
+  std::string text;
+  std::vector<ExprPtr> args;
+  SourcePos pos;
+};
+
+/// One row of a constraint block: [label ':'] lhs '=' rhs.
+struct Equation {
+  std::string label;  // empty when not given
+  ExprPtr lhs, rhs;
+  SourcePos pos;
+};
+
+/// A dotted reference to a variable or element ("R.u", "crank.angle").
+struct Path {
+  std::string text;
+  SourcePos pos;
+};
+
+struct Statement;
+using StatementPtr = std::shared_ptr<const Statement>;
+
+/// One statement. Which fields are used depends on kind (see the comments).
+struct Statement {
+  enum class Kind {
+    Model,        // model NAME                         name
+    Parameter,    // parameter NAME [= expr]            name, value (may be null)
+    Input,        // input NAME                         name
+    Gravity,      // gravity (gx, gy [, gz])            exprs
+    Include,      // include "file"                     name = file text as written (unquoted)
+    Component,    // component NAME(formals) { body }   name, formals, body
+    Subsystem,    // subsystem NAME [: KIND[(args)]] [{ body }]
+                  //                                    name, kind_name (may be empty), exprs = args, body
+    Coordinate,   // coordinate NAME                    name
+    Speed,        // speed NAME [= expr]                name, value (may be null)
+    Constraint,   // constraint position|velocity [nonlinear] { equations }
+                  //                                    level, nonlinear, equations
+    Force,        // force PATH : expr                  path, value
+    Mass,         // mass expr                          value
+    Inertia,      // inertia expr                       value
+    Kinetic,      // kinetic expr                       value
+    Potential,    // potential expr                     value
+    Independent,  // independent PATH, PATH ...         paths
+    Output,       // output NAME = expr | output energy name, value (null for "output energy")
+  };
+  Kind kind = Kind::Model;
+  SourcePos pos;       // position of the keyword
+  std::string name;    // declared name (or file for Include)
+  SourcePos name_pos;  // position of the name token
+  std::string kind_name;  // Subsystem: leaf kind or component name ("rigid2d", "Arm"); empty for a plain node
+  SourcePos kind_pos;
+  ExprPtr value;
+  std::vector<ExprPtr> exprs;      // Gravity components, Subsystem component arguments
+  std::vector<std::string> formals;  // Component formal parameter names
+  std::vector<SourcePos> formal_pos;
+  std::string level;               // Constraint: "position" or "velocity"
+  bool nonlinear = false;          // Constraint: "nonlinear" given
+  std::vector<Equation> equations; // Constraint rows
+  Path path;                       // Force target
+  std::vector<Path> paths;         // Independent list
+  std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
+  bool has_body = false;
+};
+
+/// A parsed file: its statements in order. Includes are kept as statements; the
+/// parser entry point resolves them (see parse.hpp).
+struct File {
+  std::string path;
+  std::vector<StatementPtr> statements;
+};
+
+}  // namespace mbsc::ast

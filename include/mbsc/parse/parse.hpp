@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Lexer + recursive-descent parser for the model language (docs/language.md).
+#include <optional>
+#include <string>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/parse/ast.hpp"
+
+namespace mbsc::parse {
+
+/// Parses model text. `file` is only used in positions. Include statements are kept
+/// as they are (not resolved). Returns nullopt when any syntax error was reported.
+std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags);
+
+/// Reads and parses a file, splicing top-level `include "x.mbs"` statements in place
+/// (paths relative to the including file). A missing file or a cyclic include is an
+/// error at the include statement. Returns nullopt on any error.
+std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags);
+
+}  // namespace mbsc::parse

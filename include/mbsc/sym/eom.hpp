@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The modular method of thesis Table 4.1, leaves to root, at order sigma = 2
+/// (docs/formulation.md). Letters as in docs/notation.md:
+///   q0 coordinates, q1 quasi-velocities (speeds), q1dot their rates,
+///   y  = (own q1dot, children's independent q1dot)      (the R-reduced variables)
+///   B  = d(order-2 invariants)/dy,  b = invariants at y = 0
+///   C  = orthogonal complement of B (B*C == 0), partitioned on the independent set #
+///   f  = (f_own, fbar_children),  fbar = C^T f
+/// Blocks of B whose inverse would be a configuration-dependent symbolic inverse are
+/// not inverted here: they become numeric LU solves in the generated code (ir::Solve),
+/// and their results appear in later expressions as opaque symbols.
+#include <ginac/ginac.h>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/ir/function_spec.hpp"
+#include "mbsc/model/model.hpp"
+
+namespace mbsc::sym {
+
+/// What was derived at one node of the tree.
+struct NodeResult {
+  int node = 0;
+  std::vector<int> y;            // speeds whose rates form y (own speeds, then children's independent ones)
+  std::vector<int> rows;         // constraint indices, order-2 rows of B
+  std::vector<int> redundant;    // constraints dropped as redundant (warning issued)
+  GiNaC::matrix B;               // rows x ny (may contain opaque symbols of children's solves)
+  GiNaC::matrix b;               // rows x 1
+  std::vector<int> independent;  // speeds chosen as # (subset of y), size ndof
+  std::vector<int> dependent;    // speeds eliminated here (⋆)
+  int rank = 0;
+  bool symbolic_complement = true;   // false: B* is solved numerically (see `solve`)
+  GiNaC::matrix C;               // ny x ndof
+  std::vector<GiNaC::ex> f;      // over y (accelerations of dependent entries substituted)
+  std::vector<GiNaC::ex> fbar;   // over independent (ndof)
+  /// q1dot of each dependent speed in terms of the node's y# (dependent -> expression).
+  std::map<int, GiNaC::ex> dependent_rates;
+  std::vector<ir::Solve> solves;  // numeric solves this node adds (0 or 1)
+  bool from_component_cache = false;
+};
+
+struct Options {
+  std::map<std::string, double> frozen;  // parameter name -> value folded into the code
+};
+
+/// Derived equations of a whole model.
+struct Eom {
+  const model::Model* model = nullptr;
+  Options options;
+  std::vector<NodeResult> nodes;   // aligned with model.nodes (post-order)
+  std::vector<int> independent;    // root's independent speeds (size ndof)
+  GiNaC::matrix M;                 // ndof x ndof, M(q0, q1, t) with fbar_root = -M z' + h
+  GiNaC::matrix h;                 // ndof x 1
+  std::vector<ir::Solve> solves;   // all numeric solves of the tree, leaves to root
+  std::vector<ir::Define> top_down;  // dependent q1dot, root to leaves
+  GiNaC::ex kinetic, potential;    // energy terms (valid when has_energy)
+  bool has_energy = false;
+  std::map<std::string, double> param_values;  // defaults, with frozen values
+  std::vector<int> free_params;    // parameters left in p[] (not frozen)
+  int ndof() const { return static_cast<int>(independent.size()); }
+};
+
+/// Runs the recursive algorithm. Reports rank problems, redundant or inconsistent
+/// constraints and unusable independent sets at the constraint or `independent`
+/// statement. Returns nullopt on error.
+std::optional<Eom> derive(const model::Model& model, const Options& options, Diagnostics& diags);
+
+/// d/dt of an expression in (t, q0, q1) along the model's kinematics, with q1dot symbols.
+GiNaC::ex time_derivative(const model::Model& model, const GiNaC::ex& e);
+
+/// Order-1 form of every constraint (position constraints differentiated once), in model order.
+std::vector<GiNaC::ex> velocity_residuals(const model::Model& model);
+
+}  // namespace mbsc::sym

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// A fixed, generic numeric configuration of a model ("probe point"): every coordinate,
+/// speed, input and t gets a deterministic pseudo-random value, parameters their
+/// defaults. Used to decide ranks and independent sets; never emitted.
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+
+#include "mbsc/model/model.hpp"
+
+namespace mbsc::sym {
+
+class Probe {
+ public:
+  Probe(const model::Model& model, const std::map<std::string, double>& param_values, unsigned seed = 12345);
+  /// Binds an opaque symbol (result of a numeric solve) to its value at the probe point.
+  void bind(const GiNaC::symbol& s, double v) { values_[s] = v; }
+  /// Value of e at the probe point; NaN when it does not evaluate to a real number.
+  double eval(const GiNaC::ex& e) const;
+
+ private:
+  GiNaC::exmap values_;
+};
+
+/// True when e depends on no state (t, q0, q1, q1dot, input) and no opaque symbol,
+/// i.e. it is built from numbers, parameters and component formals only.
+bool is_state_free(const GiNaC::ex& e, const model::Model& model);
+
+}  // namespace mbsc::sym

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds the compiler and the example app, then runs the
+# main job on a shipped model: check it, generate its C++, print its mass matrix,
+# and simulate it with the generated code compiled into the app.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install_deps.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF >/dev/null
+cmake --build build -j"$(nproc)" --target mbsc simulate_double_pendulum
+./build/mbsc check models/double_pendulum.mbs
+./build/mbsc generate models/double_pendulum.mbs -o build/demo
+./build/mbsc print models/double_pendulum.mbs --what M
+./build/apps/simulate_double_pendulum

@@ -1,0 +1,223 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/pipeline.hpp"
+
+#include <fmt/format.h>
+
+#include "mbsc/model/expr_convert.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "mbsc/model/build.hpp"
+#include "mbsc/parse/parse.hpp"
+
+namespace mbsc::driver {
+
+const std::vector<std::string>& all_function_names() {
+  static const std::vector<std::string> names = {"rhs",
+                                                 "mass_matrix",
+                                                 "forcing",
+                                                 "position_constraints",
+                                                 "velocity_constraints",
+                                                 "constraint_jacobian",
+                                                 "energy",
+                                                 "outputs"};
+  return names;
+}
+
+std::string text_hash(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags) {
+  auto file = parse::parse_file(path, diags);
+  if (!file) return std::nullopt;
+  auto m = model::build(*file, diags);
+  if (!m) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  m->source_text_hash = text_hash(ss.str());
+  return m;
+}
+
+GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e) {
+  GiNaC::ex out = e;
+  if (!m.formals.empty()) {
+    GiNaC::exmap formals;
+    for (const auto& [name, f] : m.formals) formals[f.sym] = f.value;
+    // Formals of nested instances may refer to outer formals: substitute to a fixed point.
+    for (int pass = 0; pass < 16; ++pass) {
+      GiNaC::ex next = out.subs(formals);
+      if (next.is_equal(out)) break;
+      out = next;
+    }
+  }
+  GiNaC::exmap frozen;
+  for (const auto& p : m.params) {
+    auto it = eom.options.frozen.find(p.name);
+    if (it != eom.options.frozen.end()) frozen[p.sym] = model::exact_decimal(it->second);
+  }
+  return frozen.empty() ? out : out.subs(frozen);
+}
+
+std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom) {
+  std::vector<ir::Binding> b;
+  b.push_back({m.time, "t"});
+  const size_t nq = m.coords.size();
+  for (size_t i = 0; i < nq; ++i) b.push_back({m.coords[i].sym, fmt::format("x[{}]", i)});
+  for (size_t j = 0; j < m.speeds.size(); ++j) b.push_back({m.speeds[j].sym, fmt::format("x[{}]", nq + j)});
+  for (size_t k = 0; k < m.inputs.size(); ++k) b.push_back({m.inputs[k].sym, fmt::format("u[{}]", k)});
+  for (size_t k = 0; k < eom.free_params.size(); ++k) b.push_back({m.params[eom.free_params[k]].sym, fmt::format("p[{}]", k)});
+  return b;
+}
+
+namespace {
+
+/// Steps shared by rhs, mass_matrix and forcing: every node's numeric solve.
+std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
+  std::vector<ir::Step> steps;
+  for (const auto& s : eom.solves) {
+    ir::Solve f = s;
+    for (auto& e : f.A) e = finalize(m, eom, e);
+    for (auto& e : f.B) e = finalize(m, eom, e);
+    steps.push_back(f);
+  }
+  return steps;
+}
+
+}  // namespace
+
+std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                             Diagnostics& diags) {
+  std::vector<ir::FunctionSpec> specs;
+  for (const auto& name : opt.functions) {
+    if (std::find(all_function_names().begin(), all_function_names().end(), name) == all_function_names().end()) {
+      diags.error(SourcePos{}, fmt::format("--outputs: unknown function '{}' (known: {})", name,
+                                           fmt::join(all_function_names(), ", ")));
+      return {};
+    }
+  }
+  auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
+  const int nd = eom.ndof();
+  auto fin = [&](const GiNaC::ex& e) { return finalize(m, eom, e); };
+
+  if (wanted("rhs")) {
+    ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates)", "xdot", "kNx", solve_steps(m, eom), {}};
+    ir::Solve final_solve;
+    final_solve.label = "reduced mass matrix M z' = h";
+    final_solve.n = nd;
+    final_solve.k = 1;
+    for (int i = 0; i < nd; ++i) {
+      for (int j = 0; j < nd; ++j) final_solve.A.push_back(fin(eom.M(i, j)));
+      final_solve.B.push_back(fin(eom.h(i, 0)));
+      final_solve.X.push_back(m.speed_dots[eom.independent[i]]);
+    }
+    if (nd > 0) f.steps.push_back(final_solve);
+    for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
+    for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
+    for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+    specs.push_back(f);
+  }
+  if (wanted("mass_matrix") && nd > 0) {
+    ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
+                       "M", "kNdof*kNdof", solve_steps(m, eom), {}};
+    for (int i = 0; i < nd; ++i)
+      for (int j = 0; j < nd; ++j) f.outputs.push_back(fin(eom.M(i, j)));
+    specs.push_back(f);
+  }
+  if (wanted("forcing") && nd > 0) {
+    ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof", solve_steps(m, eom), {}};
+    for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
+    specs.push_back(f);
+  }
+  std::vector<GiNaC::ex> pos, vel;
+  for (const auto& c : m.constraints)
+    if (c.level == model::Constraint::Level::Position) pos.push_back(fin(c.residual));
+  for (const auto& v : sym::velocity_residuals(m)) vel.push_back(fin(v));
+  if (wanted("position_constraints") && !pos.empty()) {
+    ir::FunctionSpec f{"position_constraints", "position constraint residuals (kConstraintNames, position ones)", "r",
+                       "kNposc", {}, pos};
+    specs.push_back(f);
+  }
+  if (wanted("velocity_constraints") && !vel.empty()) {
+    ir::FunctionSpec f{"velocity_constraints", "velocity-level residuals of all constraints (kConstraintNames)", "r", "kNc",
+                       {}, vel};
+    specs.push_back(f);
+  }
+  if (wanted("constraint_jacobian") && !vel.empty()) {
+    ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1), row-major kNc x kNu", "A", "kNc*kNu", {}, {}};
+    for (const auto& v : vel)
+      for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
+    specs.push_back(f);
+  }
+  if (wanted("energy") && eom.has_energy) {
+    ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", {}, {}};
+    f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
+    specs.push_back(f);
+  } else if (!opt.functions.empty() && opt.functions.count("energy") && !eom.has_energy) {
+    diags.error(SourcePos{}, fmt::format("--outputs energy: model '{}' has a custom leaf without a 'kinetic' term, so its "
+                                         "energy is not defined", m.name));
+  }
+  if (wanted("outputs") && !m.outputs.empty()) {
+    ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", {}, {}};
+    for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
+    specs.push_back(f);
+  }
+  return specs;
+}
+
+std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                             Diagnostics& diags) {
+  auto specs = function_specs(m, eom, opt, diags);
+  if (diags.has_errors()) return std::nullopt;
+  emit::GeneratedModel g;
+  g.name = opt.name.empty() ? m.name : opt.name;
+  g.source_hash = m.source_text_hash;
+  g.tool_version = MBSC_VERSION;
+  for (const auto& [name, v] : opt.frozen) g.banner_notes.push_back(fmt::format("frozen parameter: {} = {}", name, emit::format_double(v)));
+  const long nq = static_cast<long>(m.coords.size()), nu = static_cast<long>(m.speeds.size());
+  long nposc = 0;
+  for (const auto& c : m.constraints) nposc += c.level == model::Constraint::Level::Position;
+  g.int_constants = {{"kNq", nq},
+                     {"kNu", nu},
+                     {"kNx", nq + nu},
+                     {"kNdof", eom.ndof()},
+                     {"kNin", static_cast<long>(m.inputs.size())},
+                     {"kNp", static_cast<long>(eom.free_params.size())},
+                     {"kNc", static_cast<long>(m.constraints.size())},
+                     {"kNposc", nposc},
+                     {"kNy", static_cast<long>(m.outputs.size())}};
+  std::vector<std::string> state, dof, inputs, params, cons, outs;
+  for (const auto& q : m.coords) state.push_back(q.name);
+  for (const auto& u : m.speeds) state.push_back(u.name);
+  for (int s : eom.independent) dof.push_back(m.speeds[s].name);
+  for (const auto& in : m.inputs) inputs.push_back(in.name);
+  std::vector<double> defaults;
+  for (int k : eom.free_params) {
+    params.push_back(m.params[k].name);
+    defaults.push_back(m.param_defaults[k]);
+  }
+  for (const auto& c : m.constraints) cons.push_back(c.name);
+  for (const auto& o : m.outputs) outs.push_back(o.name);
+  g.name_lists = {{"kStateNames", state},   {"kDofNames", dof},         {"kInputNames", inputs},
+                  {"kParamNames", params},  {"kConstraintNames", cons}, {"kOutputNames", outs}};
+  g.double_lists = {{"kParamDefaults", defaults}};
+  auto binds = bindings(m, eom);
+  for (const auto& spec : specs) {
+    try {
+      g.functions.push_back(ir::lower(spec, binds));
+    } catch (const std::exception& e) {
+      diags.error(m.nodes.back().pos, fmt::format("cannot generate function '{}': {}", spec.name, e.what()));
+      return std::nullopt;
+    }
+  }
+  return g;
+}
+
+}  // namespace mbsc::driver

@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/print_matrix.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/sym/full_complement.hpp"
+
+namespace mbsc::driver {
+namespace {
+
+std::string fmt_ex(const GiNaC::ex& e, bool latex) {
+  std::ostringstream s;
+  if (latex) s << GiNaC::latex;
+  s << e;
+  return s.str();
+}
+
+
+/// A labelled matrix: one line per nonzero entry in text, a pmatrix in LaTeX.
+std::string matrix_text(const std::string& title, const std::vector<std::string>& rows, const std::vector<std::string>& cols,
+                        const std::vector<std::vector<GiNaC::ex>>& v, bool latex) {
+  std::string out;
+  if (latex) {
+    out += fmt::format("% {}: rows ({}), columns ({})\n", title, fmt::join(rows, ", "), fmt::join(cols, ", "));
+    out += title + " = \\begin{pmatrix}\n";
+    for (size_t i = 0; i < v.size(); ++i) {
+      std::vector<std::string> cells;
+      for (const auto& e : v[i]) cells.push_back(fmt_ex(e, true));
+      out += "  " + fmt::format("{}", fmt::join(cells, " & ")) + (i + 1 < v.size() ? " \\\\\n" : "\n");
+    }
+    out += "\\end{pmatrix}\n\n";
+    return out;
+  }
+  out += fmt::format("{} ({} x {}), rows: {}; columns: {}\n", title, rows.size(), cols.size(), fmt::join(rows, ", "),
+                     fmt::join(cols, ", "));
+  for (size_t i = 0; i < v.size(); ++i)
+    for (size_t j = 0; j < v[i].size(); ++j)
+      if (!v[i][j].is_zero()) out += fmt::format("  [{}, {}] = {}\n", rows[i], cols[j], fmt_ex(v[i][j], false));
+  out += "\n";
+  return out;
+}
+
+std::vector<std::string> names_of(const model::Model& m, const std::vector<int>& speeds, bool dot) {
+  std::vector<std::string> v;
+  for (int s : speeds) v.push_back(m.speeds[s].name + (dot ? "'" : ""));
+  return v;
+}
+
+std::vector<std::vector<GiNaC::ex>> to_rows(const GiNaC::matrix& M, const model::Model& m, const sym::Eom& eom) {
+  std::vector<std::vector<GiNaC::ex>> v(M.rows(), std::vector<GiNaC::ex>(M.cols()));
+  for (unsigned i = 0; i < M.rows(); ++i)
+    for (unsigned j = 0; j < M.cols(); ++j) v[i][j] = finalize(m, eom, M(i, j));
+  return v;
+}
+
+}  // namespace
+
+std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex) {
+  const auto& r = eom.nodes[n];
+  const std::string who = m.nodes[n].name.empty() ? m.name : m.nodes[n].name;
+  std::string out = latex ? fmt::format("% subsystem {}\n", who) : fmt::format("subsystem {}\n\n", who);
+  std::vector<std::string> cons;
+  for (int c : r.rows) cons.push_back(m.constraints[c].name);
+  const auto ynames = names_of(m, r.y, true);
+  const auto inames = names_of(m, r.independent, true);
+  for (const auto& w : what) {
+    if (w == "rates") {
+      std::vector<std::vector<GiNaC::ex>> v;
+      std::vector<std::string> rows;
+      for (size_t q = 0; q < m.coords.size(); ++q) {
+        rows.push_back(m.coords[q].name + "'");
+        v.push_back({finalize(m, eom, m.coord_rates[q])});
+      }
+      out += matrix_text("kinematic transformations q0'", rows, {"value"}, v, latex);
+    } else if (w == "A") {
+      auto speeds = sym::subtree_speeds(m, n);
+      std::vector<std::vector<GiNaC::ex>> v;
+      for (int c : r.rows) {
+        GiNaC::ex g = m.constraints[c].residual;
+        if (m.constraints[c].level == model::Constraint::Level::Position) g = sym::time_derivative(m, g);
+        std::vector<GiNaC::ex> row;
+        for (int s : speeds) row.push_back(finalize(m, eom, g.diff(m.speeds[s].sym)));
+        v.push_back(row);
+      }
+      out += matrix_text("A", cons, names_of(m, speeds, false), v, latex);
+    } else if (w == "B") {
+      if (r.rows.empty()) out += latex ? "% B is empty (no constraints here)\n" : "B is empty (no constraints here)\n\n";
+      else out += matrix_text("B", cons, ynames, to_rows(r.B, m, eom), latex);
+    } else if (w == "C") {
+      out += matrix_text("C", ynames, inames, to_rows(r.C, m, eom), latex);
+    } else if (w == "S") {
+      std::vector<int> rows;
+      GiNaC::matrix S = sym::full_complement(m, eom, n, rows);
+      out += matrix_text("S", names_of(m, rows, false), inames, to_rows(S, m, eom), latex);
+    } else if (w == "f" || w == "fbar") {
+      const auto& vec = w == "f" ? r.f : r.fbar;
+      std::vector<std::vector<GiNaC::ex>> v;
+      for (const auto& e : vec) v.push_back({finalize(m, eom, e)});
+      out += matrix_text(w == "f" ? "f" : "fbar", w == "f" ? ynames : inames, {"value"}, v, latex);
+    } else if (w == "M" || w == "h") {
+      const int nd = static_cast<int>(r.independent.size());
+      GiNaC::exmap zero;
+      for (int s : r.independent) zero[m.speed_dots[s]] = 0;
+      std::vector<std::vector<GiNaC::ex>> v;
+      for (int i = 0; i < nd; ++i) {
+        std::vector<GiNaC::ex> row;
+        if (w == "M")
+          for (int j = 0; j < nd; ++j) row.push_back(finalize(m, eom, -r.fbar[i].diff(m.speed_dots[r.independent[j]])));
+        else
+          row.push_back(finalize(m, eom, r.fbar[i].subs(zero)));
+        v.push_back(row);
+      }
+      out += matrix_text(w, inames, w == "M" ? inames : std::vector<std::string>{"value"}, v, latex);
+    } else {
+      throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h)", w));
+    }
+  }
+  return out;
+}
+
+}  // namespace mbsc::driver

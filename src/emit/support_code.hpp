@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Fixed C++ code pasted into generated sources (private to src/emit).
+#include <string>
+
+namespace mbsc::emit {
+
+/// The anonymous-namespace `int lu_solve(int n, int k, double* A, double* B)`, emitted
+/// only into sources that solve a linear system.
+const std::string& lu_solve_code();
+
+/// The licence exception of generated files, as lines without comment markers.
+const std::string& generated_licence_text();
+
+}  // namespace mbsc::emit

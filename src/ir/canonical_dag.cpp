@@ -1,0 +1,213 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "canonical_dag.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "hash.hpp"
+
+namespace mbsc::ir {
+
+namespace {
+
+struct FuncInfo {
+  const char* name;
+  const char* cpp;
+  int arity;
+};
+
+// Fixed table, indexed by Func.
+constexpr FuncInfo kFuncs[] = {
+    {"sin", "std::sin", 1},     {"cos", "std::cos", 1},     {"tan", "std::tan", 1},   {"exp", "std::exp", 1},
+    {"log", "std::log", 1},     {"sqrt", "std::sqrt", 1},   {"abs", "std::abs", 1},   {"atan2", "std::atan2", 2},
+    {"asin", "std::asin", 1},   {"acos", "std::acos", 1},   {"atan", "std::atan", 1}, {"sinh", "std::sinh", 1},
+    {"cosh", "std::cosh", 1},   {"tanh", "std::tanh", 1},
+};
+
+std::uint64_t double_bits(double v) {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// Seed of a node's hash: its kind (and function for calls).
+std::uint64_t kind_seed(NodeKind k, std::uint8_t func) {
+  return mix64((static_cast<std::uint64_t>(k) + 1) * 0x51ed270b27c1f3a5ULL + func);
+}
+
+}  // namespace
+
+const char* func_name(Func f) { return kFuncs[static_cast<int>(f)].name; }
+const char* func_cpp(Func f) { return kFuncs[static_cast<int>(f)].cpp; }
+int func_arity(Func f) { return kFuncs[static_cast<int>(f)].arity; }
+
+bool func_from_name(const std::string& name, Func& out) {
+  for (std::size_t i = 0; i < sizeof kFuncs / sizeof kFuncs[0]; ++i) {
+    if (name == kFuncs[i].name) {
+      out = static_cast<Func>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+Dag::Dag() : table_(1024, Slot{0, -1}) {}
+
+// Grow the open-addressing table to twice its size and re-insert every node.
+void Dag::grow_table() {
+  std::vector<Slot> t(table_.size() * 2, Slot{0, -1});
+  const std::size_t mask = t.size() - 1;
+  for (const Slot& s : table_) {
+    if (s.id < 0) continue;
+    std::size_t i = s.hash & mask;
+    while (t[i].id >= 0) i = (i + 1) & mask;
+    t[i] = s;
+  }
+  table_.swap(t);
+}
+
+// Structural identity of a candidate with an existing node: children are already
+// hash-consed, so equal children means equal ids.
+bool Dag::same(const Node& n, const NodeId* kids, std::int32_t nkids, NodeId existing) const {
+  const Node& e = node(existing);
+  if (e.hash != n.hash || e.kind != n.kind || e.func != n.func || e.nchild != nkids) return false;
+  if (double_bits(e.value) != double_bits(n.value) || e.ref != n.ref || e.elem != n.elem) return false;
+  const NodeId* ek = children(existing);
+  return std::equal(kids, kids + nkids, ek);
+}
+
+// Hash-consing: return the existing identical node, or append a new one.
+NodeId Dag::intern(Node n, const NodeId* kids, std::int32_t nkids) {
+  std::size_t mask = table_.size() - 1;
+  std::size_t i = n.hash & mask;
+  while (table_[i].id >= 0) {
+    if (table_[i].hash == n.hash && same(n, kids, nkids, table_[i].id)) return table_[i].id;
+    i = (i + 1) & mask;
+  }
+  if (nodes_.size() >= static_cast<std::size_t>(INT32_MAX) - 1) throw std::runtime_error("expression DAG too large");
+  const NodeId id = static_cast<NodeId>(nodes_.size());
+  n.nchild = nkids;
+  n.child_begin = static_cast<std::int32_t>(children_.size());
+  n.max_step = n.kind == NodeKind::Sym ? n.ref : -1;
+  for (std::int32_t c = 0; c < nkids; ++c) n.max_step = std::max(n.max_step, node(kids[c]).max_step);
+  children_.insert(children_.end(), kids, kids + nkids);
+  nodes_.push_back(n);
+  table_[i] = Slot{n.hash, id};
+  if (nodes_.size() * 2 > table_.size()) grow_table();
+  return id;
+}
+
+NodeId Dag::make_number(double v) {
+  Node n;
+  n.kind = NodeKind::Number;
+  n.value = v;
+  n.hash = hash_combine(kind_seed(n.kind, 0), double_bits(v));
+  return intern(n, nullptr, 0);
+}
+
+// Input texts are interned once; the node's payload is the text id, its hash the text's.
+NodeId Dag::make_input(const std::string& text) {
+  auto it = text_ids_.find(text);
+  std::int32_t id;
+  if (it == text_ids_.end()) {
+    id = static_cast<std::int32_t>(texts_.size());
+    texts_.push_back(text);
+    text_hash_.push_back(hash_text(text));
+    text_ids_.emplace(text, id);
+  } else {
+    id = it->second;
+  }
+  Node n;
+  n.kind = NodeKind::Input;
+  n.ref = id;
+  n.hash = hash_combine(kind_seed(n.kind, 0), text_hash_[static_cast<std::size_t>(id)]);
+  return intern(n, nullptr, 0);
+}
+
+NodeId Dag::make_sym(int step, int elem) {
+  Node n;
+  n.kind = NodeKind::Sym;
+  n.ref = step;
+  n.elem = elem;
+  n.hash = hash_combine(hash_combine(kind_seed(n.kind, 0), static_cast<std::uint64_t>(step)),
+                        static_cast<std::uint64_t>(elem));
+  return intern(n, nullptr, 0);
+}
+
+// n-ary Add/Mul: sort the operands canonically, then hash kind + children in that order.
+NodeId Dag::make_add(std::vector<NodeId> ops) {
+  if (ops.empty()) return make_number(0.0);
+  if (ops.size() == 1) return ops[0];
+  std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
+  Node n;
+  n.kind = NodeKind::Add;
+  n.hash = kind_seed(n.kind, 0);
+  for (NodeId c : ops) n.hash = hash_combine(n.hash, node(c).hash);
+  return intern(n, ops.data(), static_cast<std::int32_t>(ops.size()));
+}
+
+NodeId Dag::make_mul(std::vector<NodeId> ops) {
+  if (ops.empty()) return make_number(1.0);
+  if (ops.size() == 1) return ops[0];
+  std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
+  Node n;
+  n.kind = NodeKind::Mul;
+  n.hash = kind_seed(n.kind, 0);
+  for (NodeId c : ops) n.hash = hash_combine(n.hash, node(c).hash);
+  return intern(n, ops.data(), static_cast<std::int32_t>(ops.size()));
+}
+
+NodeId Dag::make_pow(NodeId base, NodeId exponent) {
+  Node n;
+  n.kind = NodeKind::Pow;
+  n.hash = hash_combine(hash_combine(kind_seed(n.kind, 0), node(base).hash), node(exponent).hash);
+  const NodeId kids[2] = {base, exponent};
+  return intern(n, kids, 2);
+}
+
+NodeId Dag::make_call(Func f, const std::vector<NodeId>& args) {
+  Node n;
+  n.kind = NodeKind::Call;
+  n.func = static_cast<std::uint8_t>(f);
+  n.hash = kind_seed(n.kind, n.func);
+  for (NodeId c : args) n.hash = hash_combine(n.hash, node(c).hash);
+  return intern(n, args.data(), static_cast<std::int32_t>(args.size()));
+}
+
+// Canonical order: structural hash, then kind, payload, arity and children (recursively).
+// The deep part only runs on a 64-bit hash collision between distinct nodes.
+int Dag::compare(NodeId a, NodeId b) const {
+  if (a == b) return 0;
+  const Node& x = node(a);
+  const Node& y = node(b);
+  if (x.hash != y.hash) return x.hash < y.hash ? -1 : 1;
+  if (x.kind != y.kind) return x.kind < y.kind ? -1 : 1;
+  if (x.func != y.func) return x.func < y.func ? -1 : 1;
+  switch (x.kind) {
+    case NodeKind::Number: {
+      const std::uint64_t bx = double_bits(x.value), by = double_bits(y.value);
+      if (bx != by) return bx < by ? -1 : 1;
+      break;
+    }
+    case NodeKind::Input: {
+      const int c = input_text(x.ref).compare(input_text(y.ref));
+      if (c != 0) return c < 0 ? -1 : 1;
+      break;
+    }
+    case NodeKind::Sym:
+      if (x.ref != y.ref) return x.ref < y.ref ? -1 : 1;
+      if (x.elem != y.elem) return x.elem < y.elem ? -1 : 1;
+      break;
+    default:
+      break;
+  }
+  if (x.nchild != y.nchild) return x.nchild < y.nchild ? -1 : 1;
+  for (std::int32_t i = 0; i < x.nchild; ++i) {
+    const int c = compare(child(a, i), child(b, i));
+    if (c != 0) return c;
+  }
+  return 0;
+}
+
+}  // namespace mbsc::ir

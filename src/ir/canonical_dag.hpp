@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Canonical, hash-consed expression DAG (private to src/ir).
+///
+/// Nodes are identified by an index (NodeId). Indices follow creation order, which follows
+/// GiNaC's run-dependent operand order, so an index must never decide anything that reaches
+/// the output: only the structural hash and structural comparison do. Every node is created
+/// after its children, so increasing index order is a topological order (children first).
+#include <cstdint>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace mbsc::ir {
+
+using NodeId = std::int32_t;
+
+enum class NodeKind : std::uint8_t {
+  Number,  // a double constant
+  Input,   // a binding's C++ text ("x[3]")
+  Sym,     // the result X(i, j) of a numeric Solve step
+  Add,     // n-ary sum, operands in canonical order
+  Mul,     // n-ary product, operands in canonical order
+  Pow,     // base ^ exponent
+  Call,    // function call, arguments in given order
+};
+
+/// The functions a Call node may name (fixed table: its order is part of the canonical order).
+enum class Func : std::uint8_t { Sin, Cos, Tan, Exp, Log, Sqrt, Abs, Atan2, Asin, Acos, Atan, Sinh, Cosh, Tanh };
+
+/// GiNaC name of a function ("sin") and its C++ spelling ("std::sin").
+const char* func_name(Func f);
+const char* func_cpp(Func f);
+int func_arity(Func f);
+/// Looks a GiNaC function name up; returns false when it is not supported.
+bool func_from_name(const std::string& name, Func& out);
+
+struct Node {
+  std::uint64_t hash = 0;    // structural hash (kind, payload, children's hashes)
+  NodeKind kind = NodeKind::Number;
+  std::uint8_t func = 0;     // Call: Func
+  std::int32_t nchild = 0;
+  std::int32_t child_begin = 0;  // index into Dag::children()
+  double value = 0.0;        // Number
+  std::int32_t ref = 0;      // Input: text id; Sym: step index
+  std::int32_t elem = 0;     // Sym: flat index i*k+j of X
+  std::int32_t max_step = -1;  // largest Solve step index this node reads (-1: none)
+};
+
+/// Hash-consing node store. make_* return the existing node when an identical one exists.
+class Dag {
+ public:
+  Dag();
+
+  NodeId make_number(double v);
+  NodeId make_input(const std::string& text);
+  NodeId make_sym(int step, int elem);
+  /// Operands are sorted canonically; a single operand is returned as is.
+  NodeId make_add(std::vector<NodeId> ops);
+  NodeId make_mul(std::vector<NodeId> ops);
+  NodeId make_pow(NodeId base, NodeId exponent);
+  NodeId make_call(Func f, const std::vector<NodeId>& args);
+
+  const Node& node(NodeId id) const { return nodes_[static_cast<std::size_t>(id)]; }
+  const NodeId* children(NodeId id) const { return children_.data() + node(id).child_begin; }
+  NodeId child(NodeId id, int i) const { return children_[static_cast<std::size_t>(node(id).child_begin + i)]; }
+  std::size_t size() const { return nodes_.size(); }
+  const std::string& input_text(int text_id) const { return texts_[static_cast<std::size_t>(text_id)]; }
+
+  /// Total order on nodes that depends only on structure: hash first, then a full
+  /// structural comparison on ties. Returns <0, 0, >0.
+  int compare(NodeId a, NodeId b) const;
+  /// True when `a` sorts before `b` in the canonical order.
+  bool less(NodeId a, NodeId b) const { return a != b && compare(a, b) < 0; }
+
+ private:
+  NodeId intern(Node n, const NodeId* kids, std::int32_t nkids);
+  bool same(const Node& n, const NodeId* kids, std::int32_t nkids, NodeId existing) const;
+  void grow_table();
+
+  std::vector<Node> nodes_;
+  std::vector<NodeId> children_;
+  std::vector<std::string> texts_;        // Input texts by id
+  std::vector<std::uint64_t> text_hash_;  // FNV-1a of each text
+  std::unordered_map<std::string, std::int32_t> text_ids_;  // lookup only, never iterated
+  struct Slot {
+    std::uint64_t hash;
+    NodeId id;  // -1 = empty
+  };
+  std::vector<Slot> table_;  // open addressing on the structural hash
+};
+
+}  // namespace mbsc::ir

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "identifiers.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+
+namespace mbsc::ir {
+
+namespace {
+
+bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// Sorted, for binary search.
+constexpr const char* kKeywords[] = {
+    "alignas",   "alignof",      "and",          "and_eq",      "asm",       "auto",     "bitand",
+    "bitor",     "bool",         "break",        "case",        "catch",     "char",     "char16_t",
+    "char32_t",  "class",        "compl",        "const",       "const_cast", "constexpr", "continue",
+    "decltype",  "default",      "delete",       "do",          "double",    "dynamic_cast", "else",
+    "enum",      "explicit",     "export",       "extern",      "false",     "float",    "for",
+    "friend",    "goto",         "if",           "inline",      "int",       "long",     "mutable",
+    "namespace", "new",          "noexcept",     "not",         "not_eq",    "nullptr",  "operator",
+    "or",        "or_eq",        "private",      "protected",   "public",    "register", "reinterpret_cast",
+    "return",    "short",        "signed",       "sizeof",      "static",    "static_assert", "static_cast",
+    "struct",    "switch",       "template",     "this",        "thread_local", "throw", "true",
+    "try",       "typedef",      "typeid",       "typename",    "union",     "unsigned", "using",
+    "virtual",   "void",         "volatile",     "wchar_t",     "while",     "xor",      "xor_eq",
+};
+
+}  // namespace
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !is_ident_start(s[0])) return false;
+  return std::all_of(s.begin(), s.end(), is_ident_char);
+}
+
+bool is_cpp_keyword(const std::string& s) {
+  return std::binary_search(std::begin(kKeywords), std::end(kKeywords), s.c_str(),
+                            [](const char* a, const char* b) { return std::strcmp(a, b) < 0; });
+}
+
+// Macros of <cmath>/<math.h>/<cerrno> that a local variable name must not meet.
+bool is_std_macro_name(const std::string& s) {
+  static constexpr const char* kExact[] = {"INFINITY", "NAN",      "DOMAIN", "SING",  "OVERFLOW",
+                                           "UNDERFLOW", "TLOSS",   "PLOSS",  "errno", "math_errhandling",
+                                           "EDOM",      "ERANGE",  "EILSEQ", "assert"};
+  for (const char* e : kExact)
+    if (s == e) return true;
+  static constexpr const char* kPrefixes[] = {"M_", "FP_", "HUGE_VAL", "MATH_ERR", "__"};
+  for (const char* p : kPrefixes)
+    if (s.compare(0, std::strlen(p), p) == 0) return true;
+  return false;
+}
+
+bool is_generated_name(const std::string& s) {
+  std::size_t digits_from = 0;
+  if (s.size() >= 2 && (s[0] == 't' || s[0] == 's' || s[0] == 'c')) digits_from = 1;
+  else if (s.size() >= 3 && (s[0] == 'A' || s[0] == 'B') && s[1] == '_') digits_from = 2;
+  else return false;
+  return std::all_of(s.begin() + static_cast<std::ptrdiff_t>(digits_from), s.end(), is_digit);
+}
+
+// Replace invalid characters, collapse '_' runs, trim '_' at both ends, fix a leading digit.
+std::string sanitize_identifier(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    const char d = is_ident_char(c) ? c : '_';
+    if (d == '_' && (out.empty() || out.back() == '_')) continue;
+    out.push_back(d);
+  }
+  while (!out.empty() && out.back() == '_') out.pop_back();
+  if (out.empty()) return "v";
+  if (is_digit(out[0])) out = "v" + out;
+  return out;
+}
+
+}  // namespace mbsc::ir

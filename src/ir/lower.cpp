@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// ir::lower: FunctionSpec -> canonical DAG -> scheduled Program -> printed body.
+#include <cctype>
+#include <memory>
+#include <stdexcept>
+
+#include "from_ginac.hpp"
+#include "program_ir.hpp"
+
+namespace mbsc::ir {
+
+namespace {
+
+// Identifier tokens of a C++ text ("p[kG]" -> p, kG): names a local must not shadow.
+void add_identifiers(const std::string& text, std::vector<std::string>& out) {
+  for (std::size_t b = 0; b < text.size();) {
+    const auto ident = [&](std::size_t j) {
+      return std::isalnum(static_cast<unsigned char>(text[j])) != 0 || text[j] == '_';
+    };
+    if (!ident(b)) {
+      ++b;
+      continue;
+    }
+    std::size_t e = b;
+    while (e < text.size() && ident(e)) ++e;
+    out.push_back(text.substr(b, e - b));
+    b = e;
+  }
+}
+
+}  // namespace
+
+LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bindings) {
+  auto prog = std::make_unique<Program>();
+  GinacConverter conv(prog->dag, spec, bindings);
+  const int nsteps = static_cast<int>(spec.steps.size());
+
+  // Outputs first: converting them marks the Defines and Solves they read as live.
+  std::vector<NodeId> outputs;
+  outputs.reserve(spec.outputs.size());
+  for (const GiNaC::ex& e : spec.outputs) outputs.push_back(conv.convert(e, nsteps));
+
+  // Solves from last to first: a live Solve's matrices can only make earlier steps live.
+  std::vector<std::vector<NodeId>> solve_a(spec.steps.size()), solve_b(spec.steps.size());
+  for (int j = nsteps - 1; j >= 0; --j) {
+    const auto* s = std::get_if<Solve>(&spec.steps[static_cast<std::size_t>(j)]);
+    if (!s || !conv.solve_live(j)) continue;
+    for (const GiNaC::ex& e : s->A) solve_a[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
+    for (const GiNaC::ex& e : s->B) solve_b[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
+  }
+
+  // Roots in step order (live steps only), then the outputs.
+  std::vector<std::string> define_names(spec.steps.size());
+  for (int j = 0; j < nsteps; ++j) {
+    const auto& step = spec.steps[static_cast<std::size_t>(j)];
+    if (const auto* d = std::get_if<Define>(&step)) {
+      define_names[static_cast<std::size_t>(j)] = d->sym.get_name();
+      if (conv.define_live(j)) prog->roots.push_back({Root::Kind::Define, j, conv.define_node(j)});
+    } else if (conv.solve_live(j)) {
+      const auto& s = std::get<Solve>(step);
+      SolveBlock block;
+      block.step = j;
+      block.number = static_cast<int>(prog->solves.size());
+      block.n = s.n;
+      block.k = s.k;
+      block.label = s.label;
+      block.A = std::move(solve_a[static_cast<std::size_t>(j)]);
+      block.B = std::move(solve_b[static_cast<std::size_t>(j)]);
+      prog->roots.push_back({Root::Kind::Solve, block.number, -1});
+      prog->solves.push_back(std::move(block));
+    }
+  }
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    prog->roots.push_back({Root::Kind::Output, static_cast<int>(i), outputs[i]});
+  prog->nout = static_cast<int>(outputs.size());
+
+  // Names a Define's temporary must avoid: the parameters, the loop index, std, lu_solve,
+  // and every identifier the bindings' texts use.
+  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve"};
+  for (const Binding& b : bindings) add_identifiers(b.cpp, reserved);
+
+  schedule(*prog, define_names, reserved);
+
+  LoweredFunction out;
+  out.name = spec.name;
+  out.doc = spec.doc;
+  out.out_name = spec.out_name;
+  out.out_shape = spec.out_shape;
+  out.nout = prog->nout;
+  out.body = print_program(*prog, out.ops);
+  out.used_args = prog->used_args;
+  return out;
+}
+
+}  // namespace mbsc::ir

@@ -1,0 +1,289 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Printing a scheduled Program as C++ statements, counting exactly the operations printed.
+// Every inline node is used once, so it is printed (and counted) once.
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "../emit/number_literal.hpp"
+#include "op_count.hpp"
+#include "program_ir.hpp"
+
+namespace mbsc::ir {
+
+namespace {
+
+// C++ precedence levels of printed expressions (higher binds tighter).
+enum Prec : int { kSum = 1, kProduct = 2, kUnary = 3, kPrimary = 4 };
+
+struct Text {
+  std::string s;
+  int prec;
+};
+
+std::string join(const std::vector<std::string>& parts, const char* sep) {
+  std::string out;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i) out += sep;
+    out += parts[i];
+  }
+  return out;
+}
+
+// A label as a one-line comment: no line breaks, no trailing backslash (line splice).
+std::string comment_text(const std::string& label) {
+  std::string out;
+  for (char c : label) out.push_back(c == '\n' || c == '\r' || c == '\t' || c == '\v' || c == '\f' ? ' ' : c);
+  while (!out.empty() && (out.back() == '\\' || out.back() == ' ')) out.pop_back();
+  return out;
+}
+
+class Printer {
+ public:
+  Printer(const Program& prog, OpCount& ops) : prog_(prog), dag_(prog.dag), ops_(ops) {
+    for (const SolveBlock& s : prog.solves) {
+      if (static_cast<std::size_t>(s.step) >= solve_number_.size()) solve_number_.resize(static_cast<std::size_t>(s.step) + 1, -1);
+      solve_number_[static_cast<std::size_t>(s.step)] = s.number;
+    }
+  }
+
+  // Statements, then the finiteness check and the status.
+  std::string body() {
+    std::vector<std::string> lines;
+    for (const Statement& st : prog_.statements) {
+      switch (st.kind) {
+        case Statement::Kind::Temp:
+          lines.push_back("  const double " + name(st.node) + " = " + expr(st.node).s + ";");
+          break;
+        case Statement::Kind::Solve:
+          solve(prog_.solves[static_cast<std::size_t>(st.index)], lines);
+          break;
+        case Statement::Kind::Output:
+          lines.push_back("  OUT[" + std::to_string(st.index) + "] = " + ref(st.node).s + ";");
+          break;
+      }
+    }
+    if (prog_.nout > 0)
+      lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) +
+                      "; ++i) if (!std::isfinite(OUT[i])) return 2;");
+    else
+      lines.push_back("  (void)OUT;");
+    lines.push_back("  return 0;");
+    return join(lines, "\n");
+  }
+
+ private:
+  const std::string& name(NodeId id) const { return prog_.names[static_cast<std::size_t>(id)]; }
+  bool inline_node(NodeId id) const { return name(id).empty(); }
+  static std::string wrap(const Text& t, int min_prec) { return t.prec < min_prec ? "(" + t.s + ")" : t.s; }
+
+  // double A_i = {rows}; double B_i = {rows}; solve; status 1 when singular.
+  void solve(const SolveBlock& s, std::vector<std::string>& lines) {
+    const std::string id = std::to_string(s.number);
+    const std::string label = comment_text(s.label);
+    lines.push_back("  // solve A_" + id + " X = B_" + id + " (" + std::to_string(s.n) + "x" + std::to_string(s.n) +
+                    ", " + std::to_string(s.k) + (s.k == 1 ? " column" : " columns") + ")" +
+                    (label.empty() ? "" : ": " + label));
+    auto array = [&](const char* arr, const std::vector<NodeId>& entries, int cols) {
+      lines.push_back("  double " + std::string(arr) + id + "[" + std::to_string(entries.size()) + "] = {");
+      for (std::size_t r = 0; r * static_cast<std::size_t>(cols) < entries.size(); ++r) {
+        std::vector<std::string> row;
+        for (int c = 0; c < cols; ++c) row.push_back(ref(entries[r * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)]).s);
+        const bool last = (r + 1) * static_cast<std::size_t>(cols) >= entries.size();
+        lines.push_back("      " + join(row, ", ") + (last ? "};" : ","));
+      }
+    };
+    array("A_", s.A, s.n);
+    array("B_", s.B, s.k);
+    lines.push_back("  if (lu_solve(" + std::to_string(s.n) + ", " + std::to_string(s.k) + ", A_" + id + ", B_" + id +
+                    ") != 0) return 1;");
+    ops_.solve_flops += lu_solve_flops(s.n, s.k);
+  }
+
+  // A child as its parent sees it: a temporary's name or the inline expression.
+  Text ref(NodeId id) { return inline_node(id) ? expr(id) : Text{name(id), kPrimary}; }
+
+  // Literal text of a constant, formatted once per distinct value (lookup-only cache).
+  std::string number(double v) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    auto it = numbers_.find(bits);
+    if (it == numbers_.end()) it = numbers_.emplace(bits, emit::cpp_double_literal(v)).first;
+    return it->second;
+  }
+
+  // The full expression of a node (its definition, even when it is a temporary).
+  Text expr(NodeId id) {
+    const Node& n = dag_.node(id);
+    switch (n.kind) {
+      case NodeKind::Number:
+        return {number(n.value), std::signbit(n.value) ? kUnary : kPrimary};
+      case NodeKind::Input:
+        return {dag_.input_text(n.ref), kPrimary};
+      case NodeKind::Sym:
+        return {"B_" + std::to_string(solve_number_[static_cast<std::size_t>(n.ref)]) + "[" + std::to_string(n.elem) + "]",
+                kPrimary};
+      case NodeKind::Add:
+        return add(id);
+      case NodeKind::Mul:
+        return mul(id, false);
+      case NodeKind::Pow:
+        return power(id);
+      case NodeKind::Call:
+        return call(id);
+    }
+    return {"", kPrimary};
+  }
+
+  // First numeric factor of an inline product (its sign is the product's sign), or -1.
+  NodeId coefficient(NodeId mul) const {
+    const Node& n = dag_.node(mul);
+    for (std::int32_t i = 0; i < n.nchild; ++i)
+      if (dag_.node(dag_.child(mul, i)).kind == NodeKind::Number) return dag_.child(mul, i);
+    return -1;
+  }
+
+  // An inline term printed as a subtraction: a negative number or a product with a
+  // negative coefficient.
+  bool negative(NodeId term) const {
+    if (!inline_node(term)) return false;
+    const Node& n = dag_.node(term);
+    if (n.kind == NodeKind::Number) return n.value < 0;
+    if (n.kind != NodeKind::Mul) return false;
+    const NodeId c = coefficient(term);
+    return c >= 0 && dag_.node(c).value < 0;
+  }
+
+  // Sum: non-constant terms in canonical order, constants last; a positive term leads when
+  // there is one; negative terms print as "- |term|".
+  Text add(NodeId id) {
+    const Node& n = dag_.node(id);
+    std::vector<NodeId> terms;
+    for (std::int32_t i = 0; i < n.nchild; ++i)
+      if (dag_.node(dag_.child(id, i)).kind != NodeKind::Number) terms.push_back(dag_.child(id, i));
+    for (std::int32_t i = 0; i < n.nchild; ++i)
+      if (dag_.node(dag_.child(id, i)).kind == NodeKind::Number) terms.push_back(dag_.child(id, i));
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      if (negative(terms[i])) continue;
+      const NodeId lead = terms[i];
+      terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(i));
+      terms.insert(terms.begin(), lead);
+      break;
+    }
+    std::string out;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      const NodeId t = terms[i];
+      if (i == 0) {
+        out = wrap(ref(t), kSum);
+      } else if (negative(t)) {
+        const Node& tn = dag_.node(t);
+        const Text neg = tn.kind == NodeKind::Number ? Text{number(-tn.value), kPrimary} : mul(t, true);
+        out += " - " + wrap(neg, kProduct);
+      } else {
+        const Text pos = ref(t);
+        out += " + " + (pos.s[0] == '-' ? "(" + pos.s + ")" : wrap(pos, kSum));
+      }
+    }
+    ops_.adds += static_cast<long>(terms.size()) - 1;
+    return {out, kSum};
+  }
+
+  // Product: [-][coefficient*]factors[/denominator]. Inline powers with exponent -1..-4 or
+  // -1/2 go to the denominator, inline powers 2..4 repeat their base; `negate` flips the
+  // coefficient's sign (used for "a - 2.0*b").
+  Text mul(NodeId id, bool negate) {
+    const Node& n = dag_.node(id);
+    const NodeId coef = coefficient(id);
+    double c = coef >= 0 ? dag_.node(coef).value : 1.0;
+    if (negate) c = -c;
+    const bool minus = std::signbit(c);
+    const double mag = std::fabs(c);
+    std::vector<std::string> num, den;
+    if (coef >= 0 && mag != 1.0) num.push_back(number(mag));
+    for (std::int32_t i = 0; i < n.nchild; ++i) {
+      const NodeId f = dag_.child(id, i);
+      if (f == coef) continue;
+      const Node& fn = dag_.node(f);
+      if (fn.kind == NodeKind::Pow && inline_node(f) && dag_.node(dag_.child(f, 1)).kind == NodeKind::Number) {
+        const double e = dag_.node(dag_.child(f, 1)).value;
+        const int r = repeated_power(dag_, f);
+        const NodeId base = dag_.child(f, 0);
+        if (r != 0 || e == -1.0) {
+          const std::string b = wrap(ref(base), kPrimary);
+          auto& dest = r > 0 ? num : den;
+          for (int k = 0; k < (r == 0 ? 1 : std::abs(r)); ++k) dest.push_back(b);
+          continue;
+        }
+        if (e == -0.5) {
+          den.push_back("std::sqrt(" + ref(base).s + ")");
+          ++ops_.calls;
+          continue;
+        }
+      }
+      num.push_back(wrap(ref(f), kPrimary));
+    }
+    // A coefficient of magnitude 1 is dropped unless it is all there is ("1.0/x", "-1.0/x").
+    if (num.empty()) num.push_back(number(mag));
+    std::string out = (minus ? "-" : "") + join(num, "*");
+    ops_.muls += static_cast<long>(num.size()) - 1;
+    if (!den.empty()) {
+      out += "/" + (den.size() == 1 ? den[0] : "(" + join(den, "*") + ")");
+      ops_.muls += static_cast<long>(den.size()) - 1;
+      ++ops_.divs;
+    }
+    const int prec = minus ? kUnary : (num.size() > 1 || !den.empty()) ? kProduct : kPrimary;
+    return {out, prec};
+  }
+
+  // Power: x*x..x for 2..4, 1.0/x, 1.0/(x*x..), std::sqrt, 1.0/std::sqrt, else std::pow.
+  Text power(NodeId id) {
+    const NodeId base = dag_.child(id, 0);
+    const NodeId ex = dag_.child(id, 1);
+    const int r = repeated_power(dag_, id);
+    if (r != 0) {
+      const std::string b = wrap(ref(base), kPrimary);
+      std::vector<std::string> parts(static_cast<std::size_t>(std::abs(r)), b);
+      ops_.muls += std::abs(r) - 1;
+      if (r > 0) return {join(parts, "*"), kProduct};
+      ++ops_.divs;
+      return {"1.0/(" + join(parts, "*") + ")", kProduct};
+    }
+    const Node& en = dag_.node(ex);
+    if (en.kind == NodeKind::Number && en.value == -1.0) {
+      ++ops_.divs;
+      return {"1.0/" + wrap(ref(base), kPrimary), kProduct};
+    }
+    if (en.kind == NodeKind::Number && (en.value == 0.5 || en.value == -0.5)) {
+      ++ops_.calls;
+      const std::string root = "std::sqrt(" + ref(base).s + ")";
+      if (en.value > 0) return {root, kPrimary};
+      ++ops_.divs;
+      return {"1.0/" + root, kProduct};
+    }
+    ++ops_.calls;
+    const std::string b = ref(base).s;
+    return {"std::pow(" + b + ", " + ref(ex).s + ")", kPrimary};
+  }
+
+  Text call(NodeId id) {
+    const Node& n = dag_.node(id);
+    std::vector<std::string> args;
+    for (std::int32_t i = 0; i < n.nchild; ++i) args.push_back(ref(dag_.child(id, i)).s);
+    ++ops_.calls;
+    return {std::string(func_cpp(static_cast<Func>(n.func))) + "(" + join(args, ", ") + ")", kPrimary};
+  }
+
+  const Program& prog_;
+  const Dag& dag_;
+  OpCount& ops_;
+  std::vector<int> solve_number_;
+  std::unordered_map<std::uint64_t, std::string> numbers_;
+};
+
+}  // namespace
+
+std::string print_program(const Program& prog, OpCount& ops) { return Printer(prog, ops).body(); }
+
+}  // namespace mbsc::ir

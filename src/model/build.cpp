@@ -1,0 +1,668 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/model/build.hpp"
+
+#include <fmt/format.h>
+
+#include <functional>
+#include <set>
+
+#include "mbsc/model/expr_convert.hpp"
+
+namespace mbsc::model {
+
+const char* to_string(LeafKind kind) {
+  switch (kind) {
+    case LeafKind::Node: return "node";
+    case LeafKind::Particle2d: return "particle2d";
+    case LeafKind::Particle3d: return "particle3d";
+    case LeafKind::Rigid2d: return "rigid2d";
+    case LeafKind::Custom: return "custom";
+  }
+  return "?";
+}
+
+namespace {
+
+using ast::Statement;
+using Kind = ast::Statement::Kind;
+
+std::string join(const std::string& prefix, const std::string& name) {
+  return prefix.empty() ? name : prefix + "." + name;
+}
+
+bool leaf_kind_from_name(const std::string& s, LeafKind& kind) {
+  if (s == "particle2d") kind = LeafKind::Particle2d;
+  else if (s == "particle3d") kind = LeafKind::Particle3d;
+  else if (s == "rigid2d") kind = LeafKind::Rigid2d;
+  else if (s == "custom") kind = LeafKind::Custom;
+  else return false;
+  return true;
+}
+
+/// Per-node bookkeeping used only while building.
+struct Pending {
+  std::vector<ast::StatementPtr> body;
+  const Statement* decl = nullptr;  // the subsystem statement (null for root)
+};
+
+class Builder {
+ public:
+  Builder(Diagnostics& diags) : diags_(diags) {}
+
+  std::optional<Model> run(const ast::File& file) {
+    collect_globals(file.statements);
+    if (diags_.has_errors()) return std::nullopt;
+    // Pass A: nodes and variables, post-order.
+    declare_node(file.statements, "", SourcePos{file.path, 1, 1}, nullptr, 0);
+    if (diags_.has_errors()) return std::nullopt;
+    // Pass B: expressions (everything is declared now).
+    for (size_t n = 0; n < m_.nodes.size(); ++n) fill_node(static_cast<int>(n));
+    if (diags_.has_errors()) return std::nullopt;
+    solve_coordinate_rates();
+    if (diags_.has_errors()) return std::nullopt;
+    substitute_coordinate_rates();
+    check_masses();
+    if (diags_.has_errors()) return std::nullopt;
+    return std::move(m_);
+  }
+
+ private:
+  // ---- globals: model name, parameters, inputs, gravity, components ----
+  void collect_globals(const std::vector<ast::StatementPtr>& stmts) {
+    table_["t"] = Entry{Entry::Time, 0, m_.time};
+    for (const auto& s : stmts) {
+      switch (s->kind) {
+        case Kind::Model:
+          if (!m_.name.empty()) diags_.error(s->pos, fmt::format("model name given twice ('{}' and '{}')", m_.name, s->name));
+          m_.name = s->name;
+          break;
+        case Kind::Parameter: {
+          if (!declare_global(s->name, s->name_pos, "parameter")) break;
+          Variable v{s->name, 0, GiNaC::symbol(s->name), s->name_pos};
+          double value = 0;
+          if (!s->value) {
+            diags_.error(s->name_pos, fmt::format("parameter '{}' needs a default value", s->name));
+          } else {
+            ExprConverter conv = converter(-1);
+            auto e = conv.convert(*s->value);
+            if (e) {
+              GiNaC::ex numeric_value = substitute_param_defaults(*e);
+              if (!evaluate_number(numeric_value, value))
+                diags_.error(s->value->pos, fmt::format("default value of parameter '{}' is not a number", s->name));
+            }
+          }
+          table_[s->name] = Entry{Entry::Param, static_cast<int>(m_.params.size()), v.sym};
+          m_.params.push_back(v);
+          m_.param_defaults.push_back(value);
+          break;
+        }
+        case Kind::Input: {
+          if (!declare_global(s->name, s->name_pos, "input")) break;
+          Variable v{s->name, 0, GiNaC::symbol(s->name), s->name_pos};
+          table_[s->name] = Entry{Entry::Input, static_cast<int>(m_.inputs.size()), v.sym};
+          m_.inputs.push_back(v);
+          break;
+        }
+        case Kind::Component:
+          if (components_.count(s->name)) {
+            diags_.error(s->name_pos, fmt::format("component '{}' is defined twice", s->name));
+          } else {
+            components_[s->name] = s.get();
+          }
+          break;
+        case Kind::Gravity:
+          if (gravity_stmt_) diags_.error(s->pos, "gravity given twice");
+          gravity_stmt_ = s.get();
+          break;
+        default:
+          break;
+      }
+    }
+    if (m_.name.empty()) diags_.error(SourcePos{file_of(stmts), 1, 1}, "missing 'model NAME' statement");
+    if (gravity_stmt_) {
+      ExprConverter conv = converter(-1);
+      for (const auto& g : gravity_stmt_->exprs) {
+        auto e = conv.convert(*g);
+        if (e) m_.gravity.push_back(*e);
+      }
+    }
+  }
+
+  static std::string file_of(const std::vector<ast::StatementPtr>& stmts) {
+    return stmts.empty() ? std::string() : stmts.front()->pos.file;
+  }
+
+  bool declare_global(const std::string& name, const SourcePos& pos, const char* what) {
+    if (name == "t") {
+      diags_.error(pos, fmt::format("{} 't' clashes with the time variable", what));
+      return false;
+    }
+    auto it = table_.find(name);
+    if (it != table_.end()) {
+      diags_.error(pos, fmt::format("{} '{}' is already declared", what, name));
+      return false;
+    }
+    return true;
+  }
+
+  GiNaC::ex substitute_param_defaults(const GiNaC::ex& e) const {
+    GiNaC::exmap sub;
+    for (size_t i = 0; i < m_.params.size(); ++i) sub[m_.params[i].sym] = m_.param_defaults[i];
+    return e.subs(sub);
+  }
+
+  // ---- pass A: declare nodes and their variables (post-order) ----
+  int declare_node(const std::vector<ast::StatementPtr>& body, const std::string& prefix, const SourcePos& pos,
+                   const Statement* decl, int depth) {
+    if (depth > 64) {
+      diags_.error(pos, fmt::format("subsystem '{}' nests too deeply (recursive component?)", prefix));
+      return -1;
+    }
+    Node node;
+    node.name = prefix;
+    node.pos = pos;
+    if (decl && !decl->kind_name.empty()) {
+      LeafKind kind;
+      if (leaf_kind_from_name(decl->kind_name, kind)) {
+        node.kind = kind;
+        if (!decl->exprs.empty())
+          diags_.error(decl->kind_pos, fmt::format("leaf kind '{}' of subsystem '{}' takes no arguments", decl->kind_name, prefix));
+      } else if (components_.count(decl->kind_name)) {
+        node.component = decl->kind_name;
+      } else {
+        diags_.error(decl->kind_pos, fmt::format("subsystem '{}' has unknown kind or component '{}'", prefix, decl->kind_name));
+        return -1;
+      }
+    }
+    // Children first (post-order).
+    std::vector<int> children;
+    std::vector<ast::StatementPtr> own_body = body;
+    if (!node.component.empty()) {
+      const Statement* comp = components_.at(node.component);
+      if (comp->formals.size() != decl->exprs.size()) {
+        diags_.error(decl->kind_pos, fmt::format("component '{}' takes {} argument(s), subsystem '{}' gives {}", node.component,
+                                                 comp->formals.size(), prefix, decl->exprs.size()));
+        return -1;
+      }
+      own_body = comp->body;
+      own_body.insert(own_body.end(), body.begin(), body.end());
+      for (size_t i = 0; i < comp->formals.size(); ++i) {
+        std::string full = join(prefix, comp->formals[i]);
+        if (!declare_local(full, comp->formal_pos[i], "formal parameter")) continue;
+        GiNaC::symbol sym(full);
+        table_[full] = Entry{Entry::Formal, 0, sym};
+        formal_args_.push_back({full, decl->exprs[i], prefix});
+        m_.formals[full] = Formal{sym, 0};
+      }
+    }
+    for (const auto& s : own_body) {
+      if (s->kind != Kind::Subsystem) continue;
+      std::string child = join(prefix, s->name);
+      if (!declare_local(child, s->name_pos, "subsystem")) continue;
+      table_[child] = Entry{Entry::NodeName, 0, GiNaC::symbol()};
+      int c = declare_node(s->body, child, s->name_pos, s.get(), depth + 1);
+      if (c >= 0) children.push_back(c);
+    }
+    const int id = static_cast<int>(m_.nodes.size());
+    node.children = children;
+    m_.nodes.push_back(node);
+    pending_.push_back(Pending{own_body, decl});
+    for (int c : children) m_.nodes[c].parent = id;
+    // Leaf kinds bring their variables: coordinates with speeds defined as their rates.
+    const char* const planar[] = {"x", "y"};
+    const char* const spatial[] = {"x", "y", "z"};
+    const char* const rigid[] = {"x", "y", "theta"};
+    const char* const speeds2[] = {"u", "v"};
+    const char* const speeds3[] = {"u", "v", "w"};
+    auto add_kinematic = [&](const char* const* qs, const char* const* us, int n) {
+      for (int i = 0; i < n; ++i) {
+        int q = add_variable(id, join(prefix, qs[i]), pos, /*coordinate=*/true);
+        int u = add_variable(id, join(prefix, us[i]), pos, /*coordinate=*/false);
+        if (q >= 0 && u >= 0) builtin_rates_[q] = m_.speeds[u].sym;
+      }
+    };
+    switch (m_.nodes[id].kind) {
+      case LeafKind::Particle2d: add_kinematic(planar, speeds2, 2); break;
+      case LeafKind::Particle3d: add_kinematic(spatial, speeds3, 3); break;
+      case LeafKind::Rigid2d: add_kinematic(rigid, speeds3, 3); break;
+      default: break;
+    }
+    // Declared coordinates and speeds.
+    for (const auto& s : own_body) {
+      if (s->kind == Kind::Coordinate) add_variable(id, join(prefix, s->name), s->name_pos, true);
+      if (s->kind == Kind::Speed) add_variable(id, join(prefix, s->name), s->name_pos, false);
+    }
+    return id;
+  }
+
+  bool declare_local(const std::string& full, const SourcePos& pos, const char* what) {
+    auto it = table_.find(full);
+    if (it != table_.end()) {
+      diags_.error(pos, fmt::format("{} '{}' is already declared", what, full));
+      return false;
+    }
+    return true;
+  }
+
+  int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate) {
+    if (!declare_local(full, pos, coordinate ? "coordinate" : "speed")) return -1;
+    Variable v{full, node, GiNaC::symbol(full), pos};
+    if (coordinate) {
+      int i = static_cast<int>(m_.coords.size());
+      m_.coords.push_back(v);
+      m_.nodes[node].coords.push_back(i);
+      coord_dot_.push_back(GiNaC::symbol(full + "'"));
+      table_[full] = Entry{Entry::Coord, i, v.sym};
+      return i;
+    }
+    int i = static_cast<int>(m_.speeds.size());
+    m_.speeds.push_back(v);
+    m_.speed_dots.push_back(GiNaC::symbol(full + "'"));
+    m_.nodes[node].speeds.push_back(i);
+    table_[full] = Entry{Entry::Speed, i, v.sym};
+    return i;
+  }
+
+  // ---- pass B: expressions of each node ----
+  ExprConverter converter(int node) {
+    ExprConverter conv(diags_);
+    conv.lookup = [this, node](const std::string& path, const SourcePos& pos, bool primed) -> std::optional<GiNaC::ex> {
+      return resolve(path, pos, node, primed);
+    };
+    return conv;
+  }
+
+  /// Finds `path` from the innermost scope (the node) outwards, then globals.
+  std::optional<GiNaC::ex> resolve(const std::string& path, const SourcePos& pos, int node, bool primed) {
+    const Entry* found = nullptr;
+    std::string full;
+    for (int n = node; n >= 0 && !found; n = m_.nodes[n].parent) {
+      full = join(m_.nodes[n].name, path);
+      auto it = table_.find(full);
+      if (it != table_.end()) found = &it->second;
+      if (m_.nodes[n].parent < 0) break;
+    }
+    if (!found) {
+      auto it = table_.find(path);
+      if (it != table_.end()) found = &it->second;
+      full = path;
+    }
+    if (!found) {
+      diags_.error(pos, fmt::format("unknown name '{}'", path));
+      return std::nullopt;
+    }
+    switch (found->kind) {
+      case Entry::NodeName:
+        diags_.error(pos, fmt::format("'{}' is a subsystem, not a value", full));
+        return std::nullopt;
+      case Entry::Coord:
+        if (primed) {
+          if (!allow_coord_rate_) {
+            diags_.error(pos, fmt::format("the rate {}' of coordinate '{}' is not allowed here", path, full));
+            return std::nullopt;
+          }
+          return GiNaC::ex(coord_dot_[found->index]);
+        }
+        return GiNaC::ex(found->sym);
+      case Entry::Speed:
+        if (primed) {
+          if (!allow_speed_rate_) {
+            diags_.error(pos, fmt::format("the acceleration {}' of speed '{}' is only allowed in forces", path, full));
+            return std::nullopt;
+          }
+          return GiNaC::ex(m_.speed_dots[found->index]);
+        }
+        if (!allow_speeds_) {
+          diags_.error(pos, fmt::format("speed '{}' is not allowed here (a position-level expression)", full));
+          return std::nullopt;
+        }
+        return GiNaC::ex(found->sym);
+      default:
+        if (primed) {
+          diags_.error(pos, fmt::format("the derivative ' is only allowed on coordinates and speeds, not on '{}'", full));
+          return std::nullopt;
+        }
+        return GiNaC::ex(found->sym);
+    }
+  }
+
+  std::optional<GiNaC::ex> convert(int node, const ast::ExprPtr& e, bool speeds, bool coord_rates, bool speed_rates) {
+    allow_speeds_ = speeds;
+    allow_coord_rate_ = coord_rates;
+    allow_speed_rate_ = speed_rates;
+    ExprConverter conv = converter(node);
+    return conv.convert(*e);
+  }
+
+  void fill_node(int id) {
+    Node& node = m_.nodes[id];
+    const Pending& pend = pending_[id];
+    const bool body_kind = node.kind == LeafKind::Particle2d || node.kind == LeafKind::Particle3d || node.kind == LeafKind::Rigid2d;
+    int nconstraint = 0;
+    for (const auto& sp : pend.body) {
+      const Statement& s = *sp;
+      switch (s.kind) {
+        case Kind::Speed:
+          if (s.value) {
+            auto e = convert(id, s.value, false, true, false);
+            int u = table_.at(join(node.name, s.name)).index;
+            if (e) definitions_.push_back({u, *e, s.value->pos});
+          }
+          break;
+        case Kind::Constraint:
+          for (const auto& eq : s.equations) {
+            ++nconstraint;
+            bool velocity = s.level == "velocity";
+            auto lhs = convert(id, eq.lhs, velocity, velocity, false);
+            auto rhs = convert(id, eq.rhs, velocity, velocity, false);
+            if (!lhs || !rhs) continue;
+            Constraint c;
+            c.name = eq.label.empty() ? fmt::format("{}{}[{}]", node.name.empty() ? "" : node.name + ".", s.level, nconstraint)
+                                      : join(node.name, eq.label);
+            c.node = id;
+            c.level = velocity ? Constraint::Level::Velocity : Constraint::Level::Position;
+            c.nonlinear = s.nonlinear;
+            c.residual = *lhs - *rhs;
+            c.pos = eq.pos;
+            if (!velocity && s.nonlinear)
+              diags_.error(s.pos, "'nonlinear' applies to velocity constraints only (position constraints may be nonlinear)");
+            node.constraints.push_back(static_cast<int>(m_.constraints.size()));
+            m_.constraints.push_back(c);
+          }
+          break;
+        case Kind::Force: {
+          auto target = lookup_variable(id, s.path);
+          if (!target) break;
+          if (target->first) {
+            diags_.error(s.path.pos, fmt::format("force target '{}' is a coordinate; forces act along speeds", s.path.text));
+            break;
+          }
+          auto e = convert(id, s.value, true, false, node.kind == LeafKind::Custom);
+          if (e) m_.forces.push_back(Force{target->second, *e, s.pos});
+          break;
+        }
+        case Kind::Mass:
+        case Kind::Inertia: {
+          if (!body_kind) {
+            diags_.error(s.pos, fmt::format("'{}' is only allowed in particle2d, particle3d and rigid2d bodies",
+                                            s.kind == Kind::Mass ? "mass" : "inertia"));
+            break;
+          }
+          if (s.kind == Kind::Inertia && node.kind != LeafKind::Rigid2d) {
+            diags_.error(s.pos, fmt::format("'inertia' is only allowed in rigid2d bodies ('{}' is {})", node.name, to_string(node.kind)));
+            break;
+          }
+          auto e = convert(id, s.value, false, false, false);
+          if (!e) break;
+          if (s.kind == Kind::Mass) {
+            node.mass = *e;
+            node.mass_pos = s.value->pos;
+            has_mass_.insert(id);
+          } else {
+            node.inertia = *e;
+            inertia_pos_[id] = s.value->pos;
+          }
+          break;
+        }
+        case Kind::Kinetic: {
+          auto e = convert(id, s.value, true, false, false);
+          if (e) {
+            node.kinetic = *e;
+            node.has_kinetic = true;
+          }
+          break;
+        }
+        case Kind::Potential: {
+          auto e = convert(id, s.value, false, false, false);
+          if (e) node.potential = *e;
+          break;
+        }
+        case Kind::Independent:
+          node.independent_pos = s.pos;
+          for (const auto& p : s.paths) {
+            auto v = lookup_variable(id, p);
+            if (!v) continue;
+            if (v->first) {
+              diags_.error(p.pos, fmt::format("independent variable '{}' is a coordinate; name its speed", p.text));
+              continue;
+            }
+            node.independent.push_back(v->second);
+          }
+          break;
+        case Kind::Output:
+          if (!s.value) {
+            if (id != m_.root()) {
+              diags_.error(s.pos, "'output energy' is only allowed at the top level");
+            } else {
+              m_.output_energy = true;
+            }
+          } else {
+            auto e = convert(id, s.value, true, false, false);
+            std::string name = join(node.name, s.name);
+            if (!output_names_.insert(name).second) {
+              diags_.error(s.name_pos, fmt::format("output '{}' is already declared", name));
+            } else if (e) {
+              m_.outputs.push_back(NamedExpr{name, *e, s.pos});
+            }
+          }
+          break;
+        case Kind::Model:
+        case Kind::Parameter:
+        case Kind::Input:
+        case Kind::Component:
+        case Kind::Gravity:
+          if (id != m_.root())
+            diags_.error(s.pos, "model, parameter, input, component and gravity statements belong at the top level");
+          break;
+        case Kind::Include:
+          diags_.error(s.pos, "include is only allowed at the top level of a file");
+          break;
+        case Kind::Subsystem:
+        case Kind::Coordinate:
+          break;
+      }
+    }
+    if (body_kind && !has_mass_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
+    if (node.kind == LeafKind::Rigid2d && !inertia_pos_.count(id))
+      diags_.error(node.pos, fmt::format("rigid2d body '{}' has no inertia", node.name));
+    if (node.kind != LeafKind::Node && !node.children.empty())
+      diags_.error(node.pos, fmt::format("leaf '{}' of kind {} cannot contain subsystems", node.name, to_string(node.kind)));
+    // Formal parameters of a component instance: bind to the arguments (in the parent's scope).
+    for (const auto& f : formal_args_) {
+      if (f.instance != node.name) continue;
+      auto e = convert(node.parent >= 0 ? node.parent : id, f.arg, false, false, false);
+      if (e) m_.formals[f.full].value = *e;
+    }
+    if (id == m_.root()) {
+      // Instances of one component share their derivation: remember the first one.
+      std::map<std::string, int> first;
+      for (size_t n = 0; n < m_.nodes.size(); ++n) {
+        auto& nd = m_.nodes[n];
+        if (nd.component.empty()) continue;
+        auto it = first.find(nd.component);
+        if (it == first.end()) first[nd.component] = static_cast<int>(n);
+        else nd.instance_of = it->second;
+      }
+    }
+  }
+
+  /// Resolves a dotted path to a variable: (is_coordinate, index).
+  std::optional<std::pair<bool, int>> lookup_variable(int node, const ast::Path& p) {
+    for (int n = node; n >= 0; n = m_.nodes[n].parent) {
+      auto it = table_.find(join(m_.nodes[n].name, p.text));
+      if (it != table_.end()) {
+        if (it->second.kind == Entry::Coord) return std::make_pair(true, it->second.index);
+        if (it->second.kind == Entry::Speed) return std::make_pair(false, it->second.index);
+        diags_.error(p.pos, fmt::format("'{}' is not a variable", p.text));
+        return std::nullopt;
+      }
+      if (m_.nodes[n].parent < 0) break;
+    }
+    diags_.error(p.pos, fmt::format("unknown variable '{}'", p.text));
+    return std::nullopt;
+  }
+
+  // ---- kinematic transformations ----
+  /// Each node's speed definitions s = Y q0' + y are solved for the rates of its own
+  /// coordinates (a small linear solve per node; leaf kinds give theirs directly).
+  void solve_coordinate_rates() {
+    m_.coord_rates.assign(m_.coords.size(), GiNaC::ex(0));
+    std::vector<bool> done(m_.coords.size(), false);
+    for (auto& [q, rate] : builtin_rates_) {
+      m_.coord_rates[q] = rate;
+      done[q] = true;
+    }
+    // Group definitions by the node of their speed.
+    for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      std::vector<int> unknown;
+      for (int q : m_.nodes[n].coords)
+        if (!done[q]) unknown.push_back(q);
+      std::vector<const Definition*> defs;
+      for (const auto& d : definitions_)
+        if (m_.speeds[d.speed].node == static_cast<int>(n)) defs.push_back(&d);
+      if (unknown.empty() && defs.empty()) continue;
+      // Rates of coordinates outside this node may appear in definitions: those are known.
+      GiNaC::exmap known;
+      for (size_t q = 0; q < m_.coords.size(); ++q)
+        if (done[q]) known[coord_dot_[q]] = m_.coord_rates[q];
+      GiNaC::lst eqs, vars;
+      for (int q : unknown) vars.append(coord_dot_[q]);
+      for (const auto* d : defs) eqs.append(GiNaC::ex(m_.speeds[d->speed].sym) == d->value.subs(known));
+      if (defs.size() != unknown.size()) {
+        if (defs.size() < unknown.size()) {
+          for (size_t i = 0; i < unknown.size(); ++i) {
+            bool used = false;
+            for (const auto* d : defs) used = used || d->value.has(coord_dot_[unknown[i]]);
+            if (!used || i >= defs.size()) {
+              const auto& c = m_.coords[unknown[i]];
+              auto leaf = c.name.substr(c.name.rfind('.') == std::string::npos ? 0 : c.name.rfind('.') + 1);
+              diags_.error(c.pos, fmt::format("coordinate '{}' has no speed defining its rate (add `speed d{} = {}'`)", c.name, leaf, leaf));
+              break;
+            }
+          }
+        } else {
+          const auto* d = defs[unknown.size()];
+          diags_.error(d->pos, fmt::format("speed '{}' is defined by coordinate rates, but subsystem '{}' has {} coordinate(s) and {} definitions",
+                                           m_.speeds[d->speed].name, m_.nodes[n].name, unknown.size(), defs.size()));
+        }
+        continue;
+      }
+      // Each definition must be linear in the unknown rates.
+      bool linear = true;
+      for (const auto* d : defs)
+        for (int q : unknown)
+          if (!d->value.subs(known).diff(coord_dot_[q], 2).is_zero()) {
+            diags_.error(d->pos, fmt::format("definition of speed '{}' is not linear in the coordinate rates", m_.speeds[d->speed].name));
+            linear = false;
+          }
+      if (!linear) continue;
+      GiNaC::ex sol;
+      try {
+        sol = GiNaC::lsolve(eqs, vars);
+      } catch (const std::exception&) {
+        sol = GiNaC::lst{};
+      }
+      if (sol.nops() != unknown.size()) {
+        diags_.error(defs.front()->pos, fmt::format("the speed definitions of subsystem '{}' cannot be solved for the coordinate rates",
+                                                    m_.nodes[n].name.empty() ? "<top>" : m_.nodes[n].name));
+        continue;
+      }
+      for (size_t i = 0; i < unknown.size(); ++i) {
+        m_.coord_rates[unknown[i]] = sol.op(i).rhs().normal();
+        done[unknown[i]] = true;
+      }
+    }
+  }
+
+  /// Replace q0' placeholders (velocity constraints, custom forces) by the coordinate rates.
+  void substitute_coordinate_rates() {
+    GiNaC::exmap rates;
+    for (size_t q = 0; q < m_.coords.size(); ++q) rates[coord_dot_[q]] = m_.coord_rates[q];
+    for (auto& c : m_.constraints) {
+      c.residual = c.residual.subs(rates);
+      check_constraint(c);
+    }
+    for (auto& f : m_.forces) f.value = f.value.subs(rates);
+  }
+
+  void check_constraint(const Constraint& c) {
+    if (c.level == Constraint::Level::Position) {
+      return;
+    }
+    bool has_speed = false;
+    for (size_t u = 0; u < m_.speeds.size(); ++u) {
+      if (!c.residual.has(m_.speeds[u].sym)) continue;
+      has_speed = true;
+      if (!c.nonlinear && !c.residual.diff(m_.speeds[u].sym, 2).is_zero()) {
+        diags_.error(c.pos, fmt::format("velocity constraint '{}' is not linear in the speed '{}'; write it in a "
+                                        "`constraint velocity nonlinear` block",
+                                        c.name, m_.speeds[u].name));
+        return;
+      }
+    }
+    if (!has_speed)
+      diags_.error(c.pos, fmt::format("velocity constraint '{}' contains no speed; write it as a position constraint", c.name));
+  }
+
+  void check_masses() {
+    for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      const Node& node = m_.nodes[n];
+      auto check = [&](const GiNaC::ex& e, const SourcePos& pos, const char* what) {
+        GiNaC::ex v = substitute_param_defaults(e);
+        GiNaC::exmap formals;
+        for (auto& [name, f] : m_.formals) formals[f.sym] = substitute_param_defaults(f.value);
+        v = v.subs(formals).subs(formals);
+        double d;
+        if (evaluate_number(v, d) && !(d > 0))
+          diags_.error(pos, fmt::format("{} of body '{}' is not positive ({})", what, node.name, d));
+      };
+      if (has_mass_.count(static_cast<int>(n))) check(node.mass, node.mass_pos, "mass");
+      if (inertia_pos_.count(static_cast<int>(n))) check(node.inertia, inertia_pos_[n], "inertia");
+    }
+  }
+
+  struct Entry {
+    enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal } kind;
+    int index;
+    GiNaC::symbol sym;
+  };
+  struct Definition {
+    int speed;
+    GiNaC::ex value;
+    SourcePos pos;
+  };
+  struct FormalArg {
+    std::string full;
+    ast::ExprPtr arg;
+    std::string instance;
+  };
+
+  Diagnostics& diags_;
+  Model m_;
+  std::map<std::string, Entry> table_;
+  std::map<std::string, const Statement*> components_;
+  const Statement* gravity_stmt_ = nullptr;
+  std::vector<Pending> pending_;
+  std::vector<GiNaC::symbol> coord_dot_;
+  std::map<int, GiNaC::ex> builtin_rates_;
+  std::vector<Definition> definitions_;
+  std::vector<FormalArg> formal_args_;
+  std::set<int> has_mass_;
+  std::map<int, SourcePos> inertia_pos_;
+  std::set<std::string> output_names_;
+  bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;
+};
+
+}  // namespace
+
+std::optional<Model> build(const ast::File& file, Diagnostics& diags) {
+  Builder b(diags);
+  try {
+    return b.run(file);
+  } catch (const std::exception& e) {
+    diags.error(SourcePos{file.path, 0, 0}, std::string("internal error while building the model: ") + e.what());
+    return std::nullopt;
+  }
+}
+
+}  // namespace mbsc::model

@@ -1,0 +1,677 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+/// Recursive-descent parser of the model language (grammar: docs/language_syntax.md).
+///
+/// Errors are reported into Diagnostics and then thrown as SyntaxError, which the
+/// nearest statement (or constraint row) loop catches; it skips to the end of that
+/// statement and goes on, so one run reports every independent mistake.
+#include <memory>
+#include <utility>
+
+#include "lexer.hpp"
+#include "mbsc/parse/parse.hpp"
+#include "parser_internal.hpp"
+
+namespace mbsc::parse {
+
+namespace {
+
+using ast::Expr;
+using ast::ExprPtr;
+using ast::Statement;
+using ast::StatementPtr;
+using TK = TokenKind;
+
+/// Thrown after an error has been reported; unwinds to the statement loop.
+struct SyntaxError {};
+
+/// Expressions and blocks nested deeper than this are rejected (keeps the stack bounded).
+constexpr int max_nesting = 200;
+
+std::string pos_text(const SourcePos& pos) { return std::to_string(pos.line) + ":" + std::to_string(pos.col); }
+
+class Parser {
+ public:
+  Parser(std::vector<Token> tokens, Diagnostics& diags) : toks_(std::move(tokens)), diags_(diags) {}
+
+  // file := stmt*
+  std::vector<StatementPtr> parse_file() {
+    std::vector<StatementPtr> out;
+    parse_statements(out, /*top_level=*/true, nullptr, "");
+    return out;
+  }
+
+ private:
+  // ---------------------------------------------------------------- tokens
+
+  /// Can an unfinished statement go on over the newline at toks_[j]? Not when the next
+  /// line starts with a keyword or '}', nor at the end of the file.
+  bool continues_after_newline(std::size_t j) const {
+    while (toks_[j].kind == TK::Newline) ++j;
+    const TK next = toks_[j].kind;
+    return !(next == TK::End || next == TK::RBrace || next == TK::Keyword);
+  }
+
+  /// A newline is "soft" (skipped) inside an open '(' or after a binary operator, '='
+  /// or ',' -- unless continues_after_newline says no: then the statement is really
+  /// unfinished and the newline is reported as what was found.
+  bool newline_is_soft() const { return (paren_depth_ > 0 || continuation_) && continues_after_newline(i_); }
+
+  const Token& peek() {
+    while (toks_[i_].kind == TK::Newline && newline_is_soft()) ++i_;
+    return toks_[i_];
+  }
+
+  bool at(TK kind) { return peek().kind == kind; }
+
+  bool at_keyword(const char* word) {
+    const Token& t = peek();
+    return t.kind == TK::Keyword && t.text == word;
+  }
+
+  Token take() {
+    Token t = peek();
+    if (t.kind != TK::End) ++i_;
+    if (t.kind == TK::LParen) ++paren_depth_;
+    if (t.kind == TK::RParen && paren_depth_ > 0) --paren_depth_;
+    continuation_ = t.kind == TK::Plus || t.kind == TK::Minus || t.kind == TK::Star || t.kind == TK::Slash ||
+                    t.kind == TK::Caret || t.kind == TK::Equals || t.kind == TK::Comma;
+    last_ = t;
+    return t;
+  }
+
+  bool accept(TK kind) {
+    if (!at(kind)) return false;
+    take();
+    return true;
+  }
+
+  [[noreturn]] void fail(const SourcePos& pos, const std::string& message) {
+    diags_.error(pos, message);
+    throw SyntaxError{};
+  }
+
+  /// "expected <what>, found <current token>" at the current token. A lexical error
+  /// token is reported with its own message instead.
+  [[noreturn]] void fail_expected(const std::string& what) {
+    const Token& t = peek();
+    if (t.kind == TK::Invalid) fail(t.pos, t.text);
+    fail(t.pos, "expected " + what + ", found " + describe(t));
+  }
+
+  Token expect(TK kind, const std::string& what) {
+    if (!at(kind)) fail_expected(what);
+    return take();
+  }
+
+  /// The last consumed token quoted for "after ..." phrases.
+  std::string after_last() const {
+    if (last_.kind == TK::Number || last_.kind == TK::String) return describe(last_);
+    return "'" + last_.text + "'";
+  }
+
+  /// NAME := IDENT (keywords are reserved and rejected with their own message)
+  Token expect_name(const std::string& what) {
+    const Token& t = peek();
+    if (t.kind == TK::Keyword) fail(t.pos, "'" + t.text + "' is a keyword and cannot be used as a name");
+    return expect(TK::Ident, what);
+  }
+
+  /// Skips raw newlines if a '{' follows them (a block may open on the next line).
+  bool at_brace_past_newlines() {
+    std::size_t j = i_;
+    while (toks_[j].kind == TK::Newline) ++j;
+    if (toks_[j].kind != TK::LBrace) return false;
+    i_ = j;
+    return true;
+  }
+
+  bool at_statement_end() {
+    const Token& t = peek();
+    return t.kind == TK::Newline || t.kind == TK::Semicolon || t.kind == TK::RBrace || t.kind == TK::End ||
+           (t.kind == TK::Keyword && is_statement_keyword(t.text));
+  }
+
+  /// A statement ends at a newline or ';' (consumed), before '}' or the end of the
+  /// file, or before a keyword that begins the next statement ("mass m  inertia J").
+  void end_statement(const std::string& after, bool in_list = false) {
+    if (!at_statement_end()) fail_expected(std::string(in_list ? "',' or " : "") + "end of statement after " + after);
+    if (at(TK::Newline) || at(TK::Semicolon)) take();
+  }
+
+  struct DepthGuard {
+    Parser& p;
+    explicit DepthGuard(Parser& parser, const SourcePos& pos) : p(parser) {
+      if (++p.depth_ > max_nesting) {
+        --p.depth_;
+        p.fail(pos, "nesting too deep (more than " + std::to_string(max_nesting) + " levels)");
+      }
+    }
+    ~DepthGuard() { --p.depth_; }
+    DepthGuard(const DepthGuard&) = delete;
+    DepthGuard& operator=(const DepthGuard&) = delete;
+  };
+
+  /// Error recovery: skips to the end of the current statement -- a newline or ';'
+  /// outside braces and parentheses (consumed), or a '}' closing the enclosing block
+  /// (left for the block), or the end of the file. A '{...}' group is skipped whole.
+  void recover() {
+    continuation_ = false;
+    int braces = 0;
+    for (;;) {
+      const Token& t = toks_[i_];
+      if (t.kind == TK::End) break;
+      if (t.kind == TK::Newline) {
+        ++i_;
+        if (braces == 0 && (paren_depth_ == 0 || !continues_after_newline(i_))) break;
+        continue;
+      }
+      if (t.kind == TK::Semicolon && braces == 0) {
+        ++i_;
+        break;
+      }
+      if (t.kind == TK::RBrace) {
+        if (braces == 0) break;
+        --braces;
+      }
+      if (t.kind == TK::LBrace) ++braces;
+      if (t.kind == TK::LParen) ++paren_depth_;
+      if (t.kind == TK::RParen && paren_depth_ > 0) --paren_depth_;
+      ++i_;
+    }
+    paren_depth_ = 0;
+    continuation_ = false;
+  }
+
+  // ------------------------------------------------------------ statements
+
+  // stmt* up to '}' (blocks) or the end of the file (top level)
+  void parse_statements(std::vector<StatementPtr>& out, bool top_level, const Token* open, const std::string& what) {
+    for (;;) {
+      while (toks_[i_].kind == TK::Newline || toks_[i_].kind == TK::Semicolon) ++i_;
+      const Token& t = toks_[i_];
+      if (t.kind == TK::End) {
+        if (open)
+          diags_.error(t.pos, "missing '}' to close " + what + " opened at " + pos_text(open->pos));
+        return;
+      }
+      if (t.kind == TK::RBrace) {
+        if (open) {
+          take();
+          return;
+        }
+        diags_.error(t.pos, "unmatched '}'");
+        ++i_;
+        continue;
+      }
+      const std::size_t before = i_;
+      paren_depth_ = 0;
+      continuation_ = false;
+      try {
+        parse_statement(out, top_level);
+      } catch (const SyntaxError&) {
+        recover();
+      }
+      if (i_ == before && toks_[i_].kind != TK::End && toks_[i_].kind != TK::RBrace) ++i_;  // always progress
+    }
+  }
+
+  Statement begin(Statement::Kind kind, const Token& keyword) {
+    Statement st;
+    st.kind = kind;
+    st.pos = keyword.pos;
+    return st;
+  }
+
+  static void push(std::vector<StatementPtr>& out, Statement st) {
+    out.push_back(std::make_shared<const Statement>(std::move(st)));
+  }
+
+  // stmt := one of the statements below, chosen by its leading keyword
+  void parse_statement(std::vector<StatementPtr>& out, bool top_level) {
+    const Token& t = peek();
+    if (t.kind == TK::Ident) fail(t.pos, "unknown statement '" + t.text + "'");
+    if (t.kind == TK::Invalid) fail(t.pos, t.text);
+    if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) fail_expected("a statement");
+    const Token kw = take();
+    const std::string& k = kw.text;
+    if (k == "model") return parse_model(out, kw);
+    if (k == "parameter") return parse_valued_names(out, kw, Statement::Kind::Parameter);
+    if (k == "speed") return parse_valued_names(out, kw, Statement::Kind::Speed);
+    if (k == "input") return parse_names(out, kw, Statement::Kind::Input);
+    if (k == "coordinate") return parse_names(out, kw, Statement::Kind::Coordinate);
+    if (k == "gravity") return parse_gravity(out, kw);
+    if (k == "include") return parse_include(out, kw, top_level);
+    if (k == "component") return parse_component(out, kw);
+    if (k == "subsystem" || k == "body") return parse_subsystem(out, kw);
+    if (k == "constraint") return parse_constraint(out, kw);
+    if (k == "force") return parse_force(out, kw);
+    if (k == "mass") return parse_valued(out, kw, Statement::Kind::Mass);
+    if (k == "inertia") return parse_valued(out, kw, Statement::Kind::Inertia);
+    if (k == "kinetic") return parse_valued(out, kw, Statement::Kind::Kinetic);
+    if (k == "potential") return parse_valued(out, kw, Statement::Kind::Potential);
+    if (k == "independent") return parse_independent(out, kw);
+    if (k == "output") return parse_output(out, kw);
+    fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
+  }
+
+  // 'model' IDENT
+  void parse_model(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Model, kw);
+    const Token name = expect_name("model name after 'model'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    end_statement("model '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'parameter' IDENT ['=' expr] (',' IDENT ['=' expr])*
+  // 'speed'     IDENT ['=' expr] (',' IDENT ['=' expr])*
+  void parse_valued_names(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind) {
+    std::vector<Statement> items;
+    for (;;) {
+      Statement st = begin(kind, kw);
+      const Token name = expect_name(kw.text + " name after " + after_last());
+      st.name = name.text;
+      st.name_pos = name.pos;
+      if (accept(TK::Equals)) st.value = parse_expr();
+      items.push_back(std::move(st));
+      if (!accept(TK::Comma)) break;
+    }
+    end_statement(kw.text + " '" + items.back().name + "'", /*in_list=*/true);
+    for (auto& st : items) push(out, std::move(st));
+  }
+
+  // 'input' IDENT (',' IDENT)*  |  'coordinate' IDENT (',' IDENT)*
+  void parse_names(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind) {
+    std::vector<Statement> items;
+    for (;;) {
+      Statement st = begin(kind, kw);
+      const Token name = expect_name(kw.text + " name after " + after_last());
+      st.name = name.text;
+      st.name_pos = name.pos;
+      items.push_back(std::move(st));
+      if (!accept(TK::Comma)) break;
+    }
+    end_statement(kw.text + " '" + items.back().name + "'", /*in_list=*/true);
+    for (auto& st : items) push(out, std::move(st));
+  }
+
+  // 'gravity' '(' expr ',' expr [',' expr] ')'
+  void parse_gravity(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Gravity, kw);
+    expect(TK::LParen, "'(' after 'gravity'");
+    for (;;) {
+      if (st.exprs.size() == 3) fail(peek().pos, "gravity has 2 or 3 components, found more");
+      st.exprs.push_back(parse_expr());
+      if (!accept(TK::Comma)) break;
+    }
+    if (!at(TK::RParen)) fail_expected("',' or ')' after gravity component");
+    if (st.exprs.size() < 2) fail(peek().pos, "gravity has 2 or 3 components, found 1 (expected ',')");
+    take();
+    end_statement("gravity");
+    push(out, std::move(st));
+  }
+
+  // 'include' STRING
+  void parse_include(std::vector<StatementPtr>& out, const Token& kw, bool top_level) {
+    Statement st = begin(Statement::Kind::Include, kw);
+    const Token file = expect(TK::String, "file name in double quotes after 'include'");
+    if (file.text.empty()) fail(file.pos, "empty file name in include");
+    st.name = file.text;
+    st.name_pos = file.pos;
+    end_statement("include \"" + file.text + "\"");
+    if (!top_level) {
+      diags_.error(kw.pos, "include is only allowed at the top level of a file");
+      return;
+    }
+    push(out, std::move(st));
+  }
+
+  // 'component' IDENT '(' [IDENT (',' IDENT)*] ')' '{' stmt* '}'
+  void parse_component(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Component, kw);
+    const Token name = expect_name("component name after 'component'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    expect(TK::LParen, "'(' after component name '" + name.text + "'");
+    if (!at(TK::RParen)) {
+      for (;;) {
+        const Token formal = expect_name("parameter name in component '" + name.text + "'");
+        st.formals.push_back(formal.text);
+        st.formal_pos.push_back(formal.pos);
+        if (!accept(TK::Comma)) break;
+      }
+    }
+    expect(TK::RParen, "')' after the parameters of component '" + name.text + "'");
+    if (!at_brace_past_newlines()) fail_expected("'{' to begin the body of component '" + name.text + "'");
+    parse_block(st, "component '" + name.text + "'");
+    end_statement("the body of component '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'subsystem' IDENT [':' IDENT ['(' [expr (',' expr)*] ')']] ['{' stmt* '}']   ('body' alike)
+  void parse_subsystem(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Subsystem, kw);
+    const Token name = expect_name(kw.text + " name after '" + kw.text + "'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    const std::string what = kw.text + " '" + name.text + "'";
+    if (accept(TK::Colon)) {
+      const Token kind = expect_name("kind or component name after ':' in " + what);
+      st.kind_name = kind.text;
+      st.kind_pos = kind.pos;
+      if (accept(TK::LParen)) {
+        if (!at(TK::RParen)) {
+          for (;;) {
+            st.exprs.push_back(parse_expr());
+            if (!accept(TK::Comma)) break;
+          }
+        }
+        expect(TK::RParen, "')' after the arguments of " + what);
+      }
+    } else if (at(TK::LParen)) {
+      fail(peek().pos, what + " has arguments but no kind (expected ': KIND' before '(')");
+    }
+    if (at_brace_past_newlines()) {
+      parse_block(st, what);
+      end_statement("the body of " + what);
+    } else {
+      end_statement(what);
+    }
+    push(out, std::move(st));
+  }
+
+  // '{' stmt* '}'
+  void parse_block(Statement& st, const std::string& what) {
+    DepthGuard guard(*this, peek().pos);  // on failure the '{' is still ahead: recovery skips the block
+    const Token open = take();            // '{'
+
+    st.has_body = true;
+    parse_statements(st.body, /*top_level=*/false, &open, what);
+  }
+
+  // 'constraint' ('position'|'velocity') ['nonlinear'] '{' equation* '}'
+  void parse_constraint(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Constraint, kw);
+    if (!at_keyword("position") && !at_keyword("velocity"))
+      fail_expected("'position' or 'velocity' after 'constraint'");
+    const Token level = take();
+    st.level = level.text;
+    st.name_pos = level.pos;
+    if (at_keyword("nonlinear")) {
+      take();
+      st.nonlinear = true;
+    }
+    if (!at_brace_past_newlines()) fail_expected("'{' to begin the " + st.level + " constraint block");
+    const Token open = take();
+    parse_rows(st, open);
+    end_statement("the " + st.level + " constraint block");
+    push(out, std::move(st));
+  }
+
+  // equation* '}'   (rows separated by newlines or ';')
+  void parse_rows(Statement& st, const Token& open) {
+    const std::string what = st.level + " constraint block";
+    for (;;) {
+      while (toks_[i_].kind == TK::Newline || toks_[i_].kind == TK::Semicolon) ++i_;
+      const Token& t = toks_[i_];
+      if (t.kind == TK::RBrace) {
+        take();
+        return;
+      }
+      if (t.kind == TK::End || starts_statement_in_rows()) {
+        // The block was left open; treat it as closed here so the statement that
+        // follows is still parsed (and checked) normally.
+        diags_.error(t.pos, "missing '}' to close " + what + " opened at " + pos_text(open.pos));
+        return;
+      }
+      const std::size_t before = i_;
+      paren_depth_ = 0;
+      continuation_ = false;
+      try {
+        st.equations.push_back(parse_equation());
+      } catch (const SyntaxError&) {
+        recover();
+      }
+      if (i_ == before && toks_[i_].kind != TK::End && toks_[i_].kind != TK::RBrace) ++i_;
+    }
+  }
+
+  /// In a constraint block: does a statement (rather than a row) begin here? A statement
+  /// keyword followed by something that cannot follow a name in a row ("mass m1") means
+  /// the block was not closed; "mass = 1" is a row misusing a keyword.
+  bool starts_statement_in_rows() const {
+    const Token& t = toks_[i_];
+    if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) return false;
+    switch (toks_[i_ + 1].kind) {
+      case TK::Equals:
+      case TK::Dot:
+      case TK::Prime:
+      case TK::Star:
+      case TK::Slash:
+      case TK::Caret: return false;
+      default: return true;
+    }
+  }
+
+  // equation := [IDENT ':'] expr '=' expr
+  ast::Equation parse_equation() {
+    ast::Equation eq;
+    eq.pos = peek().pos;
+    if (toks_[i_].kind == TK::Ident && toks_[i_ + 1].kind == TK::Colon) {
+      eq.label = take().text;
+      take();  // ':'
+    }
+    eq.lhs = parse_expr();
+    if (!at(TK::Equals)) {
+      const TK k = peek().kind;
+      if (k == TK::Newline || k == TK::Semicolon || k == TK::RBrace || k == TK::End)
+        fail(eq.pos, "constraint row is not an equation (expected '=')");
+      fail_expected("'=' in constraint row");
+    }
+    take();
+    eq.rhs = parse_expr();
+    const TK k = peek().kind;
+    if (k == TK::Newline || k == TK::Semicolon)
+      take();
+    else if (k != TK::RBrace && k != TK::End)
+      fail_expected("end of constraint row");
+    return eq;
+  }
+
+  // 'force' path ':' expr
+  void parse_force(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Force, kw);
+    st.path = parse_path("force target after 'force'");
+    expect(TK::Colon, "':' after force target '" + st.path.text + "'");
+    st.value = parse_expr();
+    end_statement("force on '" + st.path.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'mass' expr | 'inertia' expr | 'kinetic' expr | 'potential' expr
+  void parse_valued(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind) {
+    Statement st = begin(kind, kw);
+    st.value = parse_expr();
+    end_statement(kw.text + " expression");
+    push(out, std::move(st));
+  }
+
+  // 'independent' path (',' path)*
+  void parse_independent(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Independent, kw);
+    for (;;) {
+      st.paths.push_back(parse_path("name after " + after_last()));
+      if (!accept(TK::Comma)) break;
+    }
+    end_statement("independent '" + st.paths.back().text + "'", /*in_list=*/true);
+    push(out, std::move(st));
+  }
+
+  // 'output' IDENT '=' expr | 'output' 'energy'
+  void parse_output(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Output, kw);
+    if (at_keyword("energy")) {
+      const Token e = take();
+      st.name = e.text;
+      st.name_pos = e.pos;
+      end_statement("output energy");
+      push(out, std::move(st));
+      return;
+    }
+    const Token name = expect_name("output name or 'energy' after 'output'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    expect(TK::Equals, "'=' after output name '" + name.text + "'");
+    st.value = parse_expr();
+    end_statement("output '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // path := IDENT ('.' IDENT)*
+  ast::Path parse_path(const std::string& what) {
+    const Token first = expect_name(what);
+    ast::Path p;
+    p.text = first.text;
+    p.pos = first.pos;
+    while (accept(TK::Dot)) p.text += "." + expect_name("name after '.' in '" + p.text + ".'").text;
+    return p;
+  }
+
+  // ----------------------------------------------------------- expressions
+
+  static ExprPtr make(Expr::Kind kind, std::string text, std::vector<ExprPtr> args, const SourcePos& pos) {
+    auto e = std::make_shared<Expr>();
+    e->kind = kind;
+    e->text = std::move(text);
+    e->args = std::move(args);
+    e->pos = pos;
+    return e;
+  }
+
+  // expr := term (('+'|'-') term)*
+  ExprPtr parse_expr() {
+    const SourcePos start = peek().pos;
+    ExprPtr lhs = parse_term();
+    while (at(TK::Plus) || at(TK::Minus)) {
+      const Token op = take();
+      ExprPtr rhs = parse_term();
+      lhs = make(Expr::Kind::Binary, op.text, {lhs, rhs}, start);
+    }
+    return lhs;
+  }
+
+  // term := unary (('*'|'/') unary)*
+  ExprPtr parse_term() {
+    const SourcePos start = peek().pos;
+    ExprPtr lhs = parse_unary();
+    while (at(TK::Star) || at(TK::Slash)) {
+      const Token op = take();
+      ExprPtr rhs = parse_unary();
+      lhs = make(Expr::Kind::Binary, op.text, {lhs, rhs}, start);
+    }
+    return lhs;
+  }
+
+  // unary := ('-'|'+') unary | power
+  ExprPtr parse_unary() {
+    DepthGuard guard(*this, peek().pos);
+    if (at(TK::Minus) || at(TK::Plus)) {
+      const Token op = take();
+      ExprPtr operand = parse_unary();
+      return make(Expr::Kind::Unary, op.text, {operand}, op.pos);
+    }
+    return parse_power();
+  }
+
+  // power := postfix ['^' unary]        (right associative: a^b^c = a^(b^c), -x^2 = -(x^2))
+  ExprPtr parse_power() {
+    const SourcePos start = peek().pos;
+    ExprPtr base = parse_postfix();
+    if (!at(TK::Caret)) return base;
+    take();
+    ExprPtr exponent = parse_unary();
+    return make(Expr::Kind::Binary, "^", {base, exponent}, start);
+  }
+
+  // postfix := primary ("'")*            (a prime only right after a name or a prime)
+  ExprPtr parse_postfix() {
+    ExprPtr e = parse_primary();
+    while (at(TK::Prime)) {
+      if (last_.kind != TK::Ident && last_.kind != TK::Prime)
+        fail(peek().pos, "a prime (time derivative) can only follow a name, found it after " + after_last());
+      take();
+      const SourcePos pos = e->pos;
+      e = make(Expr::Kind::Prime, "", {e}, pos);
+    }
+    return e;
+  }
+
+  // primary := NUMBER | path | IDENT '(' [expr (',' expr)*] ')' | '(' expr ')'
+  ExprPtr parse_primary() {
+    const Token& t = peek();
+    switch (t.kind) {
+      case TK::Number: {
+        const Token num = take();
+        return make(Expr::Kind::Number, num.text, {}, num.pos);
+      }
+      case TK::Ident: {
+        const ast::Path path = parse_path("name");
+        if (!at(TK::LParen)) return make(Expr::Kind::Name, path.text, {}, path.pos);
+        if (path.text.find('.') != std::string::npos)
+          fail(path.pos, "'" + path.text + "' is not a function name (only plain names can be called)");
+        return parse_call_args(path);
+      }
+      case TK::LParen: {
+        const Token open = take();
+        ExprPtr inner = parse_expr();
+        expect(TK::RParen, "')' to close '(' opened at " + pos_text(open.pos));
+        return inner;
+      }
+      case TK::Keyword:
+        fail(t.pos, "'" + t.text + "' is a keyword and cannot be used in an expression");
+      default:
+        fail_expected("expression after " + after_last());
+    }
+  }
+
+  // IDENT '(' [expr (',' expr)*] ')'
+  ExprPtr parse_call_args(const ast::Path& fn) {
+    take();  // '('
+    std::vector<ExprPtr> args;
+    if (!at(TK::RParen)) {
+      for (;;) {
+        args.push_back(parse_expr());
+        if (!accept(TK::Comma)) break;
+      }
+    }
+    expect(TK::RParen, "')' after arguments of '" + fn.text + "'");
+    return make(Expr::Kind::Call, fn.text, std::move(args), fn.pos);
+  }
+
+  std::vector<Token> toks_;
+  Diagnostics& diags_;
+  std::size_t i_ = 0;
+  int paren_depth_ = 0;        // '(' consumed and not yet closed in this statement
+  bool continuation_ = false;  // the last token was a binary operator, '=' or ','
+  int depth_ = 0;              // nesting depth of expressions and blocks
+  Token last_;                 // the last consumed token
+};
+
+}  // namespace
+
+bool parse_source(const std::string& text, const std::string& file, Diagnostics& diags, ast::File& out) {
+  const int errors_before = diags.error_count();
+  Parser parser(lex(text, file), diags);
+  out.path = file;
+  out.statements = parser.parse_file();
+  return diags.error_count() == errors_before;
+}
+
+std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags) {
+  ast::File out;
+  if (!parse_source(text, file, diags, out)) return std::nullopt;
+  return out;
+}
+
+}  // namespace mbsc::parse

@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Partition of B's columns into independent (#) and dependent (⋆) speeds.
+#include "mbsc/sym/complement.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace mbsc::sym {
+namespace {
+
+std::string node_label(const model::Model& m, int n) { return m.nodes[n].name.empty() ? "<top>" : m.nodes[n].name; }
+
+int numeric_rank(const Eigen::MatrixXd& A) {
+  if (A.rows() == 0 || A.cols() == 0) return 0;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+  lu.setThreshold(1e-9);
+  return static_cast<int>(lu.rank());
+}
+
+std::string names(const model::Model& m, const std::vector<int>& speeds) {
+  std::string out;
+  for (int s : speeds) out += (out.empty() ? "" : ", ") + m.speeds[s].name;
+  return out;
+}
+
+/// Singleton elimination: repeatedly take a column (among `allowed`) that is nonzero in
+/// exactly one remaining row with a state-free, nonzero pivot. Solving the picked rows
+/// in reverse pick order is a forward substitution. Returns the (row, column) picks.
+std::vector<std::pair<int, int>> singleton_elimination(const ComplementInput& in, const Eigen::MatrixXd& Bn,
+                                                      const std::vector<int>& allowed, bool prefer_children) {
+  const auto& B = *in.B;
+  const int nr = static_cast<int>(B.rows());
+  std::vector<bool> row_left(nr, true), col_left(B.cols(), false);
+  for (int j : allowed) col_left[j] = true;
+  std::vector<std::pair<int, int>> picks;
+  for (;;) {
+    int best_row = -1, best_col = -1, best_score = -1;
+    for (size_t j = 0; j < B.cols(); ++j) {
+      if (!col_left[j]) continue;
+      int row = -1, count = 0;
+      for (int i = 0; i < nr; ++i)
+        if (row_left[i] && !B(i, j).is_zero()) {
+          row = i;
+          ++count;
+        }
+      if (count != 1) continue;
+      const GiNaC::ex& pivot = B(row, j);
+      if (!is_state_free(pivot, *in.model) || std::abs(Bn(row, j)) < 1e-12) continue;
+      // Prefer numeric pivots, then children's speeds over the node's own extra speeds.
+      int score = (GiNaC::is_a<GiNaC::numeric>(pivot) ? 4 : 0) +
+                  (prefer_children && in.model->speeds[in.y[j]].node != in.node ? 2 : 0);
+      if (score > best_score) {
+        best_score = score;
+        best_row = row;
+        best_col = static_cast<int>(j);
+      }
+    }
+    if (best_col < 0) break;
+    picks.push_back({best_row, best_col});
+    row_left[best_row] = false;
+    col_left[best_col] = false;
+  }
+  std::reverse(picks.begin(), picks.end());
+  return picks;
+}
+
+/// Decides how the dependent block is solved and fills p.symbolic / triangular_order.
+void classify(const ComplementInput& in, const Eigen::MatrixXd& Bn, const std::vector<int>& dep_cols, Partition& p) {
+  const auto& B = *in.B;
+  auto picks = singleton_elimination(in, Bn, dep_cols, false);
+  if (picks.size() == dep_cols.size() && static_cast<int>(picks.size()) == static_cast<int>(B.rows())) {
+    p.symbolic = true;
+    for (auto [row, c] : picks) p.triangular_order.push_back({row, in.y[c]});
+    return;
+  }
+  const int nd = static_cast<int>(dep_cols.size());
+  if (nd <= 6) {
+    GiNaC::matrix Bs(nd, nd);
+    for (int i = 0; i < nd; ++i)
+      for (int k = 0; k < nd; ++k) Bs(i, k) = B(i, dep_cols[k]);
+    GiNaC::ex det = Bs.determinant().normal();
+    if (!det.is_zero() && is_state_free(det, *in.model)) p.symbolic = true;
+  }
+}
+
+}  // namespace
+
+std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics& diags) {
+  const auto& m = *in.model;
+  const auto& B = *in.B;
+  const int nr = static_cast<int>(B.rows());
+  const int ny = static_cast<int>(B.cols());
+  // Numeric B at the probe point.
+  Eigen::MatrixXd Bn(nr, ny);
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < ny; ++j) {
+      Bn(i, j) = B(i, j).is_zero() ? 0.0 : in.probe->eval(B(i, j));
+      if (!std::isfinite(Bn(i, j))) {
+        const auto& c = m.constraints[in.rows[i]];
+        diags.error(c.pos, fmt::format("constraint '{}' cannot be evaluated at a generic configuration (its Jacobian is not finite)", c.name));
+        return std::nullopt;
+      }
+    }
+  // Rank, row by row: a row that does not raise the rank is redundant.
+  int rank = 0;
+  for (int i = 0; i < nr; ++i) {
+    int r = numeric_rank(Bn.topRows(i + 1));
+    const auto& c = m.constraints[in.rows[i]];
+    if (Bn.row(i).norm() == 0.0) {
+      diags.error(c.pos, fmt::format("constraint '{}' restricts no speed of subsystem '{}' (its rows of B are zero): "
+                                     "it is either always satisfied or inconsistent",
+                                     c.name, node_label(m, in.node)));
+      return std::nullopt;
+    }
+    if (r == rank) {
+      diags.error(c.pos, fmt::format("constraint '{}' is redundant: it is a combination of the constraints before it in "
+                                     "subsystem '{}' (rank {} with {} rows); remove it",
+                                     c.name, node_label(m, in.node), rank, i + 1));
+      return std::nullopt;
+    }
+    rank = r;
+  }
+  const int ndof = ny - nr;
+  Partition p;
+  std::vector<int> dep_cols;
+  if (!in.requested.empty()) {
+    // User's independent set: each must be a column here, the count must be the DOF,
+    // and the remaining block must be regular.
+    std::set<int> indep_cols;
+    for (int s : in.requested) {
+      auto it = std::find(in.y.begin(), in.y.end(), s);
+      if (it == in.y.end()) {
+        diags.error(in.requested_pos, fmt::format("independent speed '{}' is not free at subsystem '{}' (it is not one of its "
+                                                  "speeds or was eliminated in a child subsystem); free speeds here: {}",
+                                                  m.speeds[s].name, node_label(m, in.node), names(m, in.y)));
+        return std::nullopt;
+      }
+      if (!indep_cols.insert(static_cast<int>(it - in.y.begin())).second) {
+        diags.error(in.requested_pos, fmt::format("independent speed '{}' is listed twice", m.speeds[s].name));
+        return std::nullopt;
+      }
+    }
+    if (static_cast<int>(indep_cols.size()) != ndof) {
+      diags.error(in.requested_pos, fmt::format("subsystem '{}' has {} degree(s) of freedom but {} independent speed(s) are given",
+                                                node_label(m, in.node), ndof, indep_cols.size()));
+      return std::nullopt;
+    }
+    for (int j = 0; j < ny; ++j)
+      if (!indep_cols.count(j)) dep_cols.push_back(j);
+    Eigen::MatrixXd Bs(nr, dep_cols.size());
+    for (size_t k = 0; k < dep_cols.size(); ++k) Bs.col(k) = Bn.col(dep_cols[k]);
+    if (numeric_rank(Bs) < nr) {
+      std::vector<int> dep;
+      for (int j : dep_cols) dep.push_back(in.y[j]);
+      diags.error(in.requested_pos, fmt::format("the independent speeds ({}) do not work for subsystem '{}': the constraints "
+                                                "cannot be solved for the remaining speeds ({}) at a generic configuration",
+                                                names(m, in.requested), node_label(m, in.node), names(m, dep)));
+      return std::nullopt;
+    }
+    for (int s : in.requested) p.independent.push_back(s);
+  } else {
+    // Automatic: a triangular choice with state-free pivots if one exists, else the
+    // pivot columns of a column-pivoted QR of B at the probe point.
+    std::vector<int> all(ny);
+    for (int j = 0; j < ny; ++j) all[j] = j;
+    auto picks = singleton_elimination(in, Bn, all, true);
+    if (static_cast<int>(picks.size()) == nr) {
+      for (auto [row, c] : picks) dep_cols.push_back(c);
+    } else {
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Bn);
+      for (int k = 0; k < nr; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
+    }
+    std::sort(dep_cols.begin(), dep_cols.end());
+    for (int j = 0; j < ny; ++j)
+      if (!std::binary_search(dep_cols.begin(), dep_cols.end(), j)) p.independent.push_back(in.y[j]);
+  }
+  std::sort(dep_cols.begin(), dep_cols.end());
+  for (int j : dep_cols) p.dependent.push_back(in.y[j]);
+  classify(in, Bn, dep_cols, p);
+  return p;
+}
+
+}  // namespace mbsc::sym

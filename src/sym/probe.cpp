@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/sym/probe.hpp"
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace mbsc::sym {
+
+Probe::Probe(const model::Model& model, const std::map<std::string, double>& param_values, unsigned seed) {
+  // mt19937's sequence is fixed by the standard, so the probe point is the same on every run.
+  std::mt19937 rng(seed);
+  auto next = [&rng](double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(rng()) / 4294967296.0); };
+  values_[model.time] = next(0.1, 1.0);
+  for (const auto& q : model.coords) values_[q.sym] = next(-1.3, 1.3);
+  for (const auto& u : model.speeds) values_[u.sym] = next(-1.3, 1.3);
+  for (const auto& in : model.inputs) values_[in.sym] = next(-1.0, 1.0);
+  for (size_t i = 0; i < model.params.size(); ++i) {
+    auto it = param_values.find(model.params[i].name);
+    values_[model.params[i].sym] = it != param_values.end() ? it->second : model.param_defaults[i];
+  }
+  // Formals may refer to parameters: bind them to their argument values.
+  for (int pass = 0; pass < 4; ++pass)
+    for (const auto& [name, f] : model.formals) values_[f.sym] = f.value.subs(values_);
+}
+
+double Probe::eval(const GiNaC::ex& e) const {
+  try {
+    GiNaC::ex v = GiNaC::evalf(e.subs(values_));
+    if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::numeric_limits<double>::quiet_NaN();
+    const auto& n = GiNaC::ex_to<GiNaC::numeric>(v);
+    if (!n.is_real()) return std::numeric_limits<double>::quiet_NaN();
+    return n.to_double();
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+namespace {
+bool has_any(const GiNaC::ex& e, const std::vector<model::Variable>& vars) {
+  for (const auto& v : vars)
+    if (e.has(v.sym)) return true;
+  return false;
+}
+}  // namespace
+
+bool is_state_free(const GiNaC::ex& e, const model::Model& model) {
+  if (e.has(model.time) || has_any(e, model.coords) || has_any(e, model.speeds) || has_any(e, model.inputs)) return false;
+  for (const auto& s : model.speed_dots)
+    if (e.has(s)) return false;
+  // Any other symbol must be a parameter or a formal.
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    bool known = false;
+    for (const auto& p : model.params) known = known || it->is_equal(p.sym);
+    for (const auto& [name, f] : model.formals) known = known || it->is_equal(f.sym);
+    if (!known) return false;
+  }
+  return true;
+}
+
+}  // namespace mbsc::sym

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The subcommands as a user meets them: --help, check, print.
+#include <catch2/catch.hpp>
+
+#include "run_command.hpp"
+
+using namespace mbsc_test;
+
+namespace {
+std::string model(const char* name) { return quote(std::string(MBSC_SOURCE_DIR) + "/models/" + name); }
+const std::string kMbsc = MBSC_BINARY;
+}  // namespace
+
+TEST_CASE("--help on each subcommand", "[cli]") {
+  for (const char* sub : {"", " check", " print", " generate"}) {
+    auto r = run(kMbsc + sub + " --help");
+    INFO(sub);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("Usage") != std::string::npos);
+  }
+  CHECK(run(kMbsc).exit_code == 1);
+}
+
+TEST_CASE("check reports the degrees of freedom and the partition", "[cli]") {
+  auto r = run(kMbsc + " check " + model("double_pendulum.mbs"));
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("model double_pendulum: 2 degree(s) of freedom") != std::string::npos);
+  CHECK(r.output.find("independent speeds: w1, w2") != std::string::npos);
+  r = run(kMbsc + " check " + model("five_bar.mbs"));
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("4 degree(s) of freedom") != std::string::npos);
+  CHECK(r.output.find("numeric (LU in generated code)") != std::string::npos);
+}
+
+TEST_CASE("print shows the matrices of a subsystem, in text and LaTeX", "[cli]") {
+  auto r = run(kMbsc + " print " + model("five_bar.mbs") + " --node linkage.left --what B,C,fbar");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("subsystem linkage.left") != std::string::npos);
+  CHECK(r.output.find("C (8 x 2)") != std::string::npos);
+  r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --what M --latex");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("\\begin{pmatrix}") != std::string::npos);
+  r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --stats");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("rhs") != std::string::npos);
+  r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --node nosuch");
+  CHECK(r.exit_code == 1);
+}

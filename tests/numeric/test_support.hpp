@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+// Small helpers shared by the numeric tests: state lookup by name and RK4 runs.
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mbsc_test {
+
+/// Index of `name` in a generated name list (throws when absent, so a renamed
+/// variable fails the test loudly).
+inline int index_of(const char* const* names, int n, const std::string& name) {
+  for (int i = 0; i < n; ++i)
+    if (name == names[i]) return i;
+  throw std::runtime_error("no state named " + name);
+}
+
+}  // namespace mbsc_test
