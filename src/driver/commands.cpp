@@ -76,6 +76,7 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
     if (!r.rows.empty())
       out << fmt::format("; independent: {}; complement: {}", speed_names(*m, r.independent),
                          r.symbolic_complement ? "symbolic" : "numeric (LU in generated code)");
+    if (r.from_component_cache) out << "; reused from the first instance of its component";
     out << "\n";
   }
   return 0;

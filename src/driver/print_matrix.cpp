@@ -97,24 +97,21 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       GiNaC::matrix S = sym::full_complement(m, eom, n, rows);
       out += matrix_text("S", names_of(m, rows, false), inames, to_rows(S, m, eom), latex);
     } else if (w == "f" || w == "fbar") {
-      const auto& vec = w == "f" ? r.f : r.fbar;
+      // f = -My y' + hy over y; fbar = -M z' + h over the independent speeds.
+      const bool full = w == "f";
+      const auto& vars = full ? r.y : r.independent;
+      const GiNaC::matrix& Mx = full ? r.My : r.M;
+      const GiNaC::matrix& hx = full ? r.hy : r.h;
       std::vector<std::vector<GiNaC::ex>> v;
-      for (const auto& e : vec) v.push_back({finalize(m, eom, e)});
-      out += matrix_text(w == "f" ? "f" : "fbar", w == "f" ? ynames : inames, {"value"}, v, latex);
-    } else if (w == "M" || w == "h") {
-      const int nd = static_cast<int>(r.independent.size());
-      GiNaC::exmap zero;
-      for (int s : r.independent) zero[m.speed_dots[s]] = 0;
-      std::vector<std::vector<GiNaC::ex>> v;
-      for (int i = 0; i < nd; ++i) {
-        std::vector<GiNaC::ex> row;
-        if (w == "M")
-          for (int j = 0; j < nd; ++j) row.push_back(finalize(m, eom, -r.fbar[i].diff(m.speed_dots[r.independent[j]])));
-        else
-          row.push_back(finalize(m, eom, r.fbar[i].subs(zero)));
-        v.push_back(row);
+      for (size_t i = 0; i < vars.size(); ++i) {
+        GiNaC::ex e = hx(i, 0);
+        for (size_t j = 0; j < vars.size(); ++j) e -= Mx(i, j) * m.speed_dots[vars[j]];
+        v.push_back({finalize(m, eom, e)});
       }
-      out += matrix_text(w, inames, w == "M" ? inames : std::vector<std::string>{"value"}, v, latex);
+      out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex);
+    } else if (w == "M" || w == "h") {
+      out += w == "M" ? matrix_text("M", inames, inames, to_rows(r.M, m, eom), latex)
+                      : matrix_text("h", inames, {"value"}, to_rows(r.h, m, eom), latex);
     } else {
       throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h)", w));
     }

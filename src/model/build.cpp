@@ -479,6 +479,7 @@ class Builder {
       for (size_t n = 0; n < m_.nodes.size(); ++n) {
         auto& nd = m_.nodes[n];
         if (nd.component.empty()) continue;
+        if (pending_[n].decl && !pending_[n].decl->body.empty()) continue;  // extended instance: derived on its own
         auto it = first.find(nd.component);
         if (it == first.end()) first[nd.component] = static_cast<int>(n);
         else nd.instance_of = it->second;

@@ -40,8 +40,14 @@ class Deriver {
 
   std::optional<Eom> run() {
     eom_.nodes.resize(m_.nodes.size());
+    const std::vector<int> clone_from =
+        eom_.options.reuse_components ? component_clones() : std::vector<int>(m_.nodes.size(), -1);
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
-      if (!process(static_cast<int>(n))) return std::nullopt;
+      if (clone_from[n] >= 0) {
+        clone(static_cast<int>(n), clone_from[n]);
+      } else if (!process(static_cast<int>(n))) {
+        return std::nullopt;
+      }
     }
     if (!assemble_root()) return std::nullopt;
     energy();
@@ -91,17 +97,35 @@ class Deriver {
     const model::Node& node = m_.nodes[n];
     NodeResult& r = eom_.nodes[n];
     r.node = n;
-    // y = (own speeds, children's independent speeds)
-    std::vector<GiNaC::ex> f;
+    // y = (own speeds, children's independent speeds); f over y as f = -My y' + hy,
+    // with My block-diagonal: own speeds' block from the leaf forces, children's M.
+    std::vector<GiNaC::ex> f_own;
     for (size_t k = 0; k < node.speeds.size(); ++k) {
       r.y.push_back(node.speeds[k]);
-      f.push_back(own_force(node, node.speeds[k], static_cast<int>(k)));
+      f_own.push_back(own_force(node, node.speeds[k], static_cast<int>(k)));
     }
-    for (int c : node.children) {
-      const NodeResult& rc = eom_.nodes[c];
-      for (size_t k = 0; k < rc.independent.size(); ++k) {
-        r.y.push_back(rc.independent[k]);
-        f.push_back(rc.fbar[k]);
+    for (int c : node.children)
+      for (int s : eom_.nodes[c].independent) r.y.push_back(s);
+    const int ny = static_cast<int>(r.y.size());
+    r.My = GiNaC::matrix(ny, ny);
+    r.hy = GiNaC::matrix(ny, 1);
+    {
+      const int no = static_cast<int>(node.speeds.size());
+      GiNaC::exmap zero_own;
+      for (int s : node.speeds) zero_own[m_.speed_dots[s]] = 0;
+      for (int i = 0; i < no; ++i) {
+        for (int j = 0; j < no; ++j) r.My(i, j) = -f_own[i].diff(m_.speed_dots[node.speeds[j]]);
+        r.hy(i, 0) = f_own[i].subs(zero_own);
+      }
+      int off = no;
+      for (int c : node.children) {
+        const NodeResult& rc = eom_.nodes[c];
+        const int nc = static_cast<int>(rc.independent.size());
+        for (int i = 0; i < nc; ++i) {
+          for (int j = 0; j < nc; ++j) r.My(off + i, off + j) = rc.M(i, j);
+          r.hy(off + i, 0) = rc.h(i, 0);
+        }
+        off += nc;
       }
     }
     const std::set<int> avail(r.y.begin(), r.y.end());
@@ -137,7 +161,6 @@ class Deriver {
       rows.push_back(sub.empty() ? g : g.subs(sub));
       r.rows.push_back(ci);
     }
-    const int ny = static_cast<int>(r.y.size());
     const int nr = static_cast<int>(rows.size());
     if (nr == 0) {
       // Without constraints every y is independent; a given set must say exactly that.
@@ -155,10 +178,12 @@ class Deriver {
       }
       r.independent = node.independent.empty() ? r.y : node.independent;
       r.rank = 0;
+      // C is a permutation (the given order of the independent speeds).
       r.C = GiNaC::matrix(ny, ny);
-      for (int i = 0; i < ny; ++i) r.C(i, i) = 1;
-      r.f = f;
-      r.fbar = f;
+      for (int j = 0; j < ny; ++j)
+        r.C(static_cast<int>(std::find(r.y.begin(), r.y.end(), r.independent[j]) - r.y.begin()), j) = 1;
+      r.e = GiNaC::matrix(ny, 1);
+      reduce_forces(r);
       return true;
     }
     // B = d rows / d y, b = rows at y = 0.
@@ -192,23 +217,190 @@ class Deriver {
     for (int j = 0; j < nd; ++j) r.C(col[r.independent[j]], j) = 1;
     for (int s : r.dependent)
       for (int j = 0; j < nd; ++j) r.C(col[s], j) = sol[s].diff(m_.speed_dots[r.independent[j]]);
-    // fbar = C^T f with the dependent rates substituted (thesis (4.11)).
-    GiNaC::exmap dep;
-    for (int s : r.dependent) dep[m_.speed_dots[s]] = sol[s];
-    r.f.resize(ny);
-    for (int j = 0; j < ny; ++j) r.f[j] = f[j].subs(dep);
-    r.fbar.assign(nd, 0);
-    for (int j = 0; j < nd; ++j) {
-      GiNaC::ex acc = r.f[col[r.independent[j]]];
-      for (int s : r.dependent)
-        if (!r.C(col[s], j).is_zero()) acc += r.C(col[s], j) * r.f[col[s]];
-      r.fbar[j] = acc;
-    }
+    // e: the dependent rates when every independent rate is zero.
+    r.e = GiNaC::matrix(ny, 1);
+    GiNaC::exmap zero_indep;
+    for (int s : r.independent) zero_indep[m_.speed_dots[s]] = 0;
+    for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
+    reduce_forces(r);
     for (int s : r.dependent) {
       r.dependent_rates[s] = sol[s];
       eliminated_at_[s] = n;
     }
     return true;
+  }
+
+  /// fbar = C^T f with y = C z + e (thesis (4.11) and Thm 4.1):
+  ///   M = C^T My C,  h = C^T (hy - My e),  fbar = -M z' + h.
+  /// Only products with nonzero factors are formed; M is symmetric by construction.
+  void reduce_forces(NodeResult& r) {
+    const unsigned ny = r.C.rows(), nd = r.C.cols();
+    GiNaC::matrix MyC(ny, nd), rest(ny, 1);
+    for (unsigned i = 0; i < ny; ++i) {
+      GiNaC::ex acc_rest = r.hy(i, 0);
+      for (unsigned k = 0; k < ny; ++k) {
+        if (r.My(i, k).is_zero()) continue;
+        for (unsigned j = 0; j < nd; ++j)
+          if (!r.C(k, j).is_zero()) MyC(i, j) += r.My(i, k) * r.C(k, j);
+        if (!r.e(k, 0).is_zero()) acc_rest -= r.My(i, k) * r.e(k, 0);
+      }
+      rest(i, 0) = acc_rest;
+    }
+    r.M = GiNaC::matrix(nd, nd);
+    r.h = GiNaC::matrix(nd, 1);
+    for (unsigned a = 0; a < nd; ++a) {
+      for (unsigned b = a; b < nd; ++b) {
+        GiNaC::ex acc = 0;
+        for (unsigned i = 0; i < ny; ++i)
+          if (!r.C(i, a).is_zero() && !MyC(i, b).is_zero()) acc += r.C(i, a) * MyC(i, b);
+        r.M(a, b) = acc;
+        r.M(b, a) = acc;
+      }
+      GiNaC::ex acc = 0;
+      for (unsigned i = 0; i < ny; ++i)
+        if (!r.C(i, a).is_zero() && !rest(i, 0).is_zero()) acc += r.C(i, a) * rest(i, 0);
+      r.h(a, 0) = acc;
+    }
+  }
+
+  // ---- components: derived once, instantiated by substitution ----
+  int subtree_size(int n) const {
+    int size = 1;
+    for (int c : m_.nodes[n].children) size += subtree_size(c);
+    return size;
+  }
+
+  /// For every node inside a later instance of a component whose first instance has
+  /// the same structure and forces, the corresponding node of the first instance.
+  std::vector<int> component_clones() {
+    std::vector<int> from(m_.nodes.size(), -1);
+    for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      const int p = m_.nodes[n].instance_of;
+      if (p < 0) continue;
+      const int size = subtree_size(static_cast<int>(n));
+      if (size != subtree_size(p)) continue;
+      const int shift = static_cast<int>(n) - p;
+      bool same = true;
+      for (int k = static_cast<int>(n) - size + 1; k <= static_cast<int>(n) && same; ++k) {
+        const auto& a = m_.nodes[k];
+        const auto& b = m_.nodes[k - shift];
+        same = a.kind == b.kind && a.coords.size() == b.coords.size() && a.speeds.size() == b.speeds.size() &&
+               a.constraints.size() == b.constraints.size() && a.children.size() == b.children.size() &&
+               a.independent.size() == b.independent.size();
+      }
+      if (!same) continue;
+      GiNaC::exmap map = instance_map(static_cast<int>(n), p);
+      // Forces aimed into the instance must be the prototype's, renamed.
+      for (int k = static_cast<int>(n) - size + 1; k <= static_cast<int>(n) && same; ++k)
+        for (size_t i = 0; i < m_.nodes[k].speeds.size() && same; ++i)
+          same = forces_on(m_.nodes[k].speeds[i]).is_equal(forces_on(m_.nodes[k - shift].speeds[i]).subs(map));
+      if (!same) continue;
+      for (int k = static_cast<int>(n) - size + 1; k <= static_cast<int>(n); ++k) from[k] = k - shift;
+    }
+    return from;
+  }
+
+  GiNaC::ex forces_on(int s) const {
+    GiNaC::ex f = 0;
+    for (const auto& force : m_.forces)
+      if (force.speed == s) f += force.value;
+    return f;
+  }
+
+  /// Prototype symbols -> instance symbols (variables, their rates, formals).
+  GiNaC::exmap instance_map(int n, int p) const {
+    GiNaC::exmap map;
+    const int size = subtree_size(n), shift = n - p;
+    for (int k = n - size + 1; k <= n; ++k) {
+      const auto& a = m_.nodes[k];
+      const auto& b = m_.nodes[k - shift];
+      for (size_t i = 0; i < a.coords.size(); ++i) map[m_.coords[b.coords[i]].sym] = m_.coords[a.coords[i]].sym;
+      for (size_t i = 0; i < a.speeds.size(); ++i) {
+        map[m_.speeds[b.speeds[i]].sym] = m_.speeds[a.speeds[i]].sym;
+        map[m_.speed_dots[b.speeds[i]]] = m_.speed_dots[a.speeds[i]];
+      }
+    }
+    const std::string from = m_.nodes[p].name + ".", to = m_.nodes[n].name + ".";
+    for (const auto& [name, f] : m_.formals)
+      if (name.rfind(from, 0) == 0) {
+        auto it = m_.formals.find(to + name.substr(from.size()));
+        if (it != m_.formals.end()) map[f.sym] = it->second.sym;
+      }
+    return map;
+  }
+
+  /// Node k's result from node q's (same place in another instance of the component).
+  void clone(int k, int q) {
+    int inst = k;
+    while (m_.nodes[inst].instance_of < 0) inst = m_.nodes[inst].parent;
+    GiNaC::exmap map = instance_map(inst, m_.nodes[inst].instance_of);
+    const int shift = k - q;
+    // Speeds and constraints correspond by position within corresponding nodes.
+    std::map<int, int> speed_of;
+    const int size = subtree_size(k);
+    for (int a = k - size + 1; a <= k; ++a)
+      for (size_t i = 0; i < m_.nodes[a].speeds.size(); ++i) speed_of[m_.nodes[a - shift].speeds[i]] = m_.nodes[a].speeds[i];
+    auto speeds = [&](const std::vector<int>& v) {
+      std::vector<int> out;
+      for (int s : v) out.push_back(speed_of.at(s));
+      return out;
+    };
+    auto mat = [&](const GiNaC::matrix& M) {
+      GiNaC::matrix out(M.rows(), M.cols());
+      for (unsigned i = 0; i < M.rows(); ++i)
+        for (unsigned j = 0; j < M.cols(); ++j) out(i, j) = M(i, j).subs(map);
+      return out;
+    };
+    const NodeResult& src = eom_.nodes[q];
+    NodeResult r;
+    r.node = k;
+    r.y = speeds(src.y);
+    r.rows = m_.nodes[k].constraints;
+    r.independent = speeds(src.independent);
+    r.dependent = speeds(src.dependent);
+    r.rank = src.rank;
+    r.symbolic_complement = src.symbolic_complement;
+    r.from_component_cache = true;
+    // Opaque solve results get instance names, bound at the probe point like the originals.
+    for (const auto& s : src.solves) {
+      ir::Solve c = s;
+      c.label = s.label + " (instance " + m_.nodes[k].name + ")";
+      for (auto& x : c.X) {
+        GiNaC::symbol renamed(x.get_name() + "_i" + std::to_string(k));
+        map[x] = renamed;
+        x = renamed;
+      }
+      for (auto& e : c.A) e = e.subs(map);
+      for (auto& e : c.B) e = e.subs(map);
+      bind_probe(c);
+      r.solves.push_back(c);
+      eom_.solves.push_back(c);
+    }
+    r.B = mat(src.B);
+    r.b = mat(src.b);
+    r.C = mat(src.C);
+    r.e = mat(src.e);
+    r.My = mat(src.My);
+    r.hy = mat(src.hy);
+    r.M = mat(src.M);
+    r.h = mat(src.h);
+    for (const auto& [s, e] : src.dependent_rates) {
+      r.dependent_rates[speed_of.at(s)] = e.subs(map);
+      eliminated_at_[speed_of.at(s)] = k;
+    }
+    eom_.nodes[k] = r;
+  }
+
+  /// Numeric values of a solve's X at the probe point (for the parents' rank decisions).
+  void bind_probe(const ir::Solve& s) {
+    Eigen::MatrixXd An(s.n, s.n), Bn(s.n, s.k);
+    for (int i = 0; i < s.n; ++i) {
+      for (int j = 0; j < s.n; ++j) An(i, j) = probe_.eval(s.A[i * s.n + j]);
+      for (int j = 0; j < s.k; ++j) Bn(i, j) = probe_.eval(s.B[i * s.k + j]);
+    }
+    Eigen::MatrixXd Xn = An.partialPivLu().solve(Bn);
+    for (int i = 0; i < s.n; ++i)
+      for (int j = 0; j < s.k; ++j) probe_.bind(s.X[i * s.k + j], Xn(i, j));
   }
 
   bool in_subtree(int speed, int n) const {
@@ -262,31 +454,22 @@ class Deriver {
     solve.n = nd;
     solve.k = ni + 1;
     const std::string tag = sanitize(m_.nodes[n].name.empty() ? "top" : m_.nodes[n].name);
-    Eigen::MatrixXd An(nd, nd), Bn(nd, ni + 1);
     for (int i = 0; i < nd; ++i) {
-      for (int k = 0; k < nd; ++k) {
-        solve.A.push_back(r.B(i, col.at(r.dependent[k])));
-        An(i, k) = probe_.eval(solve.A.back());
-      }
-      for (int j = 0; j < ni; ++j) {
-        solve.B.push_back(r.B(i, col.at(r.independent[j])));
-        Bn(i, j) = probe_.eval(solve.B.back());
-      }
+      for (int k = 0; k < nd; ++k) solve.A.push_back(r.B(i, col.at(r.dependent[k])));
+      for (int j = 0; j < ni; ++j) solve.B.push_back(r.B(i, col.at(r.independent[j])));
       solve.B.push_back(r.b(i, 0));
-      Bn(i, ni) = probe_.eval(solve.B.back());
     }
-    Eigen::MatrixXd Xn = An.partialPivLu().solve(Bn);
     std::map<int, GiNaC::ex> sol;
     for (int i = 0; i < nd; ++i) {
       GiNaC::ex acc = 0;
       for (int j = 0; j <= ni; ++j) {
         GiNaC::symbol x(fmt::format("X_{}_{}_{}", tag, i, j));
         solve.X.push_back(x);
-        probe_.bind(x, Xn(i, j));
         acc -= x * (j < ni ? GiNaC::ex(m_.speed_dots[r.independent[j]]) : GiNaC::ex(1));
       }
       sol[r.dependent[i]] = acc;
     }
+    bind_probe(solve);
     r.solves.push_back(solve);
     eom_.solves.push_back(solve);
     return sol;
@@ -303,14 +486,8 @@ class Deriver {
     const NodeResult& root = eom_.nodes[m_.root()];
     eom_.independent = root.independent;
     const int nd = static_cast<int>(root.independent.size());
-    eom_.M = GiNaC::matrix(nd, nd);
-    eom_.h = GiNaC::matrix(nd, 1);
-    GiNaC::exmap zero;
-    for (int s : root.independent) zero[m_.speed_dots[s]] = 0;
-    for (int i = 0; i < nd; ++i) {
-      for (int j = 0; j < nd; ++j) eom_.M(i, j) = -root.fbar[i].diff(m_.speed_dots[root.independent[j]]);
-      eom_.h(i, 0) = root.fbar[i].subs(zero);
-    }
+    eom_.M = root.M;
+    eom_.h = root.h;
     // Sanity: M must be symmetric positive definite at the probe point.
     if (nd > 0) {
       Eigen::MatrixXd Mn(nd, nd);

@@ -6,7 +6,7 @@
 ///   y  = (own q1dot, children's independent q1dot)      (the R-reduced variables)
 ///   B  = d(order-2 invariants)/dy,  b = invariants at y = 0
 ///   C  = orthogonal complement of B (B*C == 0), partitioned on the independent set #
-///   f  = (f_own, fbar_children),  fbar = C^T f
+///   f  = (f_own, fbar_children) = -My y' + hy,  fbar = C^T f = -M z' + h
 /// Blocks of B whose inverse would be a configuration-dependent symbolic inverse are
 /// not inverted here: they become numeric LU solves in the generated code (ir::Solve),
 /// and their results appear in later expressions as opaque symbols.
@@ -35,9 +35,10 @@ struct NodeResult {
   std::vector<int> dependent;    // speeds eliminated here (⋆)
   int rank = 0;
   bool symbolic_complement = true;   // false: B* is solved numerically (see `solve`)
-  GiNaC::matrix C;               // ny x ndof
-  std::vector<GiNaC::ex> f;      // over y (accelerations of dependent entries substituted)
-  std::vector<GiNaC::ex> fbar;   // over independent (ndof)
+  GiNaC::matrix C;               // ny x ndof, B*C == 0
+  GiNaC::matrix e;               // ny x 1: y' = C z' + e (e is zero on the independent rows)
+  GiNaC::matrix My, hy;          // f over y: f = -My y' + hy (My block-diagonal: own block, children's M)
+  GiNaC::matrix M, h;            // fbar = C^T f = -M z' + h over the independent speeds z
   /// q1dot of each dependent speed in terms of the node's y# (dependent -> expression).
   std::map<int, GiNaC::ex> dependent_rates;
   std::vector<ir::Solve> solves;  // numeric solves this node adds (0 or 1)
@@ -46,6 +47,7 @@ struct NodeResult {
 
 struct Options {
   std::map<std::string, double> frozen;  // parameter name -> value folded into the code
+  bool reuse_components = true;           // derive a component once, instantiate by substitution
 };
 
 /// Derived equations of a whole model.

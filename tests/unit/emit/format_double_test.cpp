@@ -50,7 +50,7 @@ TEST_CASE("format_double: shortest text of common values", "[emit]") {
 }
 
 TEST_CASE("format_double: round trip over many values", "[emit]") {
-  std::vector<double> values = {1.0,  0.1,   1.0 / 3.0, 1e-300, -2.5, 6.02e23, 9.80665, M_PI, M_E, 1e308,
+  std::vector<double> values = {1.0,  0.1,   1.0 / 3.0, 1e-300, -2.5, 6.02e23, 9.80665, 3.141592653589793, 2.718281828459045, 1e308,
                                 -1e-5, 0.3,  0.7,       1.1,    2.2,  4.35,    1e15,    1e16, 1e17, 123456789.0,
                                 std::numeric_limits<double>::min(), std::numeric_limits<double>::denorm_min(),
                                 std::numeric_limits<double>::max(), std::numeric_limits<double>::epsilon()};
@@ -69,9 +69,6 @@ TEST_CASE("format_double: round trip over many values", "[emit]") {
     INFO(s);
     CHECK(same_bits(read_back(s), v));
     CHECK(same_bits(read_back(format_double(-v)), -v));
-    // Shortest: one digit fewer no longer reads back.
-    const std::size_t digits = s.find_first_of("e") == std::string::npos ? s.size() : s.find('e');
-    (void)digits;
   }
 }
 

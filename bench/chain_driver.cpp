@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Benchmark driver for the planar N-link pendulum chain: mbsc's generated rhs against
+// sympy's generated mass matrix and forcing (KanesMethod) + an LU solve written here.
+//
+// Built per N by bench/run_chain.sh:
+//   g++ -std=c++17 -O2 -march=x86-64 -DCHAIN_N=8 -DMBSC_HEADER='"chain8.hpp"' -I GEN/chain8
+//       bench/chain_driver.cpp chain8.o sympy_chain8.o      (add -DNO_SYMPY without sympy's code)
+//
+// It prints key=value lines:
+//   states, max_rel_diff       agreement of the angle accelerations at 100 random consistent
+//                              states: per state max_k |a_k - b_k| / max_k |b_k| (a = mbsc,
+//                              b = sympy), the largest over the states
+//   mbsc_ns, sympy_ns          ns per rhs call, median of 5 repeats of a loop that takes
+//                              >= 0.5 s (the two tools' repeats alternate); also
+//                              *_ns_min, *_ns_max, *_calls
+// Both rhs are called through the same kind of function pointer, cycling over the same
+// 100 states (in each tool's layout), from object files compiled with the same flags.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include MBSC_HEADER
+
+#ifndef CHAIN_N
+#error "define CHAIN_N"
+#endif
+
+#define CAT2(a, b) a##b
+#define CAT(a, b) CAT2(a, b)
+#define MBSC_NS CAT(chain, CHAIN_N)
+#define SYMPY_MASS_FORCING CAT(CAT(sympy_chain, CHAIN_N), _mass_forcing)
+
+namespace gen = mbsc_gen::MBSC_NS;
+constexpr int N = CHAIN_N;
+
+#ifndef NO_SYMPY
+extern "C" void SYMPY_MASS_FORCING(const double* q, const double* u, const double* p, double* M, double* F);
+#endif
+
+namespace {
+
+[[noreturn]] void die(const std::string& msg) {
+  std::fprintf(stderr, "chain_driver: %s\n", msg.c_str());
+  std::exit(1);
+}
+
+int state_index(const std::string& name) {
+  for (int i = 0; i < gen::kNx; ++i)
+    if (name == gen::kStateNames[i]) return i;
+  die("state " + name + " not in kStateNames");
+}
+
+int param_index(const std::string& name) {
+  for (int i = 0; i < gen::kNp; ++i)
+    if (name == gen::kParamNames[i]) return i;
+  die("parameter " + name + " not in kParamNames");
+}
+
+// Indices of the named states in mbsc's x.
+struct Layout {
+  int th[N], w[N], bx[N], by[N], bu[N], bv[N];
+};
+
+Layout layout() {
+  Layout L{};
+  for (int k = 0; k < N; ++k) {
+    const std::string b = "b" + std::to_string(k + 1);
+    L.th[k] = state_index("th" + std::to_string(k + 1));
+    L.w[k] = state_index("w" + std::to_string(k + 1));
+    L.bx[k] = state_index(b + ".x");
+    L.by[k] = state_index(b + ".y");
+    L.bu[k] = state_index(b + ".u");
+    L.bv[k] = state_index(b + ".v");
+  }
+  return L;
+}
+
+// Parameters: mbsc's defaults in kParamNames order, and sympy's {m, l, g} from them.
+double g_pm[gen::kNp > 0 ? gen::kNp : 1];
+double g_ps[3];
+
+// mbsc state consistent with the angles th and rates w (bobs from the constraints).
+void mbsc_state(const Layout& L, const double* th, const double* w, double* x) {
+  const double l = g_ps[1];
+  for (int i = 0; i < gen::kNx; ++i) x[i] = 0.0;
+  double px = 0, py = 0, vx = 0, vy = 0;
+  for (int k = 0; k < N; ++k) {
+    px += l * std::sin(th[k]);
+    py -= l * std::cos(th[k]);
+    vx += l * std::cos(th[k]) * w[k];
+    vy += l * std::sin(th[k]) * w[k];
+    x[L.th[k]] = th[k];
+    x[L.w[k]] = w[k];
+    x[L.bx[k]] = px;
+    x[L.by[k]] = py;
+    x[L.bu[k]] = vx;
+    x[L.bv[k]] = vy;
+  }
+}
+
+int rhs_mbsc(const double* x, double* xdot) { return gen::rhs(0.0, x, nullptr, g_pm, xdot); }
+
+#ifndef NO_SYMPY
+// Solve A X = b in place (A n x n row-major, b overwritten by X): LU with partial
+// pivoting. Returns 1 when a pivot is zero.
+int lu_solve(double* A, double* b) {
+  for (int c = 0; c < N; ++c) {
+    int piv = c;
+    double best = std::fabs(A[c * N + c]);
+    for (int r = c + 1; r < N; ++r) {
+      const double a = std::fabs(A[r * N + c]);
+      if (a > best) {
+        best = a;
+        piv = r;
+      }
+    }
+    if (!(best > 0.0)) return 1;
+    if (piv != c) {
+      for (int j = 0; j < N; ++j) std::swap(A[c * N + j], A[piv * N + j]);
+      std::swap(b[c], b[piv]);
+    }
+    const double inv = 1.0 / A[c * N + c];
+    for (int r = c + 1; r < N; ++r) {
+      const double f = A[r * N + c] * inv;
+      if (f == 0.0) continue;
+      for (int j = c + 1; j < N; ++j) A[r * N + j] -= f * A[c * N + j];
+      b[r] -= f * b[c];
+    }
+  }
+  for (int r = N - 1; r >= 0; --r) {
+    double s = b[r];
+    for (int j = r + 1; j < N; ++j) s -= A[r * N + j] * b[j];
+    b[r] = s / A[r * N + r];
+  }
+  return 0;
+}
+
+// sympy's rhs: x = (q, u), xdot = (u, M^-1 F).
+int rhs_sympy(const double* x, double* xdot) {
+  double M[N * N];
+  double* F = xdot + N;
+  SYMPY_MASS_FORCING(x, x + N, g_ps, M, F);
+  for (int k = 0; k < N; ++k) xdot[k] = x[N + k];
+  return lu_solve(M, F);
+}
+#endif
+
+using Rhs = int (*)(const double*, double*);
+
+// ns per call over `calls` calls cycling through the states; the checksum keeps the
+// calls alive.
+double time_loop(Rhs f, const std::vector<std::vector<double>>& xs, int nout, long calls, double& sink) {
+  std::vector<double> out(static_cast<std::size_t>(nout));
+  const std::size_t ns = xs.size();
+  double acc = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long i = 0; i < calls; ++i) {
+    if (f(xs[static_cast<std::size_t>(i) % ns].data(), out.data()) != 0) die("rhs failed in the timing loop");
+    acc += out[static_cast<std::size_t>(nout) - 1];
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  sink += acc;
+  return std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(calls);
+}
+
+struct Timed {
+  const char* tag;
+  Rhs f;
+  const std::vector<std::vector<double>>* xs;
+  int nout;
+  long calls = 1;
+  std::vector<double> reps;
+};
+
+// Calibrate: double the count until one loop takes >= 0.25 s, then aim at 0.6 s a loop.
+void calibrate(Timed& b, double& sink) {
+  double ns = 0;
+  for (;;) {
+    ns = time_loop(b.f, *b.xs, b.nout, b.calls, sink);
+    if (ns * static_cast<double>(b.calls) >= 0.25e9) break;
+    b.calls *= 2;
+  }
+  b.calls = std::max(b.calls, static_cast<long>(std::ceil(0.6e9 / ns)));
+}
+
+// One repeat; it must last >= 0.5 s, else it is redone with more calls.
+void repeat(Timed& b, double& sink) {
+  double t = time_loop(b.f, *b.xs, b.nout, b.calls, sink);
+  while (t * static_cast<double>(b.calls) < 0.5e9) {
+    b.calls = static_cast<long>(std::ceil(0.6e9 / t));
+    t = time_loop(b.f, *b.xs, b.nout, b.calls, sink);
+  }
+  b.reps.push_back(t);
+}
+
+void report(Timed& b) {
+  std::sort(b.reps.begin(), b.reps.end());
+  const std::size_t n = b.reps.size();
+  std::printf("%s_ns=%.6g\n%s_ns_min=%.6g\n%s_ns_max=%.6g\n%s_calls=%ld\n", b.tag, b.reps[n / 2], b.tag, b.reps[0],
+              b.tag, b.reps[n - 1], b.tag, b.calls);
+}
+
+}  // namespace
+
+int main() {
+  const Layout L = layout();
+  for (int i = 0; i < gen::kNp; ++i) g_pm[i] = gen::kParamDefaults[i];
+  g_ps[0] = g_pm[param_index("m")];
+  g_ps[1] = g_pm[param_index("l")];
+  g_ps[2] = g_pm[param_index("g")];
+  if (gen::kNdof != N) die("kNdof != N");
+
+  std::mt19937_64 rng(20240607u + N);
+  std::uniform_real_distribution<double> ang(-M_PI, M_PI), rate(-2.0, 2.0);
+  constexpr int kStates = 100;
+  std::vector<std::vector<double>> xm, xsym;
+  for (int s = 0; s < kStates; ++s) {
+    double th[N], w[N];
+    for (int k = 0; k < N; ++k) th[k] = ang(rng);
+    for (int k = 0; k < N; ++k) w[k] = rate(rng);
+    std::vector<double> x(static_cast<std::size_t>(gen::kNx));
+    mbsc_state(L, th, w, x.data());
+    xm.push_back(x);
+    std::vector<double> y(2 * N);
+    for (int k = 0; k < N; ++k) {
+      y[static_cast<std::size_t>(k)] = th[k];
+      y[static_cast<std::size_t>(N + k)] = w[k];
+    }
+    xsym.push_back(y);
+  }
+
+  std::printf("n=%d\nstates=%d\n", N, kStates);
+  double sink = 0.0;
+#ifndef NO_SYMPY
+  double worst = 0.0;
+  for (int s = 0; s < kStates; ++s) {
+    std::vector<double> a(static_cast<std::size_t>(gen::kNx)), b(2 * N);
+    if (rhs_mbsc(xm[static_cast<std::size_t>(s)].data(), a.data()) != 0) die("mbsc rhs failed");
+    if (rhs_sympy(xsym[static_cast<std::size_t>(s)].data(), b.data()) != 0) die("sympy rhs failed");
+    double num = 0.0, den = 0.0;
+    for (int k = 0; k < N; ++k) {
+      const double am = a[static_cast<std::size_t>(L.w[k])], bs = b[static_cast<std::size_t>(N + k)];
+      num = std::max(num, std::fabs(am - bs));
+      den = std::max(den, std::fabs(bs));
+      // the angle rates must be the speeds in both
+      if (a[static_cast<std::size_t>(L.th[k])] != b[static_cast<std::size_t>(k)]) die("angle rates differ");
+    }
+    worst = std::max(worst, num / den);
+  }
+  std::printf("max_rel_diff=%.3e\n", worst);
+#endif
+  std::fflush(stdout);
+  // The tools' repeats alternate (mbsc, sympy, mbsc, ...) so that a load change on the
+  // machine hits both alike.
+  std::vector<Timed> runs;
+  runs.push_back(Timed{"mbsc", rhs_mbsc, &xm, gen::kNx, 1, {}});
+#ifndef NO_SYMPY
+  runs.push_back(Timed{"sympy", rhs_sympy, &xsym, 2 * N, 1, {}});
+#endif
+  for (Timed& b : runs) calibrate(b, sink);
+  for (int r = 0; r < 5; ++r)
+    for (Timed& b : runs) repeat(b, sink);
+  for (Timed& b : runs) report(b);
+  std::printf("checksum=%.6g\n", sink);
+  return 0;
+}

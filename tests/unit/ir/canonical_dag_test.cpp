@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "../../../src/ir/canonical_dag.hpp"
+
+using mbsc::ir::Dag;
+using mbsc::ir::Func;
+using mbsc::ir::NodeId;
+using mbsc::ir::NodeKind;
+
+TEST_CASE("dag: hash-consing and operand order", "[ir]") {
+  Dag d;
+  const NodeId x = d.make_input("x[0]");
+  const NodeId y = d.make_input("x[1]");
+  const NodeId two = d.make_number(2.0);
+  CHECK(d.make_input("x[0]") == x);
+  CHECK(d.make_number(2.0) == two);
+  CHECK(d.make_number(-0.0) != d.make_number(0.0));
+  const NodeId a = d.make_add({x, y, two});
+  const NodeId b = d.make_add({two, y, x});
+  CHECK(a == b);
+  CHECK(d.make_mul({x, y}) == d.make_mul({y, x}));
+  CHECK(d.make_mul({x, y}) != d.make_add({x, y}));
+  CHECK(d.make_pow(x, two) != d.make_pow(two, x));
+  CHECK(d.make_call(Func::Atan2, {x, y}) != d.make_call(Func::Atan2, {y, x}));
+  CHECK(d.make_add({x}) == x);
+}
+
+TEST_CASE("dag: structure, not creation order, decides the hash", "[ir]") {
+  Dag d1, d2;
+  // Same structure, nodes created in a different order.
+  const NodeId x1 = d1.make_input("x[0]"), y1 = d1.make_input("x[1]");
+  const NodeId s1 = d1.make_call(Func::Sin, {d1.make_mul({x1, y1})});
+  const NodeId y2 = d2.make_input("x[1]"), x2 = d2.make_input("x[0]");
+  const NodeId s2 = d2.make_call(Func::Sin, {d2.make_mul({y2, x2})});
+  CHECK(d1.node(s1).hash == d2.node(s2).hash);
+  const NodeId sum1 = d1.make_add({s1, x1, y1});
+  const NodeId sum2 = d2.make_add({y2, s2, x2});
+  CHECK(d1.node(sum1).hash == d2.node(sum2).hash);
+  for (int i = 0; i < 3; ++i) CHECK(d1.node(d1.child(sum1, i)).hash == d2.node(d2.child(sum2, i)).hash);
+}
+
+TEST_CASE("dag: max_step tracks solve results read", "[ir]") {
+  Dag d;
+  const NodeId x = d.make_input("x[0]");
+  const NodeId s = d.make_sym(4, 1);
+  CHECK(d.node(x).max_step == -1);
+  CHECK(d.node(d.make_add({x, s})).max_step == 4);
+  CHECK(d.node(d.make_mul({x, d.make_sym(2, 0)})).max_step == 2);
+}
