@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Simulates the shipped double pendulum with the code mbsc generated at build time:
-// starts from both rods horizontal at rest, integrates 10 s with RK4 and prints the
+// starts at rest from th1 = 2.0, th2 = 2.5 rad, integrates 10 s with RK4 and prints the
 // angles, the tip position and the energy drift.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -14,16 +15,19 @@
 namespace dp = mbsc_gen::double_pendulum;
 
 namespace {
-int index_of(const char* name) {
-  for (int i = 0; i < dp::kNx; ++i)
-    if (std::strcmp(dp::kStateNames[i], name) == 0) return i;
-  return -1;
+int find(const char* const* names, int n, const char* name) {
+  for (int i = 0; i < n; ++i)
+    if (std::strcmp(names[i], name) == 0) return i;
+  std::fprintf(stderr, "no variable named %s\n", name);
+  std::exit(1);
 }
+int index_of(const char* name) { return find(dp::kStateNames, dp::kNx, name); }
 }  // namespace
 
 int main() {
   std::vector<double> p(dp::kParamDefaults, dp::kParamDefaults + dp::kNp);
-  const double l1 = 1.0, l2 = 0.8, th1 = M_PI / 2, th2 = M_PI / 2;
+  const double l1 = p[find(dp::kParamNames, dp::kNp, "l1")], l2 = p[find(dp::kParamNames, dp::kNp, "l2")];
+  const double th1 = 2.0, th2 = 2.5;
   // A consistent initial state: angles given, bob positions from the constraints, at rest.
   std::vector<double> x(dp::kNx, 0.0);
   x[index_of("th1")] = th1;
@@ -37,8 +41,8 @@ int main() {
   dp::energy(0.0, x.data(), nullptr, p.data(), e0);
   std::printf("double pendulum, %d dof, state size %d; t, th1, th2, tip x, tip y, relative energy drift\n", dp::kNdof, dp::kNx);
   int step = 0;
-  int status = mbsc::runtime::rk4_integrate(rhs, 0.0, 10.0, 10000, x, [&](double t, const std::vector<double>& s) {
-    if (++step % 2000 != 0) return;
+  int status = mbsc::runtime::rk4_integrate(rhs, 0.0, 10.0, 40000, x, [&](double t, const std::vector<double>& s) {
+    if (++step % 8000 != 0) return;
     double e[3], y[dp::kNy];
     dp::energy(t, s.data(), nullptr, p.data(), e);
     dp::outputs(t, s.data(), nullptr, p.data(), y);

@@ -10,6 +10,7 @@
 
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
+#include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
 
@@ -84,8 +85,8 @@ std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
   std::vector<ir::Step> steps;
   for (const auto& s : eom.solves) {
     ir::Solve f = s;
-    for (auto& e : f.A) e = finalize(m, eom, e);
-    for (auto& e : f.B) e = finalize(m, eom, e);
+    for (auto& e : f.A) e = sym::tidy(finalize(m, eom, e));
+    for (auto& e : f.B) e = sym::tidy(finalize(m, eom, e));
     steps.push_back(f);
   }
   return steps;
@@ -105,7 +106,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   }
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
   const int nd = eom.ndof();
-  auto fin = [&](const GiNaC::ex& e) { return finalize(m, eom, e); };
+  auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
 
   if (wanted("rhs")) {
     ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates)", "xdot", "kNx", solve_steps(m, eom), {}};

@@ -148,6 +148,22 @@ NodeId Dag::make_add(std::vector<NodeId> ops) {
 }
 
 NodeId Dag::make_mul(std::vector<NodeId> ops) {
+  // Fold numeric factors (multiplied in canonical order) into one coefficient.
+  std::vector<NodeId> numbers;
+  std::size_t kept = 0;
+  for (NodeId c : ops) {
+    if (node(c).kind == NodeKind::Number) numbers.push_back(c);
+    else ops[kept++] = c;
+  }
+  ops.resize(kept);
+  if (numbers.size() > 1 || (numbers.size() == 1 && node(numbers[0]).value == 1.0 && !ops.empty())) {
+    std::sort(numbers.begin(), numbers.end(), [this](NodeId a, NodeId b) { return less(a, b); });
+    double coef = 1.0;
+    for (NodeId c : numbers) coef *= node(c).value;
+    numbers.clear();
+    if (coef != 1.0 || ops.empty()) numbers.push_back(make_number(coef));
+  }
+  ops.insert(ops.end(), numbers.begin(), numbers.end());
   if (ops.empty()) return make_number(1.0);
   if (ops.size() == 1) return ops[0];
   std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
@@ -173,6 +189,46 @@ NodeId Dag::make_call(Func f, const std::vector<NodeId>& args) {
   n.hash = kind_seed(n.kind, n.func);
   for (NodeId c : args) n.hash = hash_combine(n.hash, node(c).hash);
   return intern(n, args.data(), static_cast<std::int32_t>(args.size()));
+}
+
+// Negation by structure; memoised so that negating twice returns the original node.
+NodeId Dag::negate(NodeId id) {
+  auto it = negated_.find(id);
+  if (it != negated_.end()) return it->second;
+  const Node n = node(id);
+  NodeId result;
+  if (n.kind == NodeKind::Number) {
+    result = make_number(-n.value);
+  } else if (n.kind == NodeKind::Add) {
+    std::vector<NodeId> terms(children(id), children(id) + n.nchild);
+    for (NodeId& t : terms) t = negate(t);
+    result = make_add(std::move(terms));
+  } else if (n.kind == NodeKind::Mul) {
+    std::vector<NodeId> factors;
+    bool had_coefficient = false;
+    for (std::int32_t i = 0; i < n.nchild; ++i) {
+      const NodeId c = child(id, i);
+      if (node(c).kind == NodeKind::Number && !had_coefficient) {
+        had_coefficient = true;
+        if (node(c).value != -1.0) factors.push_back(make_number(-node(c).value));
+      } else {
+        factors.push_back(c);
+      }
+    }
+    if (!had_coefficient) factors.push_back(make_number(-1.0));
+    result = make_mul(std::move(factors));
+  } else {
+    result = make_mul({make_number(-1.0), id});
+  }
+  negated_[id] = result;
+  negated_[result] = id;
+  return result;
+}
+
+NodeId Dag::canonical_sign(NodeId sum, bool& flipped) {
+  const NodeId neg = negate(sum);
+  flipped = less(neg, sum);
+  return flipped ? neg : sum;
 }
 
 // Canonical order: structural hash, then kind, payload, arity and children (recursively).

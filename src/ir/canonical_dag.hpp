@@ -57,9 +57,17 @@ class Dag {
   NodeId make_sym(int step, int elem);
   /// Operands are sorted canonically; a single operand is returned as is.
   NodeId make_add(std::vector<NodeId> ops);
+  /// As make_add; numeric factors are folded into one coefficient (dropped when it is 1).
   NodeId make_mul(std::vector<NodeId> ops);
   NodeId make_pow(NodeId base, NodeId exponent);
   NodeId make_call(Func f, const std::vector<NodeId>& args);
+
+  /// -e as a node: numbers and coefficients change sign (a coefficient -1 disappears),
+  /// sums negate every term, anything else gets a coefficient -1. An involution.
+  NodeId negate(NodeId id);
+  /// Of a sum and its negation, the one that sorts first; `flipped` tells which it was.
+  /// Makes a sum's sign independent of GiNaC's run-dependent choice (see from_ginac.cpp).
+  NodeId canonical_sign(NodeId sum, bool& flipped);
 
   const Node& node(NodeId id) const { return nodes_[static_cast<std::size_t>(id)]; }
   const NodeId* children(NodeId id) const { return children_.data() + node(id).child_begin; }
@@ -83,6 +91,7 @@ class Dag {
   std::vector<std::string> texts_;        // Input texts by id
   std::vector<std::uint64_t> text_hash_;  // FNV-1a of each text
   std::unordered_map<std::string, std::int32_t> text_ids_;  // lookup only, never iterated
+  std::unordered_map<NodeId, NodeId> negated_;               // lookup only, never iterated
   struct Slot {
     std::uint64_t hash;
     NodeId id;  // -1 = empty

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "from_ginac.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <stdexcept>
@@ -190,15 +191,60 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
   return -1;
 }
 
-// Operator node from its converted operands.
-NodeId GinacConverter::build(GKind kind, Func func, const NodeId* kids, std::size_t nkids) {
+// GiNaC makes a sum that is a factor of a product, or the base of an integer power,
+// "unit normal": it flips the sum's sign so that its *first* term has a positive
+// coefficient and moves the sign into the coefficient. Which term is first depends on
+// GiNaC's run-dependent order, so the same expression has (a-b)*c in one run and
+// -(b-a)*c in another. Such sums are therefore given our own canonical sign
+// (Dag::canonical_sign), and the sign moves into the product's coefficient.
+// SignClass of an operand: 1 = a GiNaC sum, 2 = a GiNaC integer power of a sum.
+bool GinacConverter::is_sum_power(const GiNaC::ex& e) const {
+  const GiNaC::ex& ex_exp = e.op(1);
+  return classify(e.op(0)) == GKind::Add && GiNaC::is_exactly_a<GiNaC::numeric>(ex_exp) &&
+         GiNaC::ex_to<GiNaC::numeric>(ex_exp).is_integer();
+}
+
+// Operator node from its converted operands (with their sign classes, see above).
+NodeId GinacConverter::build(GKind kind, Func func, const NodeId* kids, const std::uint8_t* classes, std::size_t nkids) {
   switch (kind) {
     case GKind::Add:
       return dag_.make_add(std::vector<NodeId>(kids, kids + nkids));
-    case GKind::Mul:
-      return dag_.make_mul(std::vector<NodeId>(kids, kids + nkids));
-    case GKind::Power:
+    case GKind::Mul: {
+      std::vector<NodeId> factors(kids, kids + nkids);
+      bool negative = false;
+      for (std::size_t i = 0; i < nkids; ++i) {
+        if (classes[i] == 1) {
+          bool flipped = false;
+          factors[i] = dag_.canonical_sign(factors[i], flipped);
+          negative = negative != flipped;
+        } else if (classes[i] == 2) {
+          // A flipped odd power came back as -1 * power: take the -1 into the coefficient.
+          const Node& n = dag_.node(factors[i]);
+          if (n.kind == NodeKind::Mul && n.nchild == 2) {
+            const NodeId a = dag_.child(factors[i], 0), b = dag_.child(factors[i], 1);
+            const NodeId minus = dag_.node(a).kind == NodeKind::Number ? a : b;
+            if (dag_.node(minus).kind == NodeKind::Number && dag_.node(minus).value == -1.0) {
+              factors[i] = minus == a ? b : a;
+              negative = !negative;
+            }
+          }
+        }
+      }
+      if (negative) factors.push_back(dag_.make_number(-1.0));
+      return dag_.make_mul(std::move(factors));
+    }
+    case GKind::Power: {
+      const Node& e = dag_.node(kids[1]);
+      if (classes[0] == 1 && e.kind == NodeKind::Number && std::nearbyint(e.value) == e.value) {
+        const double exponent = e.value;
+        bool flipped = false;
+        const NodeId base = dag_.canonical_sign(kids[0], flipped);
+        const NodeId p = dag_.make_pow(base, kids[1]);
+        const bool odd = std::fmod(exponent, 2.0) != 0.0;
+        return flipped && odd ? dag_.make_mul({dag_.make_number(-1.0), p}) : p;
+      }
       return dag_.make_pow(kids[0], kids[1]);
+    }
     default:
       return dag_.make_call(func, std::vector<NodeId>(kids, kids + nkids));
   }
@@ -219,20 +265,24 @@ NodeId GinacConverter::convert(const GiNaC::ex& root, int context_step) {
     bool memoise = false;
     GKind kind = GKind::Other;
     Func func = Func::Sin;
+    std::uint8_t sign_class = 0;
   };
   std::vector<Frame> frames;
   std::vector<NodeId> kids;
+  std::vector<std::uint8_t> classes;  // sign class of each entry of `kids`
 
   // Start one expression: either a finished node is pushed on `kids`, or a frame is opened.
   auto open = [&](const GiNaC::ex& e) {
     // Only a node with another holder can be in the memo (the memo keeps its nodes alive).
     const GKind kind = classify(e);
     const bool op = kind == GKind::Add || kind == GKind::Mul || kind == GKind::Power || kind == GKind::Function;
+    const std::uint8_t sign_class = kind == GKind::Add ? 1 : kind == GKind::Power && is_sum_power(e) ? 2 : 0;
     const bool shared = op && GiNaC::ex_to<GiNaC::basic>(e).get_refcount() >= 2;
     if (shared) {
       const NodeId hit = memo_.find(address(e));
       if (hit >= 0) {
         kids.push_back(hit);
+        classes.push_back(sign_class);
         return;
       }
     }
@@ -242,12 +292,14 @@ NodeId GinacConverter::convert(const GiNaC::ex& root, int context_step) {
     const NodeId id = leaf_or_start(e, kind, is_leaf, define_step, func);
     if (is_leaf) {
       kids.push_back(id);
+      classes.push_back(0);
       return;
     }
     Frame f;
     f.memoise = shared || (define_step >= 0 && GiNaC::ex_to<GiNaC::basic>(e).get_refcount() >= 2);
     f.kind = kind;
     f.func = func;
+    f.sign_class = sign_class;
     f.e = e;
     f.kid_base = kids.size();
     f.define_step = define_step;
@@ -281,15 +333,19 @@ NodeId GinacConverter::convert(const GiNaC::ex& root, int context_step) {
       define_state_[st] = kDone;
       define_node_[st] = id;
     } else {
-      id = build(top.kind, top.func, kids.data() + top.kid_base, kids.size() - top.kid_base);
+      id = build(top.kind, top.func, kids.data() + top.kid_base, classes.data() + top.kid_base,
+                 kids.size() - top.kid_base);
     }
     kids.resize(top.kid_base);
+    classes.resize(top.kid_base);
+    const std::uint8_t sign_class = top.sign_class;
     if (top.memoise) {
       memo_.insert(address(top.e), id);
       keep_alive_.push_back(std::move(top.e));
     }
     frames.pop_back();
     kids.push_back(id);
+    classes.push_back(sign_class);
   }
   const NodeId result = kids.back();
   if (dag_.node(result).max_step >= context_step)

@@ -65,7 +65,8 @@ class GinacConverter {
   GKind classify(const GiNaC::ex& e) const;
   SymInfo* find_symbol(const GiNaC::ex& e);
   NodeId leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_leaf, int& define_step, Func& func);
-  NodeId build(GKind kind, Func func, const NodeId* kids, std::size_t nkids);
+  NodeId build(GKind kind, Func func, const NodeId* kids, const std::uint8_t* classes, std::size_t nkids);
+  bool is_sum_power(const GiNaC::ex& e) const;
   bool function_of(const GiNaC::ex& e, Func& f) const;
 
   Dag& dag_;

@@ -587,6 +587,14 @@ class Builder {
   }
 
   void check_constraint(const Constraint& c) {
+    // Inputs have no known rates, so a constraint cannot be differentiated through them.
+    for (const auto& in : m_.inputs)
+      if (c.residual.has(in.sym)) {
+        diags_.error(c.pos, fmt::format("constraint '{}' depends on input '{}'; constraints may use coordinates, speeds, "
+                                        "parameters and t only (prescribe motions as functions of t)",
+                                        c.name, in.name));
+        return;
+      }
     if (c.level == Constraint::Level::Position) {
       return;
     }

@@ -384,6 +384,7 @@ class Deriver {
     r.hy = mat(src.hy);
     r.M = mat(src.M);
     r.h = mat(src.h);
+    for (const auto& [s, e] : src.rate_steps) r.rate_steps.push_back({speed_of.at(s), e.subs(map)});
     for (const auto& [s, e] : src.dependent_rates) {
       r.dependent_rates[speed_of.at(s)] = e.subs(map);
       eliminated_at_[speed_of.at(s)] = k;
@@ -410,18 +411,22 @@ class Deriver {
   }
 
   /// Dependent rates by forward substitution (triangular order) or a small exact solve.
-  std::map<int, GiNaC::ex> solve_symbolic(const NodeResult& r, const Partition& p, const std::map<int, int>& col) {
+  std::map<int, GiNaC::ex> solve_symbolic(NodeResult& r, const Partition& p, const std::map<int, int>& col) {
     std::map<int, GiNaC::ex> sol;
     if (!p.triangular_order.empty()) {
       // Row i solves for speed s_i: B(i,s_i) y_s + sum_others B(i,j) y_j + b_i = 0.
+      // `sol` is in y# only (for C and f); the generated code evaluates the rows in
+      // order instead, each reading the rates solved before it (linear, not quadratic).
       for (auto [row, s] : p.triangular_order) {
-        GiNaC::ex rest = r.b(row, 0);
+        GiNaC::ex rest = r.b(row, 0), local = r.b(row, 0);
         for (size_t j = 0; j < r.y.size(); ++j) {
           if (r.y[j] == s || r.B(row, j).is_zero()) continue;
           auto it = sol.find(r.y[j]);
           rest += r.B(row, j) * (it != sol.end() ? it->second : GiNaC::ex(m_.speed_dots[r.y[j]]));
+          local += r.B(row, j) * m_.speed_dots[r.y[j]];
         }
         sol[s] = -rest / r.B(row, col.at(s));
+        r.rate_steps.push_back({s, -local / r.B(row, col.at(s))});
       }
       return sol;
     }
@@ -501,7 +506,11 @@ class Deriver {
     // Dependent rates, root to leaves (reverse post-order).
     for (int n = m_.root(); n >= 0; --n) {
       const NodeResult& r = eom_.nodes[n];
-      for (int s : r.dependent) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], r.dependent_rates.at(s)});
+      if (!r.rate_steps.empty()) {
+        for (const auto& [s, e] : r.rate_steps) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], e});
+      } else {
+        for (int s : r.dependent) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], r.dependent_rates.at(s)});
+      }
     }
     return true;
   }

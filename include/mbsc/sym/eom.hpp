@@ -41,6 +41,9 @@ struct NodeResult {
   GiNaC::matrix M, h;            // fbar = C^T f = -M z' + h over the independent speeds z
   /// q1dot of each dependent speed in terms of the node's y# (dependent -> expression).
   std::map<int, GiNaC::ex> dependent_rates;
+  /// Triangular partitions only: the dependent rates in substitution order, each in terms
+  /// of y# and the rates before it (what the generated code evaluates; linear in size).
+  std::vector<std::pair<int, GiNaC::ex>> rate_steps;
   std::vector<ir::Solve> solves;  // numeric solves this node adds (0 or 1)
   bool from_component_cache = false;
 };
