@@ -86,14 +86,14 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
   if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
   const double t0 = p[0]*B_0[1]*B_0[0];
-  const double t1 = B_0[2]*p[0] + p[0]*p[2];
+  const double t1 = B_0[2] + p[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
   double A_1[4] = {
-      B_0[0]*B_0[0]*p[0] + p[0], t0,
-      t0, B_0[1]*B_0[1]*p[0] + p[0]};
+      (B_0[0]*B_0[0] + 1.0)*p[0], t0,
+      t0, (B_0[1]*B_0[1] + 1.0)*p[0]};
   double B_1[2] = {
-      -t1*B_0[0],
-      -t1*B_0[1]};
+      -t1*p[0]*B_0[0],
+      -t1*p[0]*B_0[1]};
   if (lu_solve(2, 1, A_1, B_1) != 0) return 1;
   const double bob_u = -B_1[0]*B_0[0] - B_0[2] - B_0[1]*B_1[1];
   OUT[0] = x[3];
@@ -113,11 +113,11 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
   if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
-  OUT[0] = B_0[0]*B_0[0]*p[0] + p[0];
+  OUT[0] = (B_0[0]*B_0[0] + 1.0)*p[0];
   const double t0 = p[0]*B_0[1]*B_0[0];
   OUT[1] = t0;
   OUT[2] = t0;
-  OUT[3] = B_0[1]*B_0[1]*p[0] + p[0];
+  OUT[3] = (B_0[1]*B_0[1] + 1.0)*p[0];
   for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }
@@ -129,9 +129,9 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
   if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
-  const double t0 = B_0[2]*p[0] + p[0]*p[2];
-  OUT[0] = -t0*B_0[0];
-  OUT[1] = -t0*B_0[1];
+  const double t0 = B_0[2] + p[2];
+  OUT[0] = -t0*p[0]*B_0[0];
+  OUT[1] = -t0*p[0]*B_0[1];
   for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }
@@ -157,13 +157,12 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
 }
 
 int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const double t0 = 0.5*p[0]*x[3]*x[3];
-  const double t1 = 0.5*p[0]*x[5]*x[5];
-  const double t2 = 0.5*x[4]*x[4]*p[0];
-  OUT[0] = t0 + t1 + t2;
-  const double t3 = -x[0]*p[0]*p[2];
-  OUT[1] = t3;
-  OUT[2] = t0 + t3 + t1 + t2;
+  const double t0 = x[4]*x[4];
+  const double t1 = x[3]*x[3];
+  const double t2 = x[5]*x[5];
+  OUT[0] = 0.5*(t0 + t1 + t2)*p[0];
+  OUT[1] = -x[0]*p[0]*p[2];
+  OUT[2] = 0.5*(t0 + t1 + t2 - 2.0*x[0]*p[2])*p[0];
   for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }

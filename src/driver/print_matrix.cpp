@@ -6,18 +6,15 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/full_complement.hpp"
+#include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
 namespace {
 
-std::string fmt_ex(const GiNaC::ex& e, bool latex) {
-  std::ostringstream s;
-  if (latex) s << GiNaC::latex;
-  s << e;
-  return s.str();
-}
+std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(sym::tidy(e), latex); }
 
 
 /// A labelled matrix: one line per nonzero entry in text, a pmatrix in LaTeX.

@@ -194,7 +194,9 @@ std::string c_definitions(const GeneratedModel& m) {
 // Names in the model's namespace must be valid and distinct.
 void check_model(const GeneratedModel& m) {
   check_name("model name", m.name);
-  std::set<std::string> names;
+  // A namespace called std would hide ::std inside the generated code.
+  if (m.name == "std") throw std::runtime_error("cannot emit a model named 'std'");
+  std::set<std::string> names = {"lu_solve"};  // the solver the source defines there
   auto claim = [&](const std::string& what, const std::string& n) {
     check_name(what, n);
     if (!names.insert(n).second) throw std::runtime_error("cannot emit: the name '" + n + "' is used twice");

@@ -42,16 +42,6 @@ const char* func_name(Func f) { return kFuncs[static_cast<int>(f)].name; }
 const char* func_cpp(Func f) { return kFuncs[static_cast<int>(f)].cpp; }
 int func_arity(Func f) { return kFuncs[static_cast<int>(f)].arity; }
 
-bool func_from_name(const std::string& name, Func& out) {
-  for (std::size_t i = 0; i < sizeof kFuncs / sizeof kFuncs[0]; ++i) {
-    if (name == kFuncs[i].name) {
-      out = static_cast<Func>(i);
-      return true;
-    }
-  }
-  return false;
-}
-
 Dag::Dag() : table_(1024, Slot{0, -1}) {}
 
 // Grow the open-addressing table to twice its size and re-insert every node.

@@ -32,8 +32,6 @@ enum class Func : std::uint8_t { Sin, Cos, Tan, Exp, Log, Sqrt, Abs, Atan2, Asin
 const char* func_name(Func f);
 const char* func_cpp(Func f);
 int func_arity(Func f);
-/// Looks a GiNaC function name up; returns false when it is not supported.
-bool func_from_name(const std::string& name, Func& out);
 
 struct Node {
   std::uint64_t hash = 0;    // structural hash (kind, payload, children's hashes)

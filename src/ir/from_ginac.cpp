@@ -24,7 +24,9 @@ std::string printed(const GiNaC::ex& e) {
 
 double to_double_checked(const GiNaC::numeric& n, const GiNaC::ex& where) {
   if (!n.is_real()) throw std::runtime_error("cannot lower complex number " + printed(where));
-  return n.to_double();
+  const double v = n.to_double();
+  if (!std::isfinite(v)) throw std::runtime_error("constant " + printed(where) + " does not fit a double");
+  return v;
 }
 
 std::size_t slot_of(const void* key, std::size_t mask) {
@@ -296,7 +298,7 @@ NodeId GinacConverter::convert(const GiNaC::ex& root, int context_step) {
       return;
     }
     Frame f;
-    f.memoise = shared || (define_step >= 0 && GiNaC::ex_to<GiNaC::basic>(e).get_refcount() >= 2);
+    f.memoise = shared;  // a Define'd symbol is resolved through define_state_ instead
     f.kind = kind;
     f.func = func;
     f.sign_class = sign_class;

@@ -199,7 +199,10 @@ class Scheduler {
   // One statement for a temporary; its name is the Define's, or the next t<N>.
   void emit_temp(NodeId id) {
     auto& name = prog_.names[static_cast<std::size_t>(id)];
-    if (name.empty()) name = "t" + std::to_string(next_temp_++);
+    if (name.empty()) {
+      do name = "t" + std::to_string(next_temp_++);
+      while (taken_.count(name));
+    }
     prog_.statements.push_back({Statement::Kind::Temp, id, 0});
     emitted_[static_cast<std::size_t>(id)] = 1;
   }
@@ -211,7 +214,9 @@ class Scheduler {
     const bool need_s = s >= 0 && !emitted_[static_cast<std::size_t>(s)];
     const bool need_c = c >= 0 && !emitted_[static_cast<std::size_t>(c)];
     if (!need_s && !need_c) return;
-    const std::string number = std::to_string(next_trig_++);
+    std::string number;
+    do number = std::to_string(next_trig_++);
+    while (taken_.count("s" + number) || taken_.count("c" + number));
     for (NodeId f : {s, c}) {
       if (f < 0 || emitted_[static_cast<std::size_t>(f)]) continue;
       auto& name = prog_.names[static_cast<std::size_t>(f)];

@@ -46,3 +46,11 @@ TEST_CASE("print shows the matrices of a subsystem, in text and LaTeX", "[cli]")
   r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --node nosuch");
   CHECK(r.exit_code == 1);
 }
+
+TEST_CASE("print is the same text in every run (GiNaC's term order is not)", "[cli]") {
+  const std::string cmd = kMbsc + " print " + model("five_bar.mbs") + " --what A,B,C,S,f,fbar,M,h";
+  auto a = run(cmd), b = run(cmd), c = run(cmd + " --latex"), d = run(cmd + " --latex");
+  CHECK(a.exit_code == 0);
+  CHECK(a.output == b.output);
+  CHECK(c.output == d.output);
+}

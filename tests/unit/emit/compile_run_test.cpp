@@ -283,7 +283,7 @@ TEST_CASE("end to end: random shared expressions match GiNaC", "[emit]") {
   f.steps.push_back(Define{d1, d1_value + d0});
   RandomExpressions gen2({q0, q1, q2, q3, d0, d1});
   const int nout = 40;
-  for (int i = 0; i < nout; ++i) f.outputs.push_back(gen2.next(4));
+  for (int i = 0; i < nout; ++i) f.outputs.push_back(gen2.next(3));
 
   mbsc::emit::GeneratedModel model;
   model.name = "rnd";

@@ -83,3 +83,27 @@ TEST_CASE("determinism: emitted files are byte-identical", "[ir][emit]") {
   CHECK(files[0].header == files[1].header);
   CHECK(files[0].source == files[1].source);
 }
+
+TEST_CASE("determinism: signs of sums in products do not follow GiNaC's order", "[ir]") {
+  // GiNaC makes a sum factor "unit normal" by the sign of its first term in its own,
+  // run-dependent order; symbols created in different orders reproduce that in-process.
+  std::vector<int> order = {0, 1, 2, 3};
+  std::vector<std::string> bodies;
+  do {
+    std::vector<symbol> q(4);
+    for (int i : order) q[static_cast<std::size_t>(i)] = symbol("q" + std::to_string(i));
+    std::vector<Binding> b;
+    for (int i = 0; i < 4; ++i) b.push_back({q[static_cast<std::size_t>(i)], "x[" + std::to_string(i) + "]"});
+    FunctionSpec f;
+    f.name = "f";
+    f.outputs = {(q[0] - q[1]) * q[2],
+                 (q[1] - 2 * q[3]) * (q[2] - q[0]) * q[3],
+                 pow(q[0] - q[3], 3) * q[1],
+                 pow(q[2] - q[1], 3),
+                 pow(q[3] - q[0] + q[1], -1) * (q[1] - q[2]),
+                 (2 * q[0] - 4 * q[1]) * sin(q[2] - q[3]),
+                 (q[0] - q[1]) * q[2] + (q[1] - q[0]) * q[3]};
+    bodies.push_back(mbsc::ir::lower(f, b).body);
+  } while (std::next_permutation(order.begin(), order.end()));
+  for (const auto& body : bodies) CHECK(body == bodies.front());
+}

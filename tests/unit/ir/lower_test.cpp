@@ -149,7 +149,7 @@ TEST_CASE("lower: operation counts match hand counts", "[ir]") {
 TEST_CASE("lower: solve emission, flops and ordering", "[ir]") {
   Syms s;
   symbol X[6] = {symbol("X0"), symbol("X1"), symbol("X2"), symbol("X3"), symbol("X4"), symbol("X5")};
-  FunctionSpec spec = spec_of({X[0] + X[5] * s.q0});
+  FunctionSpec spec = spec_of({X[0] + X[5] * s.q0, sin(X[1]) * cos(X[1])});
   Solve solve;
   solve.label = "block B*";
   solve.n = 3;
@@ -165,6 +165,8 @@ TEST_CASE("lower: solve emission, flops and ordering", "[ir]") {
   CHECK(has(f.body, "  if (lu_solve(3, 2, A_0, B_0) != 0) return 1;"));
   CHECK(has(f.body, "B_0[5]*x[0]"));
   CHECK(f.body.find("lu_solve") < f.body.find("OUT[0]"));
+  // sin/cos of a solve result right after the solve.
+  CHECK(has(f.body, "return 1;\n  const double s0 = std::sin(B_0[1]);\n  const double c0 = std::cos(B_0[1]);\n"));
   CHECK(f.ops.solve_flops == 27);  // 27/3 + 9*2
 }
 

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/canonical_text.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <vector>
+
+namespace mbsc::driver {
+namespace {
+
+// Binding strength, to decide parentheses: sum < product < power < atom.
+enum Prec { kSum = 1, kProduct = 2, kPower = 3, kAtom = 4 };
+
+struct Printed {
+  std::string text;
+  Prec prec;
+  bool negative = false;  // text is "-..." (a sum prints it as " - ...")
+  // Sums only: the text of the sum with its sign normalised (first term positive) and
+  // whether that is the negated sum. GiNaC may hold either -(a - b) or (b - a).
+  std::string normal_text;
+  bool normal_negated = false;
+};
+
+std::string symbol_text(const std::string& name, bool latex) {
+  if (!latex) return name;
+  std::string out;
+  for (char c : name) out += (c == '_' ? std::string("\\_") : std::string(1, c));
+  return name.size() == 1 ? out : "\\mathrm{" + out + "}";
+}
+
+std::string number_text(const GiNaC::numeric& n, bool latex) {
+  auto str = [](const GiNaC::numeric& v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  };
+  if (n.is_integer()) return str(n);
+  if (n.is_rational()) {
+    const std::string num = str(n.numer()), den = str(n.denom());
+    return latex ? "\\frac{" + num + "}{" + den + "}" : num + "/" + den;
+  }
+  std::ostringstream s;
+  s.precision(17);
+  s << n.to_double();
+  return s.str();
+}
+
+std::string wrap(const Printed& p, Prec need, bool latex) {
+  if (p.prec >= need) return p.text;
+  return latex ? "\\left(" + p.text + "\\right)" : "(" + p.text + ")";
+}
+
+Printed print(const GiNaC::ex& e, bool latex);
+
+Printed print_sum(const GiNaC::ex& e, bool latex) {
+  std::vector<Printed> terms;
+  for (size_t i = 0; i < e.nops(); ++i) terms.push_back(print(e.op(i), latex));
+  // Sort by the text without its sign, so a sum prints the same whatever GiNaC's order.
+  auto key = [](const Printed& p) { return p.negative ? p.text.substr(1) : p.text; };
+  std::sort(terms.begin(), terms.end(), [&](const Printed& a, const Printed& b) {
+    return key(a) != key(b) ? key(a) < key(b) : a.negative < b.negative;
+  });
+  auto join = [&](bool flip) {
+    std::string out;
+    for (size_t i = 0; i < terms.size(); ++i) {
+      const bool neg = terms[i].negative != flip;
+      const std::string body = key(terms[i]);
+      if (i == 0) out += neg ? "-" + body : body;
+      else out += (neg ? " - " : " + ") + body;
+    }
+    return out;
+  };
+  Printed p{join(false), kSum, false};
+  p.normal_negated = !terms.empty() && terms[0].negative;
+  p.normal_text = join(p.normal_negated);
+  return p;
+}
+
+Printed print_product(const GiNaC::ex& e, bool latex) {
+  GiNaC::numeric coeff(1);
+  std::vector<std::string> num, den;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const GiNaC::ex f = e.op(i);
+    if (GiNaC::is_a<GiNaC::numeric>(f)) {
+      coeff *= GiNaC::ex_to<GiNaC::numeric>(f);
+    } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+               GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
+      den.push_back(wrap(print(GiNaC::pow(f.op(0), -f.op(1)), latex), kProduct, latex));
+    } else {
+      Printed pf = print(f, latex);
+      // A sum factor is printed sign-normalised; its sign moves to the coefficient.
+      if (GiNaC::is_a<GiNaC::add>(f)) {
+        if (pf.normal_negated) coeff = -coeff;
+        pf.text = pf.normal_text;
+      } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::add>(f.op(0)) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+                 GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_integer()) {
+        Printed base = print(f.op(0), latex);
+        const auto& k = GiNaC::ex_to<GiNaC::numeric>(f.op(1));
+        if (base.normal_negated && k.is_odd()) coeff = -coeff;
+        base.text = base.normal_text;
+        const std::string expo = print(f.op(1), latex).text;
+        pf.text = wrap(base, kAtom, latex) + (latex ? "^{" + expo + "}" : "^" + expo);
+        pf.prec = kPower;
+      }
+      num.push_back(wrap(pf, kProduct, latex));
+    }
+  }
+  std::sort(num.begin(), num.end());
+  std::sort(den.begin(), den.end());
+  const bool negative = coeff.is_negative();
+  coeff = GiNaC::abs(coeff);
+  const std::string times = latex ? " " : "*";
+  std::string top;
+  if (!coeff.is_equal(1) || num.empty()) top = number_text(coeff, latex);
+  for (const auto& n : num) top += (top.empty() ? "" : times) + n;
+  std::string out = top;
+  if (!den.empty()) {
+    std::string bottom;
+    for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d;
+    out = latex ? "\\frac{" + top + "}{" + bottom + "}" : top + "/" + (den.size() > 1 ? "(" + bottom + ")" : bottom);
+  }
+  return {negative ? "-" + out : out, kProduct, negative};
+}
+
+Printed print(const GiNaC::ex& e, bool latex) {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) {
+    const auto& n = GiNaC::ex_to<GiNaC::numeric>(e);
+    const std::string t = number_text(GiNaC::abs(n), latex);
+    return {n.is_negative() ? "-" + t : t, n.is_negative() ? kProduct : kAtom, n.is_negative()};
+  }
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return {symbol_text(GiNaC::ex_to<GiNaC::symbol>(e).get_name(), latex), kAtom};
+  if (GiNaC::is_a<GiNaC::add>(e)) return print_sum(e, latex);
+  if (GiNaC::is_a<GiNaC::mul>(e)) return print_product(e, latex);
+  if (GiNaC::is_a<GiNaC::power>(e)) {
+    if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
+    {
+      const Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
+      return {latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex), kProduct};
+    }
+    const std::string base = wrap(print(e.op(0), latex), kAtom, latex);
+    const std::string expo = print(e.op(1), latex).text;
+    return {latex ? base + "^{" + expo + "}" : base + "^" + (expo.size() > 1 ? "(" + expo + ")" : expo), kPower};
+  }
+  if (GiNaC::is_a<GiNaC::function>(e)) {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    // f(a - b) or f(b - a)? Use the sign-normalised argument; odd functions move the sign out.
+    if (e.nops() == 1 && GiNaC::is_a<GiNaC::add>(e.op(0))) {
+      const Printed arg = print(e.op(0), latex);
+      const bool even = name == "cos" || name == "cosh" || name == "abs";
+      const bool odd = name == "sin" || name == "tan" || name == "sinh" || name == "tanh" || name == "asin" || name == "atan";
+      if (arg.normal_negated && (even || odd)) {
+        const std::string t = latex ? "\\" + name + "\\left(" + arg.normal_text + "\\right)" : name + "(" + arg.normal_text + ")";
+        if (even) return {t, kAtom};
+        return {"-" + t, kProduct, true};
+      }
+    }
+    std::string args;
+    for (size_t i = 0; i < e.nops(); ++i) args += (i ? ", " : "") + print(e.op(i), latex).text;
+    if (latex) return {"\\" + name + "\\left(" + args + "\\right)", kAtom};
+    return {name + "(" + args + ")", kAtom};
+  }
+  if (e.is_equal(GiNaC::Pi)) return {latex ? "\\pi" : "pi", kAtom};
+  std::ostringstream s;
+  s << e;
+  return {s.str(), kAtom};
+}
+
+}  // namespace
+
+std::string canonical_text(const GiNaC::ex& e, bool latex) { return print(e, latex).text; }
+
+}  // namespace mbsc::driver
