@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Benchmark driver for the planar N-link pendulum chain: mbsc's generated rhs against
-// sympy's generated mass matrix and forcing (KanesMethod) + an LU solve written here.
+// sympy's generated mass matrix and forcing (KanesMethod) + the Cholesky solve mbsc emits.
 //
 // Built per N by bench/run_chain.sh:
 //   g++ -std=c++17 -O2 -march=x86-64 -DCHAIN_N=8 -DMBSC_HEADER='"chain8.hpp"' -I GEN/chain8
@@ -107,36 +107,34 @@ void mbsc_state(const Layout& L, const double* th, const double* w, double* x) {
 int rhs_mbsc(const double* x, double* xdot) { return gen::rhs(0.0, x, nullptr, g_pm, xdot); }
 
 #ifndef NO_SYMPY
-// Solve A X = b in place (A n x n row-major, b overwritten by X): LU with partial
-// pivoting. Returns 1 when a pivot is zero.
-int lu_solve(double* A, double* b) {
-  for (int c = 0; c < N; ++c) {
-    int piv = c;
-    double best = std::fabs(A[c * N + c]);
-    for (int r = c + 1; r < N; ++r) {
-      const double a = std::fabs(A[r * N + c]);
-      if (a > best) {
-        best = a;
-        piv = r;
-      }
-    }
-    if (!(best > 0.0)) return 1;
-    if (piv != c) {
-      for (int j = 0; j < N; ++j) std::swap(A[c * N + j], A[piv * N + j]);
-      std::swap(b[c], b[piv]);
-    }
-    const double inv = 1.0 / A[c * N + c];
-    for (int r = c + 1; r < N; ++r) {
-      const double f = A[r * N + c] * inv;
-      if (f == 0.0) continue;
-      for (int j = c + 1; j < N; ++j) A[r * N + j] -= f * A[c * N + j];
-      b[r] -= f * b[c];
+// Solve A x = b in place for the symmetric positive definite mass matrix: the same
+// Cholesky algorithm mbsc emits for its reduced mass matrix (so both tools pay for the
+// same solver). Returns 1 when A is not positive definite.
+int chol_solve(double* A, double* b) {
+  double dmax = 0.0;
+  for (int i = 0; i < N; ++i) dmax = std::fmax(dmax, std::fabs(A[i * N + i]));
+  const double tiny = 1e-13 * dmax;
+  for (int j = 0; j < N; ++j) {
+    double d = A[j * N + j];
+    for (int m = 0; m < j; ++m) d -= A[j * N + m] * A[j * N + m];
+    if (!(d > tiny)) return 1;
+    const double ljj = std::sqrt(d);
+    A[j * N + j] = ljj;
+    for (int i = j + 1; i < N; ++i) {
+      double s = A[i * N + j];
+      for (int m = 0; m < j; ++m) s -= A[i * N + m] * A[j * N + m];
+      A[i * N + j] = s / ljj;
     }
   }
-  for (int r = N - 1; r >= 0; --r) {
-    double s = b[r];
-    for (int j = r + 1; j < N; ++j) s -= A[r * N + j] * b[j];
-    b[r] = s / A[r * N + r];
+  for (int i = 0; i < N; ++i) {
+    double s = b[i];
+    for (int m = 0; m < i; ++m) s -= A[i * N + m] * b[m];
+    b[i] = s / A[i * N + i];
+  }
+  for (int i = N - 1; i >= 0; --i) {
+    double s = b[i];
+    for (int m = i + 1; m < N; ++m) s -= A[m * N + i] * b[m];
+    b[i] = s / A[i * N + i];
   }
   return 0;
 }
@@ -147,7 +145,7 @@ int rhs_sympy(const double* x, double* xdot) {
   double* F = xdot + N;
   SYMPY_MASS_FORCING(x, x + N, g_ps, M, F);
   for (int k = 0; k < N; ++k) xdot[k] = x[N + k];
-  return lu_solve(M, F);
+  return chol_solve(M, F);
 }
 #endif
 

@@ -78,6 +78,46 @@ int lu_solve(int n, int k, double* A, double* B) {
 
 }  // namespace
 
+namespace {
+
+// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
+// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
+// (A not positive definite to working precision); else 0.
+int chol_solve(int n, int k, double* A, double* B) {
+  double dmax = 0.0;
+  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+  const double tiny = 1e-13 * dmax;
+  for (int j = 0; j < n; ++j) {
+    double d = A[j * n + j];
+    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
+    if (!(d > tiny)) return 1;
+    const double ljj = std::sqrt(d);
+    A[j * n + j] = ljj;
+    for (int i = j + 1; i < n; ++i) {
+      double s = A[i * n + j];
+      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
+      A[i * n + j] = s / ljj;
+    }
+  }
+  for (int c = 0; c < k; ++c) {
+    // L y = b, then L^T x = y.
+    for (int i = 0; i < n; ++i) {
+      double s = B[i * k + c];
+      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
+      B[i * k + c] = s / A[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      double s = B[i * k + c];
+      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
+      B[i * k + c] = s / A[i * n + i];
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
@@ -123,7 +163,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       B_0[6]*B_0[6]*p[6] + B_0[4]*B_0[4]*p[6] + B_0[0]*B_0[0]*p[5] + 0.08333333333333333*B_0[8]*B_0[8]*p[6]*t11 + 0.08333333333333333*p[0]*p[0]*p[5] + p[7]*B_0[12]*B_0[12] + B_0[2]*B_0[2]*p[5] + 0.08333333333333333*p[7]*B_0[14]*B_0[14]*t12 + p[7]*B_0[10]*B_0[10]};
   double B_1[1] = {
       p[8] - B_0[1]*p[5]*B_0[0] - B_0[5]*p[6]*B_0[4] - B_0[11]*p[7]*B_0[10] + (p[4]*p[5] - B_0[3]*p[5])*B_0[2] + (p[7]*p[4] - p[7]*B_0[13])*B_0[12] - 0.08333333333333333*B_0[9]*B_0[8]*p[6]*t11 - 0.08333333333333333*p[7]*B_0[15]*t12*B_0[14] + (p[4]*p[6] - B_0[7]*p[6])*B_0[6]};
-  if (lu_solve(1, 1, A_1, B_1) != 0) return 1;
+  if (chol_solve(1, 1, A_1, B_1) != 0) return 1;
   const double crank_u = -B_1[0]*B_0[0] - B_0[1];
   const double crank_v = -B_0[3] - B_1[0]*B_0[2];
   const double coupler_u = -B_1[0]*B_0[4] - B_0[5];

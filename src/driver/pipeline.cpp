@@ -112,6 +112,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates)", "xdot", "kNx", solve_steps(m, eom), {}};
     ir::Solve final_solve;
     final_solve.label = "reduced mass matrix M z' = h";
+    final_solve.spd = eom.mass_matrix_spd;
     final_solve.n = nd;
     final_solve.k = 1;
     for (int i = 0; i < nd; ++i) {

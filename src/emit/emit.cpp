@@ -196,7 +196,7 @@ void check_model(const GeneratedModel& m) {
   check_name("model name", m.name);
   // A namespace called std would hide ::std inside the generated code.
   if (m.name == "std") throw std::runtime_error("cannot emit a model named 'std'");
-  std::set<std::string> names = {"lu_solve"};  // the solver the source defines there
+  std::set<std::string> names = {"lu_solve", "chol_solve"};  // the solvers the source defines there
   auto claim = [&](const std::string& what, const std::string& n) {
     check_name(what, n);
     if (!names.insert(n).second) throw std::runtime_error("cannot emit: the name '" + n + "' is used twice");
@@ -213,8 +213,11 @@ GeneratedFiles emit(const GeneratedModel& m) {
   check_model(m);
   bool need_limits = false;
   const std::string consts = constants(m, need_limits);
-  bool uses_solve = false;
-  for (const auto& f : m.functions) uses_solve = uses_solve || f.body.find("lu_solve(") != std::string::npos;
+  bool uses_solve = false, uses_chol = false;
+  for (const auto& f : m.functions) {
+    uses_solve = uses_solve || f.body.find("lu_solve(") != std::string::npos;
+    uses_chol = uses_chol || f.body.find("chol_solve(") != std::string::npos;
+  }
 
   // Header.
   Fragments h;
@@ -229,7 +232,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
   Fragments s;
   s["banner"] = h["banner"];
   s["name"] = m.name;
-  s["support"] = uses_solve ? lu_solve_code() + "\n" : "";
+  s["support"] = (uses_solve ? lu_solve_code() + "\n" : "") + (uses_chol ? chol_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
   s["c_definitions"] = c_definitions(m);
 

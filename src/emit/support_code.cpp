@@ -3,6 +3,52 @@
 
 namespace mbsc::emit {
 
+// In-place Cholesky factorisation A = L L^T (lower triangle), then forward and back
+// substitution on B. Only the lower triangle of A is read.
+const std::string& chol_solve_code() {
+  static const std::string code = R"cpp(namespace {
+
+// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
+// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
+// (A not positive definite to working precision); else 0.
+int chol_solve(int n, int k, double* A, double* B) {
+  double dmax = 0.0;
+  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+  const double tiny = 1e-13 * dmax;
+  for (int j = 0; j < n; ++j) {
+    double d = A[j * n + j];
+    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
+    if (!(d > tiny)) return 1;
+    const double ljj = std::sqrt(d);
+    A[j * n + j] = ljj;
+    for (int i = j + 1; i < n; ++i) {
+      double s = A[i * n + j];
+      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
+      A[i * n + j] = s / ljj;
+    }
+  }
+  for (int c = 0; c < k; ++c) {
+    // L y = b, then L^T x = y.
+    for (int i = 0; i < n; ++i) {
+      double s = B[i * k + c];
+      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
+      B[i * k + c] = s / A[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+      double s = B[i * k + c];
+      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
+      B[i * k + c] = s / A[i * n + i];
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
 // In-place LU factorisation with partial pivoting (Doolittle, row swaps applied to B too),
 // then forward elimination on B during the factorisation and back substitution.
 const std::string& lu_solve_code() {

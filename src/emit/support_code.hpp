@@ -9,6 +9,10 @@ namespace mbsc::emit {
 /// only into sources that solve a linear system.
 const std::string& lu_solve_code();
 
+/// The anonymous-namespace `int chol_solve(int n, int k, double* A, double* B)` for
+/// symmetric positive definite systems (reduced mass matrices).
+const std::string& chol_solve_code();
+
 /// The licence exception of generated files, as lines without comment markers.
 const std::string& generated_licence_text();
 

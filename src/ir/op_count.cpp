@@ -11,6 +11,12 @@ long lu_solve_flops(int n, int k) {
   return std::lround(nn * nn * nn / 3.0 + nn * nn * static_cast<double>(k));
 }
 
+// Cholesky: ~n^3/6 multiply-adds, then n^2 per right-hand side (forward and back).
+long chol_solve_flops(int n, int k) {
+  const double nn = static_cast<double>(n);
+  return std::lround(nn * nn * nn / 6.0 + nn * nn * static_cast<double>(k));
+}
+
 OpCount& operator+=(OpCount& a, const OpCount& b) {
   a.adds += b.adds;
   a.muls += b.muls;

@@ -7,6 +7,7 @@ namespace mbsc::ir {
 
 /// Multiply-adds of one in-place LU solve with partial pivoting: n^3/3 + n^2 k, rounded.
 long lu_solve_flops(int n, int k);
+long chol_solve_flops(int n, int k);
 
 /// Field-wise sum.
 OpCount& operator+=(OpCount& a, const OpCount& b);

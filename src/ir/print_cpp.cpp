@@ -97,9 +97,9 @@ class Printer {
     };
     array("A_", s.A, s.n);
     array("B_", s.B, s.k);
-    lines.push_back("  if (lu_solve(" + std::to_string(s.n) + ", " + std::to_string(s.k) + ", A_" + id + ", B_" + id +
-                    ") != 0) return 1;");
-    ops_.solve_flops += lu_solve_flops(s.n, s.k);
+    lines.push_back(std::string("  if (") + (s.spd ? "chol_solve(" : "lu_solve(") + std::to_string(s.n) + ", " +
+                    std::to_string(s.k) + ", A_" + id + ", B_" + id + ") != 0) return 1;");
+    ops_.solve_flops += s.spd ? chol_solve_flops(s.n, s.k) : lu_solve_flops(s.n, s.k);
   }
 
   // A child as its parent sees it: a temporary's name or the inline expression.

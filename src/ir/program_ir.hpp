@@ -18,6 +18,7 @@ struct SolveBlock {
   int n = 0;
   int k = 0;
   std::string label;
+  bool spd = false;       // Cholesky instead of LU
   std::vector<NodeId> A;  // n x n, row-major
   std::vector<NodeId> B;  // n x k, row-major
 };

@@ -499,7 +499,8 @@ class Deriver {
       for (int i = 0; i < nd; ++i)
         for (int j = 0; j < nd; ++j) Mn(i, j) = probe_.eval(eom_.M(i, j));
       Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (Mn + Mn.transpose()));
-      if (!Mn.allFinite() || llt.info() != Eigen::Success)
+      eom_.mass_matrix_spd = Mn.allFinite() && llt.info() == Eigen::Success;
+      if (!eom_.mass_matrix_spd)
         diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
                                                "(massless directions or a singular independent set)");
     }

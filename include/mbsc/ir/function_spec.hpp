@@ -34,6 +34,10 @@ struct Solve {
   std::vector<GiNaC::ex> A;
   std::vector<GiNaC::ex> B;
   std::vector<GiNaC::symbol> X;
+  /// A is symmetric positive definite (a reduced mass matrix): the generated code uses a
+  /// Cholesky factorisation (n^3/6 instead of n^3/3) and returns status 1 when A is not
+  /// positive definite to working precision.
+  bool spd = false;
 };
 
 using Step = std::variant<Define, Solve>;

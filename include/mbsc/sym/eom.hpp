@@ -65,6 +65,7 @@ struct Eom {
   std::vector<ir::Define> top_down;  // dependent q1dot, root to leaves
   GiNaC::ex kinetic, potential;    // energy terms (valid when has_energy)
   bool has_energy = false;
+  bool mass_matrix_spd = true;     // M positive definite at the probe point: solved by Cholesky
   std::map<std::string, double> param_values;  // defaults, with frozen values
   std::vector<int> free_params;    // parameters left in p[] (not frozen)
   int ndof() const { return static_cast<int>(independent.size()); }
