@@ -31,9 +31,9 @@ temporary once plus every output:
                    negation free), an n-factor product n-1 muls (a coefficient of
                    magnitude 1 is free, any other one is a factor), denominators
                    go to one division, x**k for k = 2..4 is k-1 muls (x**-k adds a
-                   division), every sin/cos/sqrt/pow call is one call. The LU solve
-                   that the benchmark driver adds to get u' is NOT included here
-                   (the harness adds n^3/3 + n^2 flops, mbsc's formula).
+                   division), every sin/cos/sqrt/pow call is one call. The Cholesky
+                   solve that the benchmark driver adds to get u' is NOT included
+                   here (the harness adds n^3/6 + n^2 flops, mbsc's formula).
 """
 import json
 import os

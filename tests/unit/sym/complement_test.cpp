@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "mbsc/driver/pipeline.hpp"
+#include "bind_solves.hpp"
 #include "mbsc/sym/probe.hpp"
 
 namespace {
@@ -28,19 +29,7 @@ Derived derive(const std::string& file) {
   return d;
 }
 
-/// Binds every numeric solve's results at the probe point.
-void bind_solves(mbsc::sym::Probe& p, const Derived& d) {
-  for (const auto& s : d.eom->solves) {
-    Eigen::MatrixXd A(s.n, s.n), B(s.n, s.k);
-    for (int i = 0; i < s.n; ++i) {
-      for (int j = 0; j < s.n; ++j) A(i, j) = p.eval(mbsc::driver::finalize(*d.m, *d.eom, s.A[i * s.n + j]));
-      for (int j = 0; j < s.k; ++j) B(i, j) = p.eval(mbsc::driver::finalize(*d.m, *d.eom, s.B[i * s.k + j]));
-    }
-    Eigen::MatrixXd X = A.fullPivLu().solve(B);
-    for (int i = 0; i < s.n; ++i)
-      for (int j = 0; j < s.k; ++j) p.bind(s.X[i * s.k + j], X(i, j));
-  }
-}
+void bind_solves(mbsc::sym::Probe& p, const Derived& d) { mbsc_test::bind_solves(p, *d.m, *d.eom); }
 
 GiNaC::ex sym_of(const mbsc::model::Model& m, const std::string& name) {
   for (const auto& q : m.coords)

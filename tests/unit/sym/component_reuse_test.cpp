@@ -6,6 +6,7 @@
 #include <random>
 
 #include "mbsc/driver/pipeline.hpp"
+#include "bind_solves.hpp"
 #include "mbsc/sym/probe.hpp"
 
 TEST_CASE("component reuse equals a fresh derivation", "[sym][component]") {
@@ -27,20 +28,8 @@ TEST_CASE("component reuse equals a fresh derivation", "[sym][component]") {
   // numeric solve of each derivation is evaluated with its own opaque symbols.
   for (unsigned seed : {1u, 2u, 3u}) {
     mbsc::sym::Probe pa(*m, {}, seed), pb(*m, {}, seed);
-    auto bind = [](mbsc::sym::Probe& p, const mbsc::sym::Eom& e) {
-      for (const auto& s : e.solves) {
-        Eigen::MatrixXd A(s.n, s.n), B(s.n, s.k);
-        for (int i = 0; i < s.n; ++i) {
-          for (int j = 0; j < s.n; ++j) A(i, j) = p.eval(mbsc::driver::finalize(*e.model, e, s.A[i * s.n + j]));
-          for (int j = 0; j < s.k; ++j) B(i, j) = p.eval(mbsc::driver::finalize(*e.model, e, s.B[i * s.k + j]));
-        }
-        Eigen::MatrixXd X = A.partialPivLu().solve(B);
-        for (int i = 0; i < s.n; ++i)
-          for (int j = 0; j < s.k; ++j) p.bind(s.X[i * s.k + j], X(i, j));
-      }
-    };
-    bind(pa, *a);
-    bind(pb, *b);
+    mbsc_test::bind_solves(pa, *m, *a);
+    mbsc_test::bind_solves(pb, *m, *b);
     const int nd = a->ndof();
     REQUIRE(nd == b->ndof());
     for (int i = 0; i < nd; ++i) {
