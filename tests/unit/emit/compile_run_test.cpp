@@ -336,3 +336,88 @@ int main() {
   }
   Digits = saved_digits;
 }
+
+TEST_CASE("end to end: Cholesky solve of a symmetric positive definite block", "[emit]") {
+  Case c;
+  const auto b = c.bindings();
+  // spd: A = [[4 + q0^2, q1, 0], [q1, 3, q2], [0, q2, 5]] (diagonally dominant at the
+  // driver's x), two right-hand sides; indefinite: A = [[1, 2], [2, 1]] has eigenvalue -1.
+  std::vector<symbol> X;
+  for (int i = 0; i < 6; ++i) X.emplace_back("X" + std::to_string(i));
+  Solve s;
+  s.label = "spd block";
+  s.spd = true;
+  s.n = 3;
+  s.k = 2;
+  s.A = {4 + c.q0 * c.q0, c.q1, 0, c.q1, 3, c.q2, 0, c.q2, 5};
+  s.B = {1, c.m, c.q2, c.g, c.u0, c.q0 * c.q1};
+  s.X = {X[0], X[1], X[2], X[3], X[4], X[5]};
+  FunctionSpec spd;
+  spd.name = "spd";
+  spd.steps.push_back(s);
+  for (const auto& x : X) spd.outputs.push_back(x);
+  symbol Y0("Y0"), Y1("Y1");
+  Solve bad;
+  bad.spd = true;
+  bad.n = 2;
+  bad.k = 1;
+  bad.A = {1, 2, 2, 1};
+  bad.B = {c.q0, c.q1};
+  bad.X = {Y0, Y1};
+  FunctionSpec indefinite;
+  indefinite.name = "indefinite";
+  indefinite.steps.push_back(bad);
+  indefinite.outputs = {Y0};
+
+  mbsc::emit::GeneratedModel model;
+  model.name = "chol";
+  model.source_hash = "c0ffee";
+  model.tool_version = "0.1.0";
+  model.functions = {mbsc::ir::lower(spd, b), mbsc::ir::lower(indefinite, b)};
+  const mbsc::emit::GeneratedFiles files = mbsc::emit::emit(model);
+  REQUIRE(files.source.find("chol_solve(3, 2") != std::string::npos);
+  REQUIRE(files.source.find("lu_solve") == std::string::npos);  // only the solver in use is emitted
+
+  mbsc::test::ScratchDir dir("chol");
+  mbsc::test::write_file(dir.file("chol.hpp"), files.header);
+  mbsc::test::write_file(dir.file("chol.cpp"), files.source);
+  mbsc::test::write_file(dir.file("driver.cpp"), R"cpp(#include "chol.hpp"
+#include <cstdio>
+int main() {
+  const double x[3] = {0.3, 0.7, 1.1}, u[1] = {0.25}, p[2] = {2.0, 9.81};
+  double out[6] = {0};
+  int s = mbsc_gen::chol::spd(0.5, x, u, p, out);
+  std::printf("%d", s);
+  for (double v : out) std::printf(" %.17g", v);
+  std::printf("\n%d\n", mbsc_gen::chol::indefinite(0.5, x, u, p, out));
+  return 0;
+}
+)cpp");
+  std::string log;
+  REQUIRE(mbsc::test::run_command("cd " + dir.path().string() + " && g++ " + mbsc::test::strict_flags() +
+                                      " -O1 -o driver driver.cpp chol.cpp",
+                                  log) == 0);
+  std::string out;
+  REQUIRE(mbsc::test::run_command(dir.file("driver"), out) == 0);
+  std::istringstream in(out);
+  std::string first, second;
+  std::getline(in, first);
+  std::getline(in, second);
+  const std::vector<double> got = parse_doubles(first);
+  REQUIRE(got.size() == 7);
+  CHECK(got[0] == 0.0);
+  // Reference: GiNaC's exact solve of the same numeric system.
+  const exmap v = values(c);
+  matrix A(3, 3), B(3, 2), Xs(3, 2);
+  for (unsigned i = 0; i < 9; ++i) A(i / 3, i % 3) = s.A[i].subs(v);
+  for (unsigned i = 0; i < 6; ++i) {
+    B(i / 2, i % 2) = s.B[i].subs(v);
+    Xs(i / 2, i % 2) = X[i];
+  }
+  const matrix Xv = A.solve(Xs, B);
+  for (unsigned i = 0; i < 6; ++i) {
+    const double ref = ex_to<numeric>(Xv(i / 2, i % 2).evalf()).to_double();
+    CHECK(std::fabs(got[i + 1] - ref) <= 1e-13 * std::max(1.0, std::fabs(ref)));
+  }
+  CHECK(second == "1");  // not positive definite: status 1
+}
