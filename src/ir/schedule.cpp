@@ -116,6 +116,8 @@ class Scheduler {
     for (const Root& r : prog_.roots) {
       if (r.kind != Root::Kind::Define) continue;
       const auto id = static_cast<std::size_t>(r.node);
+      // Read by nothing after all (its readers folded a sign into a different node): dead.
+      if (uses_[id] == 0) continue;
       if (is_leaf(dag_.node(r.node)) || !prog_.names[id].empty()) continue;
       temp_[id] = 1;
       prog_.names[id] = unique_name(sanitize_identifier(define_names_[static_cast<std::size_t>(r.index)]));
@@ -259,7 +261,7 @@ class Scheduler {
     for (const Root& r : prog_.roots) {
       switch (r.kind) {
         case Root::Kind::Define:
-          ensure(r.node);
+          if (uses_[static_cast<std::size_t>(r.node)] > 0) ensure(r.node);
           break;
         case Root::Kind::Solve: {
           const SolveBlock& s = prog_.solves[static_cast<std::size_t>(r.index)];
