@@ -3,7 +3,7 @@
 // Operation counts:
 //   rhs: 19 adds, 63 muls, 0 divs, 4 calls, 5 solve flops, total 91
 //   mass_matrix: 2 adds, 11 muls, 0 divs, 4 calls, 0 solve flops, total 17
-//   forcing: 10 adds, 38 muls, 0 divs, 4 calls, 0 solve flops, total 52
+//   forcing: 10 adds, 37 muls, 0 divs, 4 calls, 0 solve flops, total 51
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
@@ -73,27 +73,28 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double c0 = std::cos(x[3]);
   const double s1 = std::sin(x[4]);
   const double c1 = std::cos(x[4]);
-  const double t0 = s0*s0;
-  const double t1 = c0*c0;
-  const double t2 = p[1]*p[1];
-  const double t3 = c1*x[9]*c0 - s0*x[8]*s1;
-  const double t4 = x[9]*s0*s1 - c1*c0*x[8];
-  const double t5 = t4*x[9] - t3*x[8];
-  const double t6 = x[8]*x[8];
-  const double t7 = -(c1*s0*x[8] + x[9]*c0*s1)*x[8];
-  const double t8 = -x[9]*(c0*x[8]*s1 + c1*x[9]*s0);
-  const double t9 = t7 + t8;
+  const double t0 = -(c1*x[9]*c0 - s0*x[8]*s1)*x[8];
+  const double t1 = (x[9]*s0*s1 - c1*c0*x[8])*x[9];
+  const double e_bob_w = -(t0 + t1)*p[1];
+  const double t2 = c1*s0*x[8] + x[9]*c0*s1;
+  const double t3 = c0*x[8]*s1 + c1*x[9]*s0;
+  const double e_bob_v = (-t2*x[8] - x[9]*t3)*p[1];
+  const double t4 = x[8]*x[8];
+  const double e_bob_u = -c0*t4*p[1];
+  const double t5 = s0*s0;
+  const double t6 = c0*c0;
+  const double t7 = p[1]*p[1];
   // solve A_0 X = B_0 (2x2, 1 column): reduced mass matrix M z' = h
   double A_0[4] = {
-      (t0 + c1*c1*t1 + t1*s1*s1)*p[0]*t2, 0.0,
-      0.0, t0*p[0]*t2};
+      (t5 + c1*c1*t6 + t6*s1*s1)*p[0]*t7, 0.0,
+      0.0, t5*p[0]*t7};
   double B_0[2] = {
-      -p[0]*(s0*(c0*t6*p[1] + p[2]) - t5*c0*p[1]*s1 + c1*c0*t9*p[1])*p[1],
-      -s0*(-t9*s1 - t5*c1)*p[0]*t2};
+      (s0*(e_bob_u - p[2]) - c0*s1*e_bob_w - c1*c0*e_bob_v)*p[0]*p[1],
+      -s0*(c1*e_bob_w - e_bob_v*s1)*p[0]*p[1]};
   if (chol_solve(2, 1, A_0, B_0) != 0) return 1;
-  const double bob_w = (t3*x[8] + c1*s0*B_0[1] - t4*x[9] + c0*s1*B_0[0])*p[1];
-  const double bob_v = (t7 + c1*c0*B_0[0] - s0*B_0[1]*s1 + t8)*p[1];
-  const double bob_u = -p[1]*(s0*B_0[0] + c0*t6);
+  const double bob_w = -p[1]*(t0 - c1*s0*B_0[1] - c0*B_0[0]*s1 + t1);
+  const double bob_v = -(s0*B_0[1]*s1 - c1*c0*B_0[0] + t2*x[8] + x[9]*t3)*p[1];
+  const double bob_u = -(s0*B_0[0] + c0*t4)*p[1];
   OUT[0] = x[5];
   OUT[1] = x[6];
   OUT[2] = x[7];
@@ -129,10 +130,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double c0 = std::cos(x[3]);
   const double s1 = std::sin(x[4]);
   const double c1 = std::cos(x[4]);
-  const double t0 = (x[9]*s0*s1 - c1*c0*x[8])*x[9] - (c1*x[9]*c0 - s0*x[8]*s1)*x[8];
-  const double t1 = -(c1*s0*x[8] + x[9]*c0*s1)*x[8] - x[9]*(c0*x[8]*s1 + c1*x[9]*s0);
-  OUT[0] = -p[0]*(s0*(c0*x[8]*x[8]*p[1] + p[2]) - t0*c0*p[1]*s1 + c1*c0*t1*p[1])*p[1];
-  OUT[1] = -s0*(-t1*s1 - t0*c1)*p[0]*p[1]*p[1];
+  const double e_bob_w = -((x[9]*s0*s1 - c1*c0*x[8])*x[9] - (c1*x[9]*c0 - s0*x[8]*s1)*x[8])*p[1];
+  const double e_bob_v = (-(c1*s0*x[8] + x[9]*c0*s1)*x[8] - x[9]*(c0*x[8]*s1 + c1*x[9]*s0))*p[1];
+  const double e_bob_u = -c0*x[8]*x[8]*p[1];
+  OUT[0] = (s0*(e_bob_u - p[2]) - c0*s1*e_bob_w - c1*c0*e_bob_v)*p[0]*p[1];
+  OUT[1] = -s0*(c1*e_bob_w - e_bob_v*s1)*p[0]*p[1];
   for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }

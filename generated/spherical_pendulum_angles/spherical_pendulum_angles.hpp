@@ -3,7 +3,7 @@
 // Operation counts:
 //   rhs: 19 adds, 63 muls, 0 divs, 4 calls, 5 solve flops, total 91
 //   mass_matrix: 2 adds, 11 muls, 0 divs, 4 calls, 0 solve flops, total 17
-//   forcing: 10 adds, 38 muls, 0 divs, 4 calls, 0 solve flops, total 52
+//   forcing: 10 adds, 37 muls, 0 divs, 4 calls, 0 solve flops, total 51
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
@@ -73,7 +73,7 @@ int rhs(double t, const double* x, const double* u, const double* p, double* OUT
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
-/// OUT: h, kNdof values (row-major). Cost: 10 adds, 38 muls, 0 divs, 4 calls, 0 solve flops, total 52.
+/// OUT: h, kNdof values (row-major). Cost: 10 adds, 37 muls, 0 divs, 4 calls, 0 solve flops, total 51.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 

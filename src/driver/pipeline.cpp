@@ -80,11 +80,15 @@ std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom) {
 
 namespace {
 
-/// Steps shared by rhs, mass_matrix and forcing: every node's numeric solve.
+/// Steps shared by rhs, mass_matrix and forcing: every node's numeric solve and e_ variable.
 std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
   std::vector<ir::Step> steps;
-  for (const auto& s : eom.solves) {
-    ir::Solve f = s;
+  for (const auto& step : eom.pre_steps) {
+    if (const auto* d = std::get_if<ir::Define>(&step)) {
+      steps.push_back(ir::Define{d->sym, sym::tidy(finalize(m, eom, d->value)), d->named});
+      continue;
+    }
+    ir::Solve f = std::get<ir::Solve>(step);
     for (auto& e : f.A) e = sym::tidy(finalize(m, eom, e));
     for (auto& e : f.B) e = sym::tidy(finalize(m, eom, e));
     steps.push_back(f);

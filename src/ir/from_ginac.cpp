@@ -68,6 +68,7 @@ GinacConverter::GinacConverter(Dag& dag, const FunctionSpec& spec, const std::ve
       spec_(spec),
       define_state_(spec.steps.size(), kUntouched),
       define_node_(spec.steps.size(), -1),
+      named_ref_(spec.steps.size(), 0),
       solve_live_(spec.steps.size(), 0),
       numeric_info_(&GiNaC::numeric::get_class_info_static()),
       add_info_(&GiNaC::add::get_class_info_static()),
@@ -181,6 +182,10 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
       if (info->node < 0) info->node = dag_.make_sym(info->step, info->elem);
       return info->node;
     case SymKind::Define:
+      if (std::get<Define>(spec_.steps[static_cast<std::size_t>(info->step)]).named) {
+        named_ref_[static_cast<std::size_t>(info->step)] = 1;
+        return dag_.make_sym(info->step, -1);
+      }
       break;
   }
   const auto st = static_cast<std::size_t>(info->step);

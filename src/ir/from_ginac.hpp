@@ -43,6 +43,8 @@ class GinacConverter {
 
   /// Whether a Define was read by converted expressions, and its value's node.
   bool define_live(int step) const { return define_state_[static_cast<std::size_t>(step)] == kDone; }
+  /// Whether a converted expression refers to a named Define (by its leaf, Sym(step, -1)).
+  bool define_referenced(int step) const { return named_ref_[static_cast<std::size_t>(step)] != 0; }
   NodeId define_node(int step) const { return define_node_[static_cast<std::size_t>(step)]; }
   /// Whether some converted expression reads one of a Solve's results.
   bool solve_live(int step) const { return solve_live_[static_cast<std::size_t>(step)] != 0; }
@@ -80,6 +82,7 @@ class GinacConverter {
   std::vector<GiNaC::ex> keep_alive_;  // memoised nodes stay alive so their addresses stay unique
   std::vector<char> define_state_;
   std::vector<NodeId> define_node_;
+  std::vector<char> named_ref_;
   std::vector<char> solve_live_;
   // GiNaC's per-class registration records: comparing their addresses classifies a node
   // with one virtual call (typeid comparison or dynamic_cast cost far more).

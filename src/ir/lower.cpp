@@ -40,13 +40,20 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
   outputs.reserve(spec.outputs.size());
   for (const GiNaC::ex& e : spec.outputs) outputs.push_back(conv.convert(e, nsteps));
 
-  // Solves from last to first: a live Solve's matrices can only make earlier steps live.
+  // Solves and named Defines from last to first: converting a live one can only make
+  // earlier steps live.
   std::vector<std::vector<NodeId>> solve_a(spec.steps.size()), solve_b(spec.steps.size());
+  prog->define_ref_value.assign(spec.steps.size(), -1);
   for (int j = nsteps - 1; j >= 0; --j) {
-    const auto* s = std::get_if<Solve>(&spec.steps[static_cast<std::size_t>(j)]);
-    if (!s || !conv.solve_live(j)) continue;
-    for (const GiNaC::ex& e : s->A) solve_a[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
-    for (const GiNaC::ex& e : s->B) solve_b[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
+    const auto& step = spec.steps[static_cast<std::size_t>(j)];
+    if (const auto* d = std::get_if<Define>(&step)) {
+      if (d->named && conv.define_referenced(j)) prog->define_ref_value[static_cast<std::size_t>(j)] = conv.convert(d->value, j);
+      continue;
+    }
+    const auto& s = std::get<Solve>(step);
+    if (!conv.solve_live(j)) continue;
+    for (const GiNaC::ex& e : s.A) solve_a[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
+    for (const GiNaC::ex& e : s.B) solve_b[static_cast<std::size_t>(j)].push_back(conv.convert(e, j));
   }
 
   // Roots in step order (live steps only), then the outputs.
@@ -55,7 +62,9 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
     const auto& step = spec.steps[static_cast<std::size_t>(j)];
     if (const auto* d = std::get_if<Define>(&step)) {
       define_names[static_cast<std::size_t>(j)] = d->sym.get_name();
-      if (conv.define_live(j)) prog->roots.push_back({Root::Kind::Define, j, conv.define_node(j)});
+      const NodeId named_value = prog->define_ref_value[static_cast<std::size_t>(j)];
+      if (named_value >= 0) prog->roots.push_back({Root::Kind::Define, j, named_value});
+      else if (conv.define_live(j)) prog->roots.push_back({Root::Kind::Define, j, conv.define_node(j)});
     } else if (conv.solve_live(j)) {
       const auto& s = std::get<Solve>(step);
       SolveBlock block;

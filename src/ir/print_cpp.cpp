@@ -123,6 +123,7 @@ class Printer {
       case NodeKind::Input:
         return {dag_.input_text(n.ref), kPrimary};
       case NodeKind::Sym:
+        if (n.elem == -1) return ref(prog_.define_ref_value[static_cast<std::size_t>(n.ref)]);  // a named Define
         return {"B_" + std::to_string(solve_number_[static_cast<std::size_t>(n.ref)]) + "[" + std::to_string(n.elem) + "]",
                 kPrimary};
       case NodeKind::Add:

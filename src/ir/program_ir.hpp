@@ -47,6 +47,9 @@ struct Program {
   std::vector<std::string> names;  // per node: temporary's name, empty when printed inline
   std::vector<SolveBlock> solves;  // live solves, in step order
   std::vector<Root> roots;
+  /// Per step: the value node of a named Define that something refers to (its readers
+  /// hold the leaf Sym(step, -1), printed as this node), else -1.
+  std::vector<NodeId> define_ref_value;
   std::vector<Statement> statements;
   int nout = 0;
   std::vector<std::string> used_args;  // subset of t, x, u, p, in that order

@@ -68,6 +68,17 @@ class Scheduler {
   // Live nodes and use counts: one count per parent edge and per root occurrence
   // (a Define root reads nothing by itself, so it adds no use).
   void count_uses() {
+    count_uses_from_roots();
+    // A named Define's readers hold its leaf Sym(step, -1): they use its value node.
+    for (std::size_t i = 0; i < dag_.size(); ++i) {
+      const Node& nd = dag_.node(static_cast<NodeId>(i));
+      if (nd.kind != NodeKind::Sym || nd.elem != -1 || !live_[i]) continue;
+      const NodeId value = prog_.define_ref_value[static_cast<std::size_t>(nd.ref)];
+      if (value >= 0) uses_[static_cast<std::size_t>(value)] += uses_[i];
+    }
+  }
+
+  void count_uses_from_roots() {
     std::vector<NodeId> stack;
     for_each_root_node(prog_, [&](const Root& r, NodeId root) {
       if (r.kind != Root::Kind::Define) ++uses_[static_cast<std::size_t>(root)];
@@ -182,7 +193,7 @@ class Scheduler {
     for (std::size_t i = 0; i < dag_.size(); ++i) {
       if (sin_of_[i] < 0 && cos_of_[i] < 0) continue;
       const Node& nd = dag_.node(static_cast<NodeId>(i));
-      if (!is_leaf(nd)) continue;
+      if (!is_leaf(nd) || (nd.kind == NodeKind::Sym && nd.elem == -1)) continue;
       int first = INT32_MAX;
       if (sin_of_[i] >= 0) first = std::min(first, order_[static_cast<std::size_t>(sin_of_[i])]);
       if (cos_of_[i] >= 0) first = std::min(first, order_[static_cast<std::size_t>(cos_of_[i])]);

@@ -221,7 +221,23 @@ class Deriver {
     r.e = GiNaC::matrix(ny, 1);
     GiNaC::exmap zero_indep;
     for (int s : r.independent) zero_indep[m_.speed_dots[s]] = 0;
-    for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
+    if (!r.rate_steps.empty()) {
+      // Triangular: e is evaluated row by row in the generated code (one named variable
+      // per dependent speed, each reading the ones before it), so h = C^T (hy - My e)
+      // stays linear in size instead of repeating ever longer sums.
+      GiNaC::exmap earlier;
+      for (const auto& [s, local] : r.rate_steps) {
+        GiNaC::symbol E("e_" + sanitize(m_.speeds[s].name));
+        const GiNaC::ex value = local.subs(zero_indep).subs(earlier);
+        r.e_defines.push_back(ir::Define{E, value, true});
+        probe_.bind(E, probe_.eval(value));
+        earlier[m_.speed_dots[s]] = E;
+        r.e(col[s], 0) = E;
+      }
+      for (const auto& d : r.e_defines) eom_.pre_steps.push_back(d);
+    } else {
+      for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
+    }
     reduce_forces(r);
     for (int s : r.dependent) {
       r.dependent_rates[s] = sol[s];
@@ -375,6 +391,16 @@ class Deriver {
       bind_probe(c);
       r.solves.push_back(c);
       eom_.solves.push_back(c);
+      eom_.pre_steps.push_back(c);
+    }
+    // Named e_ variables get instance names too.
+    for (const auto& d : src.e_defines) {
+      GiNaC::symbol renamed(d.sym.get_name() + "_i" + std::to_string(k));
+      map[d.sym] = renamed;
+      const ir::Define c{renamed, d.value.subs(map), true};
+      probe_.bind(renamed, probe_.eval(c.value));
+      r.e_defines.push_back(c);
+      eom_.pre_steps.push_back(c);
     }
     r.B = mat(src.B);
     r.b = mat(src.b);
@@ -477,6 +503,7 @@ class Deriver {
     bind_probe(solve);
     r.solves.push_back(solve);
     eom_.solves.push_back(solve);
+    eom_.pre_steps.push_back(solve);
     return sol;
   }
 

@@ -95,7 +95,12 @@ struct Evaluator {
     for (size_t j = 0; j < m.speeds.size(); ++j) vals[m.speeds[j].sym] = x[m.coords.size() + j];
     for (const auto& in : m.inputs) vals[in.sym] = 0.0;
     for (size_t k = 0; k < eom.free_params.size(); ++k) vals[m.params[eom.free_params[k]].sym] = params[k];
-    for (const auto& s : eom.solves) {
+    for (const auto& step : eom.pre_steps) {
+      if (const auto* d = std::get_if<mbsc::ir::Define>(&step)) {
+        vals[d->sym] = eval(d->value);
+        continue;
+      }
+      const auto& s = std::get<mbsc::ir::Solve>(step);
       Eigen::MatrixXd A(s.n, s.n), B(s.n, s.k);
       for (int i = 0; i < s.n; ++i) {
         for (int j = 0; j < s.n; ++j) A(i, j) = eval(s.A[i * s.n + j]);

@@ -19,9 +19,13 @@ struct Binding {
 };
 
 /// sym := value. The value may use bindings and symbols defined by earlier steps.
+/// By default the value is substituted into its readers (and CSE shares it); a `named`
+/// Define is kept as a variable that readers refer to, so its value never merges into
+/// theirs (used for recurrences, where each value reads the previous one).
 struct Define {
   GiNaC::symbol sym;
   GiNaC::ex value;
+  bool named = false;
 };
 
 /// X = A^-1 B, solved numerically in the generated code (LU with partial pivoting).
