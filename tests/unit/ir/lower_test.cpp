@@ -258,3 +258,25 @@ TEST_CASE("lower: constants and rationals print as doubles", "[ir]") {
   CHECK(has(f.body, "0.3333333333333333"));
   CHECK(has(f.body, "OUT[2] = 5.0;"));
 }
+
+TEST_CASE("lower: a named Define is a variable its readers refer to", "[ir]") {
+  // e1 := -q0^2 l, e2 := e1 + q1 l (a recurrence), out = m (e2 - q2) and -m (q2 - e1):
+  // readers must refer to e1 and e2 by name whatever sign GiNaC gives the sums.
+  Syms s;
+  symbol e1("e1"), e2("e2");
+  FunctionSpec f = spec_of({s.m * (e2 - s.q2), -s.m * (s.q2 - e1)});
+  f.steps.push_back(Define{e1, -s.q0 * s.q0 * s.l, true});
+  f.steps.push_back(Define{e2, e1 + s.q1 * s.l, true});
+  const LoweredFunction lf = lower(f, s.bindings());
+  INFO(lf.body);
+  CHECK(has(lf.body, "const double e1 = "));
+  CHECK(has(lf.body, "const double e2 = "));
+  CHECK(has(lf.body, "*p[1] + e1;"));
+  CHECK(count(lf.body, "e1") == 3);  // defined once, read by e2 and by OUT[1]
+  CHECK(count(lf.body, "e2") == 2);  // defined once, read by OUT[0]
+  // An unreferenced named Define is dead.
+  symbol unused("unused");
+  FunctionSpec g = spec_of({s.q0 + s.q1});
+  g.steps.push_back(Define{unused, s.q2 * s.q2, true});
+  CHECK_FALSE(has(lower(g, s.bindings()).body, "unused"));
+}
