@@ -27,8 +27,6 @@ bool parse_assignment(const std::string& text, std::string& name, double& value)
 
 namespace {
 
-std::string label(const model::Model& m, int n) { return m.nodes[n].name.empty() ? "<top>" : m.nodes[n].name; }
-
 std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
   std::vector<std::string> v;
   for (int s : speeds) v.push_back(m.speeds[s].name);
@@ -72,7 +70,7 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
     std::string kind = node.kind == model::LeafKind::Node ? (node.component.empty() ? "node" : "component " + node.component)
                                                           : model::to_string(node.kind);
     out << fmt::format("  {}{} [{}]: {} variable(s) in y, {} constraint(s), rank {}, {} dof", std::string(2 * depth, ' '),
-                       label(*m, static_cast<int>(n)), kind, r.y.size(), r.rows.size(), r.rank, r.independent.size());
+                       m->label(static_cast<int>(n)), kind, r.y.size(), r.rows.size(), r.rank, r.independent.size());
     if (!r.rows.empty())
       out << fmt::format("; independent: {}; complement: {}", speed_names(*m, r.independent),
                          r.symbolic_complement ? "symbolic" : "numeric (LU in generated code)");

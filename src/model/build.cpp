@@ -337,7 +337,7 @@ class Builder {
   void fill_node(int id) {
     Node& node = m_.nodes[id];
     const Pending& pend = pending_[id];
-    const bool body_kind = node.kind == LeafKind::Particle2d || node.kind == LeafKind::Particle3d || node.kind == LeafKind::Rigid2d;
+    const bool body_kind = is_body(node.kind);
     int nconstraint = 0;
     for (const auto& sp : pend.body) {
       const Statement& s = *sp;
@@ -565,7 +565,7 @@ class Builder {
       }
       if (sol.nops() != unknown.size()) {
         diags_.error(defs.front()->pos, fmt::format("the speed definitions of subsystem '{}' cannot be solved for the coordinate rates",
-                                                    m_.nodes[n].name.empty() ? "<top>" : m_.nodes[n].name));
+                                                    m_.label(static_cast<int>(n))));
         continue;
       }
       for (size_t i = 0; i < unknown.size(); ++i) {

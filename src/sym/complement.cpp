@@ -12,8 +12,6 @@
 namespace mbsc::sym {
 namespace {
 
-std::string node_label(const model::Model& m, int n) { return m.nodes[n].name.empty() ? "<top>" : m.nodes[n].name; }
-
 int numeric_rank(const Eigen::MatrixXd& A) {
   if (A.rows() == 0 || A.cols() == 0) return 0;
   Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
@@ -113,13 +111,13 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     if (Bn.row(i).norm() == 0.0) {
       diags.error(c.pos, fmt::format("constraint '{}' restricts no speed of subsystem '{}' (its rows of B are zero): "
                                      "it is either always satisfied or inconsistent",
-                                     c.name, node_label(m, in.node)));
+                                     c.name, m.label(in.node)));
       return std::nullopt;
     }
     if (r == rank) {
       diags.error(c.pos, fmt::format("constraint '{}' is redundant: it is a combination of the constraints before it in "
                                      "subsystem '{}' (rank {} with {} rows); remove it",
-                                     c.name, node_label(m, in.node), rank, i + 1));
+                                     c.name, m.label(in.node), rank, i + 1));
       return std::nullopt;
     }
     rank = r;
@@ -136,7 +134,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
       if (it == in.y.end()) {
         diags.error(in.requested_pos, fmt::format("independent speed '{}' is not free at subsystem '{}' (it is not one of its "
                                                   "speeds or was eliminated in a child subsystem); free speeds here: {}",
-                                                  m.speeds[s].name, node_label(m, in.node), names(m, in.y)));
+                                                  m.speeds[s].name, m.label(in.node), names(m, in.y)));
         return std::nullopt;
       }
       if (!indep_cols.insert(static_cast<int>(it - in.y.begin())).second) {
@@ -146,7 +144,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     }
     if (static_cast<int>(indep_cols.size()) != ndof) {
       diags.error(in.requested_pos, fmt::format("subsystem '{}' has {} degree(s) of freedom but {} independent speed(s) are given",
-                                                node_label(m, in.node), ndof, indep_cols.size()));
+                                                m.label(in.node), ndof, indep_cols.size()));
       return std::nullopt;
     }
     for (int j = 0; j < ny; ++j)
@@ -158,7 +156,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
       for (int j : dep_cols) dep.push_back(in.y[j]);
       diags.error(in.requested_pos, fmt::format("the independent speeds ({}) do not work for subsystem '{}': the constraints "
                                                 "cannot be solved for the remaining speeds ({}) at a generic configuration",
-                                                names(m, in.requested), node_label(m, in.node), names(m, dep)));
+                                                names(m, in.requested), m.label(in.node), names(m, dep)));
       return std::nullopt;
     }
     for (int s : in.requested) p.independent.push_back(s);

@@ -60,7 +60,7 @@ class Deriver {
   // ---- leaf generalized forces f (thesis (4.7)): inertia, gravity, applied forces ----
   GiNaC::ex own_force(const model::Node& node, int s, int k) {
     GiNaC::ex f = 0;
-    const bool body = node.kind == LeafKind::Particle2d || node.kind == LeafKind::Particle3d || node.kind == LeafKind::Rigid2d;
+    const bool body = model::is_body(node.kind);
     if (body) {
       // Body speeds are (u, v[, w]) = rates of (x, y[, z | theta]).
       const bool is_rotation = node.kind == LeafKind::Rigid2d && k == 2;
@@ -153,7 +153,7 @@ class Deriver {
         if (!in_subtree(static_cast<int>(j), n)) {
           diags_.error(c.pos, fmt::format("constraint '{}' of subsystem '{}' involves '{}', which is outside that subsystem; "
                                           "declare it in a common parent",
-                                          c.name, node.name.empty() ? "<top>" : node.name, m_.speeds[j].name));
+                                          c.name, m_.label(n), m_.speeds[j].name));
           return false;
         }
         if (!avail.count(static_cast<int>(j))) sub[m_.speed_dots[j]] = express(static_cast<int>(j), avail, memo);
@@ -168,12 +168,12 @@ class Deriver {
         if (!avail.count(s)) {
           diags_.error(node.independent_pos, fmt::format("independent speed '{}' is not free at subsystem '{}' (it is not one of its "
                                                          "speeds or was eliminated in a child subsystem)",
-                                                         m_.speeds[s].name, node.name.empty() ? "<top>" : node.name));
+                                                         m_.speeds[s].name, m_.label(n)));
           return false;
         }
       if (!node.independent.empty() && node.independent.size() != r.y.size()) {
         diags_.error(node.independent_pos, fmt::format("subsystem '{}' has {} degree(s) of freedom but {} independent speed(s) are given",
-                                                       node.name.empty() ? "<top>" : node.name, r.y.size(), node.independent.size()));
+                                                       m_.label(n), r.y.size(), node.independent.size()));
         return false;
       }
       r.independent = node.independent.empty() ? r.y : node.independent;
@@ -481,7 +481,7 @@ class Deriver {
     const int nd = static_cast<int>(r.dependent.size());
     const int ni = static_cast<int>(r.independent.size());
     ir::Solve solve;
-    solve.label = fmt::format("subsystem '{}': dependent block B*", m_.nodes[n].name.empty() ? "<top>" : m_.nodes[n].name);
+    solve.label = fmt::format("subsystem '{}': dependent block B*", m_.label(n));
     solve.n = nd;
     solve.k = ni + 1;
     const std::string tag = sanitize(m_.nodes[n].name.empty() ? "top" : m_.nodes[n].name);
@@ -548,7 +548,7 @@ class Deriver {
     GiNaC::ex T = 0, V = 0;
     bool ok = true;
     for (const auto& node : m_.nodes) {
-      const bool body = node.kind == LeafKind::Particle2d || node.kind == LeafKind::Particle3d || node.kind == LeafKind::Rigid2d;
+      const bool body = model::is_body(node.kind);
       if (body) {
         for (size_t k = 0; k < node.speeds.size(); ++k) {
           const GiNaC::ex u = m_.speeds[node.speeds[k]].sym;

@@ -14,6 +14,10 @@ namespace mbsc::model {
 
 enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom };
 const char* to_string(LeafKind kind);
+/// Bodies (particle2d, particle3d, rigid2d) get mass, inertia and gravity automatically.
+inline bool is_body(LeafKind kind) {
+  return kind == LeafKind::Particle2d || kind == LeafKind::Particle3d || kind == LeafKind::Rigid2d;
+}
 
 /// A generalized coordinate (q0) or quasi-velocity (q1).
 struct Variable {
@@ -97,6 +101,8 @@ struct Model {
   std::vector<GiNaC::ex> gravity;  // 2 or 3 components, empty when none
   std::map<std::string, Formal> formals;  // by symbol name
   int root() const { return static_cast<int>(nodes.size()) - 1; }
+  /// A node's name for messages: its dotted path, or "<top>" for the root.
+  std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }
 };
 
 }  // namespace mbsc::model
