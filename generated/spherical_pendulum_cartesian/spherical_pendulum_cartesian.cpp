@@ -201,7 +201,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   const double t1 = x[3]*x[3];
   const double t2 = x[5]*x[5];
   OUT[0] = 0.5*(t0 + t1 + t2)*p[0];
-  OUT[1] = -x[0]*p[0]*p[2];
+  OUT[1] = -x[0]*(p[0]*p[2]);
   OUT[2] = 0.5*(t0 + t1 + t2 - 2.0*x[0]*p[2])*p[0];
   for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;

@@ -74,7 +74,7 @@ std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom) {
   for (size_t i = 0; i < nq; ++i) b.push_back({m.coords[i].sym, fmt::format("x[{}]", i)});
   for (size_t j = 0; j < m.speeds.size(); ++j) b.push_back({m.speeds[j].sym, fmt::format("x[{}]", nq + j)});
   for (size_t k = 0; k < m.inputs.size(); ++k) b.push_back({m.inputs[k].sym, fmt::format("u[{}]", k)});
-  for (size_t k = 0; k < eom.free_params.size(); ++k) b.push_back({m.params[eom.free_params[k]].sym, fmt::format("p[{}]", k)});
+  for (size_t k = 0; k < eom.free_params.size(); ++k) b.push_back({m.params[eom.free_params[k]].sym, fmt::format("p[{}]", k), true});
   return b;
 }
 

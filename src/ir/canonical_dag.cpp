@@ -81,6 +81,10 @@ NodeId Dag::intern(Node n, const NodeId* kids, std::int32_t nkids) {
   n.child_begin = static_cast<std::int32_t>(children_.size());
   n.max_step = n.kind == NodeKind::Sym ? n.ref : -1;
   for (std::int32_t c = 0; c < nkids; ++c) n.max_step = std::max(n.max_step, node(kids[c]).max_step);
+  if (nkids > 0) {
+    n.invariant = true;
+    for (std::int32_t c = 0; c < nkids; ++c) n.invariant = n.invariant && node(kids[c]).invariant;
+  }
   children_.insert(children_.end(), kids, kids + nkids);
   nodes_.push_back(n);
   table_[i] = Slot{n.hash, id};
@@ -92,12 +96,13 @@ NodeId Dag::make_number(double v) {
   Node n;
   n.kind = NodeKind::Number;
   n.value = v;
+  n.invariant = true;
   n.hash = hash_combine(kind_seed(n.kind, 0), double_bits(v));
   return intern(n, nullptr, 0);
 }
 
 // Input texts are interned once; the node's payload is the text id, its hash the text's.
-NodeId Dag::make_input(const std::string& text) {
+NodeId Dag::make_input(const std::string& text, bool invariant) {
   auto it = text_ids_.find(text);
   std::int32_t id;
   if (it == text_ids_.end()) {
@@ -111,6 +116,7 @@ NodeId Dag::make_input(const std::string& text) {
   Node n;
   n.kind = NodeKind::Input;
   n.ref = id;
+  n.invariant = invariant;
   n.hash = hash_combine(kind_seed(n.kind, 0), text_hash_[static_cast<std::size_t>(id)]);
   return intern(n, nullptr, 0);
 }
@@ -127,6 +133,10 @@ NodeId Dag::make_sym(int step, int elem) {
 
 // n-ary Add/Mul: sort the operands canonically, then hash kind + children in that order.
 NodeId Dag::make_add(std::vector<NodeId> ops) {
+  // Zero terms (a product with a zero coefficient, say) drop out.
+  ops.erase(std::remove_if(ops.begin(), ops.end(),
+                           [this](NodeId c) { return node(c).kind == NodeKind::Number && node(c).value == 0.0; }),
+            ops.end());
   if (ops.empty()) return make_number(0.0);
   if (ops.size() == 1) return ops[0];
   std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
@@ -146,12 +156,21 @@ NodeId Dag::make_mul(std::vector<NodeId> ops) {
     else ops[kept++] = c;
   }
   ops.resize(kept);
+  for (NodeId c : numbers)
+    if (node(c).value == 0.0) return make_number(0.0);
   if (numbers.size() > 1 || (numbers.size() == 1 && node(numbers[0]).value == 1.0 && !ops.empty())) {
     std::sort(numbers.begin(), numbers.end(), [this](NodeId a, NodeId b) { return less(a, b); });
     double coef = 1.0;
     for (NodeId c : numbers) coef *= node(c).value;
     numbers.clear();
     if (coef != 1.0 || ops.empty()) numbers.push_back(make_number(coef));
+  }
+  // Invariant factors of a product with anything else in it: one sub-product node.
+  std::vector<NodeId> invariant, varying;
+  for (NodeId c : ops) (node(c).invariant ? invariant : varying).push_back(c);
+  if (invariant.size() >= 2 && (!varying.empty() || !numbers.empty())) {
+    varying.push_back(make_mul(std::move(invariant)));
+    ops = std::move(varying);
   }
   ops.insert(ops.end(), numbers.begin(), numbers.end());
   if (ops.empty()) return make_number(1.0);

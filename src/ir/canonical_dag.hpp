@@ -43,6 +43,7 @@ struct Node {
   std::int32_t ref = 0;      // Input: text id; Sym: step index
   std::int32_t elem = 0;     // Sym: flat index i*k+j of X
   std::int32_t max_step = -1;  // largest Solve step index this node reads (-1: none)
+  bool invariant = false;    // built from numbers and invariant inputs only (parameters)
 };
 
 /// Hash-consing node store. make_* return the existing node when an identical one exists.
@@ -51,11 +52,15 @@ class Dag {
   Dag();
 
   NodeId make_number(double v);
-  NodeId make_input(const std::string& text);
+  /// `invariant`: the input has the same value in every call (a parameter). The flag
+  /// belongs to the text: every make_input of one text must pass the same value.
+  NodeId make_input(const std::string& text, bool invariant = false);
   NodeId make_sym(int step, int elem);
   /// Operands are sorted canonically; a single operand is returned as is.
   NodeId make_add(std::vector<NodeId> ops);
   /// As make_add; numeric factors are folded into one coefficient (dropped when it is 1).
+  /// Two or more invariant factors next to varying ones become one invariant sub-product,
+  /// so that CSE shares it between products (m*l^2 in every mass matrix entry).
   NodeId make_mul(std::vector<NodeId> ops);
   NodeId make_pow(NodeId base, NodeId exponent);
   NodeId make_call(Func f, const std::vector<NodeId>& args);

@@ -76,23 +76,23 @@ GinacConverter::GinacConverter(Dag& dag, const FunctionSpec& spec, const std::ve
       power_info_(&GiNaC::power::get_class_info_static()),
       symbol_info_(&GiNaC::symbol::get_class_info_static()),
       function_info_(&GiNaC::function::get_class_info_static()) {
-  auto add = [this](const GiNaC::symbol& s, SymKind kind, int step, int elem, const std::string& text) {
+  auto add = [this](const GiNaC::symbol& s, SymKind kind, int step, int elem, const std::string& text, bool invariant) {
     const GiNaC::ex e(s);
     if (find_symbol(e)) throw std::runtime_error("symbol '" + s.get_name() + "' is bound or defined twice");
     symbol_index_[e.gethash()].push_back(static_cast<int>(symbols_.size()));
-    symbols_.push_back({e, kind, step, elem, text});
+    symbols_.push_back({e, kind, step, elem, text, invariant});
   };
-  for (const Binding& b : bindings) add(b.sym, SymKind::Binding, -1, -1, b.cpp);
+  for (const Binding& b : bindings) add(b.sym, SymKind::Binding, -1, -1, b.cpp, b.invariant);
   for (std::size_t j = 0; j < spec.steps.size(); ++j) {
     const int step = static_cast<int>(j);
     if (const auto* d = std::get_if<Define>(&spec.steps[j])) {
-      add(d->sym, SymKind::Define, step, -1, {});
+      add(d->sym, SymKind::Define, step, -1, {}, false);
     } else {
       const auto& s = std::get<Solve>(spec.steps[j]);
       if (s.n < 0 || s.k < 0 || s.A.size() != static_cast<std::size_t>(s.n) * static_cast<std::size_t>(s.n) ||
           s.B.size() != static_cast<std::size_t>(s.n) * static_cast<std::size_t>(s.k) || s.X.size() != s.B.size())
         throw std::runtime_error("solve step '" + s.label + "' has inconsistent sizes");
-      for (std::size_t e = 0; e < s.X.size(); ++e) add(s.X[e], SymKind::SolveX, step, static_cast<int>(e), {});
+      for (std::size_t e = 0; e < s.X.size(); ++e) add(s.X[e], SymKind::SolveX, step, static_cast<int>(e), {}, false);
     }
   }
   // GiNaC's serial of each supported function (sqrt is a power in GiNaC, not a function).
@@ -175,7 +175,7 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
                              spec_.name + "'");
   switch (info->kind) {
     case SymKind::Binding:
-      if (info->node < 0) info->node = dag_.make_input(info->text);
+      if (info->node < 0) info->node = dag_.make_input(info->text, info->invariant);
       return info->node;
     case SymKind::SolveX:
       solve_live_[static_cast<std::size_t>(info->step)] = 1;

@@ -58,6 +58,7 @@ class GinacConverter {
     int step;  // Define / SolveX: step index
     int elem;  // SolveX: flat index i*k+j
     std::string text;  // Binding: C++ text
+    bool invariant = false;  // Binding: same value in every call
     NodeId node = -1;  // Binding / SolveX: its leaf, once made
   };
 

@@ -227,14 +227,19 @@ class Deriver {
       // stays linear in size instead of repeating ever longer sums.
       GiNaC::exmap earlier;
       for (const auto& [s, local] : r.rate_steps) {
-        GiNaC::symbol E("e_" + sanitize(m_.speeds[s].name));
         const GiNaC::ex value = local.subs(zero_indep).subs(earlier);
-        r.e_defines.push_back(ir::Define{E, value, true});
+        if (GiNaC::is_a<GiNaC::numeric>(value)) {  // 0 for a rate without velocity products
+          earlier[m_.speed_dots[s]] = value;
+          r.e(col[s], 0) = value;
+          continue;
+        }
+        GiNaC::symbol E("e_" + sanitize(m_.speeds[s].name));
+        r.named_defines.push_back(ir::Define{E, value, true});
         probe_.bind(E, probe_.eval(value));
         earlier[m_.speed_dots[s]] = E;
         r.e(col[s], 0) = E;
       }
-      for (const auto& d : r.e_defines) eom_.pre_steps.push_back(d);
+      for (const auto& d : r.named_defines) eom_.pre_steps.push_back(d);
     } else {
       for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
     }
@@ -249,6 +254,7 @@ class Deriver {
   /// fbar = C^T f with y = C z + e (thesis (4.11) and Thm 4.1):
   ///   M = C^T My C,  h = C^T (hy - My e),  fbar = -M z' + h.
   /// Only products with nonzero factors are formed; M is symmetric by construction.
+  /// Triangular nodes form h by the transposed rate steps instead (see transpose_steps).
   void reduce_forces(NodeResult& r) {
     const unsigned ny = r.C.rows(), nd = r.C.cols();
     GiNaC::matrix MyC(ny, nd), rest(ny, 1);
@@ -272,11 +278,47 @@ class Deriver {
         r.M(a, b) = acc;
         r.M(b, a) = acc;
       }
+    }
+    if (!r.rate_steps.empty()) {
+      transpose_steps(r, rest);
+      return;
+    }
+    for (unsigned a = 0; a < nd; ++a) {
       GiNaC::ex acc = 0;
       for (unsigned i = 0; i < ny; ++i)
         if (!r.C(i, a).is_zero() && !rest(i, 0).is_zero()) acc += r.C(i, a) * rest(i, 0);
       r.h(a, 0) = acc;
     }
+  }
+
+  /// h = C^T v by running the rate steps backwards (the transpose of the forward
+  /// substitution, as in reverse-mode differentiation). Step s reads
+  /// y*_s = sum_j a_sj y_j + const, so the adjoint of every y_j it reads gains a_sj v_s,
+  /// and v_s is complete once every later step has been visited. In a chain, where
+  /// each dependent rate reads the one before it, v becomes a running suffix sum and
+  /// h costs O(steps) instead of O(steps x dof). Each complete v_s with more than one
+  /// term is a named variable r_<speed> of the generated code.
+  void transpose_steps(NodeResult& r, const GiNaC::matrix& v) {
+    std::map<int, GiNaC::ex> adjoint;  // speed -> accumulated v
+    for (size_t i = 0; i < r.y.size(); ++i) adjoint[r.y[i]] = v(static_cast<unsigned>(i), 0);
+    for (auto step = r.rate_steps.rbegin(); step != r.rate_steps.rend(); ++step) {
+      const auto& [s, local] = *step;
+      GiNaC::ex vs = adjoint[s];
+      if (vs.is_zero()) continue;
+      if (GiNaC::is_a<GiNaC::add>(vs)) {
+        GiNaC::symbol R("r_" + sanitize(m_.speeds[s].name));
+        r.named_defines.push_back(ir::Define{R, vs, true});
+        eom_.pre_steps.push_back(r.named_defines.back());
+        probe_.bind(R, probe_.eval(vs));
+        vs = R;
+      }
+      for (int j : r.y) {
+        if (j == s) continue;
+        const GiNaC::ex a = local.diff(m_.speed_dots[j]);
+        if (!a.is_zero()) adjoint[j] += a * vs;
+      }
+    }
+    for (size_t a = 0; a < r.independent.size(); ++a) r.h(static_cast<unsigned>(a), 0) = adjoint[r.independent[a]];
   }
 
   // ---- components: derived once, instantiated by substitution ----
@@ -393,13 +435,13 @@ class Deriver {
       eom_.solves.push_back(c);
       eom_.pre_steps.push_back(c);
     }
-    // Named e_ variables get instance names too.
-    for (const auto& d : src.e_defines) {
+    // Named e_ and r_ variables get instance names too.
+    for (const auto& d : src.named_defines) {
       GiNaC::symbol renamed(d.sym.get_name() + "_i" + std::to_string(k));
       map[d.sym] = renamed;
       const ir::Define c{renamed, d.value.subs(map), true};
       probe_.bind(renamed, probe_.eval(c.value));
-      r.e_defines.push_back(c);
+      r.named_defines.push_back(c);
       eom_.pre_steps.push_back(c);
     }
     r.B = mat(src.B);

@@ -16,6 +16,9 @@ namespace mbsc::ir {
 struct Binding {
   GiNaC::symbol sym;
   std::string cpp;
+  /// The same value in every call of a function (a parameter, p[k]): products group
+  /// their invariant factors into one shared node (m*l^2 computed once).
+  bool invariant = false;
 };
 
 /// sym := value. The value may use bindings and symbols defined by earlier steps.

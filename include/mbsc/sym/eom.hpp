@@ -45,7 +45,9 @@ struct NodeResult {
   /// of y# and the rates before it (what the generated code evaluates; linear in size).
   std::vector<std::pair<int, GiNaC::ex>> rate_steps;
   std::vector<ir::Solve> solves;  // numeric solves this node adds (0 or 1)
-  std::vector<ir::Define> e_defines;  // triangular nodes: e row by row (named e_<speed>)
+  /// Triangular nodes: e row by row (named e_<speed>), then the transposed steps that
+  /// form h (named r_<speed>), in evaluation order.
+  std::vector<ir::Define> named_defines;
   bool from_component_cache = false;
 };
 
@@ -64,7 +66,7 @@ struct Eom {
   GiNaC::matrix h;                 // ndof x 1
   std::vector<ir::Solve> solves;   // all numeric solves of the tree, leaves to root
   /// Everything h needs before M z' = h, leaves to root and in derivation order: the
-  /// numeric solves and the e_defines (what rhs, mass_matrix and forcing emit first).
+  /// numeric solves and the named e_/r_ variables (what rhs, mass_matrix and forcing emit first).
   std::vector<ir::Step> pre_steps;
   std::vector<ir::Define> top_down;  // dependent q1dot, root to leaves
   GiNaC::ex kinetic, potential;    // energy terms (valid when has_energy)
