@@ -66,7 +66,13 @@ int main(int argc, char** argv) {
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
                 "only these functions (comma-separated): rhs mass_matrix forcing position_constraints "
-                "velocity_constraints constraint_jacobian energy outputs");
+                "velocity_constraints constraint_jacobian energy outputs full_state");
+  std::string state = "full";
+  g->add_option("--state", state,
+                "full: x = (all coordinates, all speeds); minimal: x = (coordinates not given explicitly by a "
+                "position constraint, independent speeds), the rest rebuilt in every function")
+      ->check(CLI::IsMember({"full", "minimal"}))
+      ->default_val("full");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
 
@@ -83,6 +89,7 @@ int main(int argc, char** argv) {
     return mbsc::driver::run_print(print, std::cout, std::cerr);
   }
   for (const auto& o : split_list(outputs)) gen.functions.insert(o);
+  gen.minimal_state = state == "minimal";
   if (!add_freezes(freeze, gen.frozen)) return 1;
   return mbsc::driver::run_generate(gen, std::cout, std::cerr);
 }

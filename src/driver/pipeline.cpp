@@ -22,7 +22,8 @@ const std::vector<std::string>& all_function_names() {
                                                  "velocity_constraints",
                                                  "constraint_jacobian",
                                                  "energy",
-                                                 "outputs"};
+                                                 "outputs",
+                                                 "full_state"};
   return names;
 }
 
@@ -67,12 +68,20 @@ GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& 
   return frozen.empty() ? out : out.subs(frozen);
 }
 
-std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom) {
+std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal) {
   std::vector<ir::Binding> b;
   b.push_back({m.time, "t"});
-  const size_t nq = m.coords.size();
-  for (size_t i = 0; i < nq; ++i) b.push_back({m.coords[i].sym, fmt::format("x[{}]", i)});
-  for (size_t j = 0; j < m.speeds.size(); ++j) b.push_back({m.speeds[j].sym, fmt::format("x[{}]", nq + j)});
+  if (minimal) {
+    // x = (kept coordinates, independent speeds z); the rest are Defines (rebuilt).
+    const size_t nk = minimal->kept_coords.size();
+    for (size_t i = 0; i < nk; ++i) b.push_back({m.coords[minimal->kept_coords[i]].sym, fmt::format("x[{}]", i)});
+    for (size_t j = 0; j < eom.independent.size(); ++j)
+      b.push_back({m.speeds[eom.independent[j]].sym, fmt::format("x[{}]", nk + j)});
+  } else {
+    const size_t nq = m.coords.size();
+    for (size_t i = 0; i < nq; ++i) b.push_back({m.coords[i].sym, fmt::format("x[{}]", i)});
+    for (size_t j = 0; j < m.speeds.size(); ++j) b.push_back({m.speeds[j].sym, fmt::format("x[{}]", nq + j)});
+  }
   for (size_t k = 0; k < m.inputs.size(); ++k) b.push_back({m.inputs[k].sym, fmt::format("u[{}]", k)});
   for (size_t k = 0; k < eom.free_params.size(); ++k) b.push_back({m.params[eom.free_params[k]].sym, fmt::format("p[{}]", k), true});
   return b;
@@ -99,8 +108,16 @@ std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
 }  // namespace
 
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                             Diagnostics& diags) {
+                                             Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
+  if (!opt.functions.empty()) {
+    const char* full_only = "constraint_jacobian";  // d/d(all speeds): a full-state notion
+    if (minimal && opt.functions.count(full_only))
+      diags.error(SourcePos{}, "--outputs constraint_jacobian: the Jacobian over all speeds is emitted with --state full only");
+    if (!minimal && opt.functions.count("full_state"))
+      diags.error(SourcePos{}, "--outputs full_state: only --state minimal has a state to expand");
+    if (diags.has_errors()) return {};
+  }
   for (const auto& name : opt.functions) {
     if (std::find(all_function_names().begin(), all_function_names().end(), name) == all_function_names().end()) {
       diags.error(SourcePos{}, fmt::format("--outputs: unknown function '{}' (known: {})", name,
@@ -112,8 +129,30 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   const int nd = eom.ndof();
   auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
 
+  // --state minimal: coordinates and speeds outside the state come first in every function.
+  std::vector<ir::Step> rebuild;
+  if (minimal) {
+    for (const auto& d : minimal->coords) rebuild.push_back(ir::Define{d.sym, fin(d.value), true});
+    for (const auto& step : minimal->speeds) {
+      if (const auto* d = std::get_if<ir::Define>(&step)) {
+        rebuild.push_back(ir::Define{d->sym, fin(d->value), true});
+        continue;
+      }
+      ir::Solve solve = std::get<ir::Solve>(step);
+      for (auto& e : solve.A) e = fin(e);
+      for (auto& e : solve.B) e = fin(e);
+      rebuild.push_back(solve);
+    }
+  }
+  auto with_rebuild = [&](std::vector<ir::Step> steps) {
+    steps.insert(steps.begin(), rebuild.begin(), rebuild.end());
+    return steps;
+  };
+
   if (wanted("rhs")) {
-    ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates)", "xdot", "kNx", solve_steps(m, eom), {}};
+    ir::FunctionSpec f{"rhs",
+                       minimal ? "state derivative: xdot = (kept q0 rates, z rates)" : "state derivative: xdot = (q0 rates, q1 rates)",
+                       "xdot", "kNx", with_rebuild(solve_steps(m, eom)), {}};
     ir::Solve final_solve;
     final_solve.label = "reduced mass matrix M z' = h";
     final_solve.spd = eom.mass_matrix_spd;
@@ -125,20 +164,25 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       final_solve.X.push_back(m.speed_dots[eom.independent[i]]);
     }
     if (nd > 0) f.steps.push_back(final_solve);
-    for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
-    for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
-    for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+    if (minimal) {
+      for (int c : minimal->kept_coords) f.outputs.push_back(fin(m.coord_rates[c]));
+      for (int s : eom.independent) f.outputs.push_back(m.speed_dots[s]);
+    } else {
+      for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
+      for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
+      for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+    }
     specs.push_back(f);
   }
   if (wanted("mass_matrix") && nd > 0) {
     ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
-                       "M", "kNdof*kNdof", solve_steps(m, eom), {}};
+                       "M", "kNdof*kNdof", with_rebuild(solve_steps(m, eom)), {}};
     for (int i = 0; i < nd; ++i)
       for (int j = 0; j < nd; ++j) f.outputs.push_back(fin(eom.M(i, j)));
     specs.push_back(f);
   }
   if (wanted("forcing") && nd > 0) {
-    ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof", solve_steps(m, eom), {}};
+    ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof", with_rebuild(solve_steps(m, eom)), {}};
     for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
     specs.push_back(f);
   }
@@ -148,22 +192,22 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   for (const auto& v : sym::velocity_residuals(m)) vel.push_back(fin(v));
   if (wanted("position_constraints") && !pos.empty()) {
     ir::FunctionSpec f{"position_constraints", "position constraint residuals (kConstraintNames, position ones)", "r",
-                       "kNposc", {}, pos};
+                       "kNposc", rebuild, pos};
     specs.push_back(f);
   }
   if (wanted("velocity_constraints") && !vel.empty()) {
     ir::FunctionSpec f{"velocity_constraints", "velocity-level residuals of all constraints (kConstraintNames)", "r", "kNc",
-                       {}, vel};
+                       rebuild, vel};
     specs.push_back(f);
   }
-  if (wanted("constraint_jacobian") && !vel.empty()) {
+  if (wanted("constraint_jacobian") && !vel.empty() && !minimal) {
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1), row-major kNc x kNu", "A", "kNc*kNu", {}, {}};
     for (const auto& v : vel)
       for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
     specs.push_back(f);
   }
   if (wanted("energy") && eom.has_energy) {
-    ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", {}, {}};
+    ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", rebuild, {}};
     f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
     specs.push_back(f);
   } else if (!opt.functions.empty() && opt.functions.count("energy") && !eom.has_energy) {
@@ -171,8 +215,15 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                                          "energy is not defined", m.name));
   }
   if (wanted("outputs") && !m.outputs.empty()) {
-    ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", {}, {}};
+    ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", rebuild, {}};
     for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
+    specs.push_back(f);
+  }
+  if (wanted("full_state") && minimal) {
+    ir::FunctionSpec f{"full_state", "the full state (all q0, all q1; kFullStateNames) rebuilt from the minimal one",
+                       "x_full", "kNxFull", rebuild, {}};
+    for (const auto& q : m.coords) f.outputs.push_back(q.sym);
+    for (const auto& u : m.speeds) f.outputs.push_back(u.sym);
     specs.push_back(f);
   }
   return specs;
@@ -180,14 +231,23 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
 
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags) {
-  auto specs = function_specs(m, eom, opt, diags);
+  std::optional<sym::MinimalState> minimal;
+  if (opt.minimal_state) {
+    minimal = sym::minimal_state(m, eom, diags);
+    if (!minimal) return std::nullopt;
+  }
+  const sym::MinimalState* ms = minimal ? &*minimal : nullptr;
+  auto specs = function_specs(m, eom, opt, diags, ms);
   if (diags.has_errors()) return std::nullopt;
   emit::GeneratedModel g;
   g.name = opt.name.empty() ? m.name : opt.name;
   g.source_hash = m.source_text_hash;
   g.tool_version = MBSC_VERSION;
   for (const auto& [name, v] : opt.frozen) g.banner_notes.push_back(fmt::format("frozen parameter: {} = {}", name, emit::format_double(v)));
-  const long nq = static_cast<long>(m.coords.size()), nu = static_cast<long>(m.speeds.size());
+  if (ms) g.banner_notes.push_back("minimal state: x = (kept coordinates, independent speeds)");
+  const long nq_full = static_cast<long>(m.coords.size()), nu_full = static_cast<long>(m.speeds.size());
+  const long nq = ms ? static_cast<long>(ms->kept_coords.size()) : nq_full;
+  const long nu = ms ? static_cast<long>(eom.ndof()) : nu_full;
   long nposc = 0;
   for (const auto& c : m.constraints) nposc += c.level == model::Constraint::Level::Position;
   g.int_constants = {{"kNq", nq},
@@ -199,9 +259,15 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
                      {"kNc", static_cast<long>(m.constraints.size())},
                      {"kNposc", nposc},
                      {"kNy", static_cast<long>(m.outputs.size())}};
-  std::vector<std::string> state, dof, inputs, params, cons, outs;
-  for (const auto& q : m.coords) state.push_back(q.name);
-  for (const auto& u : m.speeds) state.push_back(u.name);
+  std::vector<std::string> state, full_state, dof, inputs, params, cons, outs;
+  for (const auto& q : m.coords) full_state.push_back(q.name);
+  for (const auto& u : m.speeds) full_state.push_back(u.name);
+  if (ms) {
+    for (int c : ms->kept_coords) state.push_back(m.coords[c].name);
+    for (int s : eom.independent) state.push_back(m.speeds[s].name);
+  } else {
+    state = full_state;
+  }
   for (int s : eom.independent) dof.push_back(m.speeds[s].name);
   for (const auto& in : m.inputs) inputs.push_back(in.name);
   std::vector<double> defaults;
@@ -214,7 +280,13 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   g.name_lists = {{"kStateNames", state},   {"kDofNames", dof},         {"kInputNames", inputs},
                   {"kParamNames", params},  {"kConstraintNames", cons}, {"kOutputNames", outs}};
   g.double_lists = {{"kParamDefaults", defaults}};
-  auto binds = bindings(m, eom);
+  if (ms) {
+    g.int_constants.push_back({"kNqFull", nq_full});
+    g.int_constants.push_back({"kNuFull", nu_full});
+    g.int_constants.push_back({"kNxFull", nq_full + nu_full});
+    g.name_lists.push_back({"kFullStateNames", full_state});
+  }
+  auto binds = bindings(m, eom, ms);
   for (const auto& spec : specs) {
     try {
       g.functions.push_back(ir::lower(spec, binds));

@@ -453,6 +453,7 @@ class Deriver {
     r.M = mat(src.M);
     r.h = mat(src.h);
     for (const auto& [s, e] : src.rate_steps) r.rate_steps.push_back({speed_of.at(s), e.subs(map)});
+    r.step_rows = src.step_rows;
     for (const auto& [s, e] : src.dependent_rates) {
       r.dependent_rates[speed_of.at(s)] = e.subs(map);
       eliminated_at_[speed_of.at(s)] = k;
@@ -495,6 +496,7 @@ class Deriver {
         }
         sol[s] = -rest / r.B(row, col.at(s));
         r.rate_steps.push_back({s, -local / r.B(row, col.at(s))});
+        r.step_rows.push_back(row);
       }
       return sol;
     }

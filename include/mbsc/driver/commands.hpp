@@ -32,6 +32,7 @@ struct GenerateArgs {
   std::set<std::string> functions;  // --outputs
   std::map<std::string, double> frozen;
   std::string name;                 // --name (default: the model's name)
+  bool minimal_state = false;       // --state minimal
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 

@@ -13,6 +13,7 @@
 #include "mbsc/ir/function_spec.hpp"
 #include "mbsc/model/model.hpp"
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/minimal_state.hpp"
 
 namespace mbsc::driver {
 
@@ -23,6 +24,7 @@ struct GenerateOptions {
   std::set<std::string> functions;        // empty: all that the model defines
   std::map<std::string, double> frozen;   // --freeze name=value
   std::string name;                       // --name: C++ namespace and file stem (default: the model's name)
+  bool minimal_state = false;             // --state minimal: x = (kept q0, z), see sym/minimal_state.hpp
 };
 
 /// Parses and builds a model file (includes resolved). nullopt on error.
@@ -32,9 +34,11 @@ std::optional<model::Model> load_model(const std::string& path, Diagnostics& dia
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e);
 
 /// The FunctionSpecs of the requested functions and their input bindings.
+/// With `minimal` (--state minimal) every function first rebuilds the coordinates and
+/// speeds that are not in the state.
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                             Diagnostics& diags);
-std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom);
+                                             Diagnostics& diags, const sym::MinimalState* minimal = nullptr);
+std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal = nullptr);
 
 /// Model + Eom -> everything the emitter prints.
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,

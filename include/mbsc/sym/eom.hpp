@@ -44,6 +44,7 @@ struct NodeResult {
   /// Triangular partitions only: the dependent rates in substitution order, each in terms
   /// of y# and the rates before it (what the generated code evaluates; linear in size).
   std::vector<std::pair<int, GiNaC::ex>> rate_steps;
+  std::vector<int> step_rows;    // the row of B each rate step solves (aligned with rate_steps)
   std::vector<ir::Solve> solves;  // numeric solves this node adds (0 or 1)
   /// Triangular nodes: e row by row (named e_<speed>), then the transposed steps that
   /// form h (named r_<speed>), in evaluation order.

@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/sym/minimal_state.hpp"
+
+#include <fmt/format.h>
+
+#include <functional>
+#include <map>
+#include <set>
+
+namespace mbsc::sym {
+
+namespace {
+
+class MinimalStateBuilder {
+ public:
+  MinimalStateBuilder(const model::Model& m, const Eom& eom, Diagnostics& diags)
+      : m_(m), eom_(eom), diags_(diags), eliminated_at_(m.speeds.size(), -1), order1_(velocity_residuals(m)) {
+    for (const auto& r : eom.nodes)
+      for (int s : r.dependent) eliminated_at_[static_cast<std::size_t>(s)] = r.node;
+  }
+
+  std::optional<MinimalState> run() {
+    MinimalState out;
+    explicit_coordinates(out);
+    std::vector<std::vector<ir::Step>> per_node(m_.nodes.size());
+    for (std::size_t n = 0; n < m_.nodes.size(); ++n)
+      if (!dependent_speeds(static_cast<int>(n), per_node[n])) return std::nullopt;
+    for (int n = m_.root(); n >= 0; --n)
+      for (const auto& d : per_node[static_cast<std::size_t>(n)]) out.speeds.push_back(d);
+    return out;
+  }
+
+ private:
+  // ---- coordinates given explicitly by a position constraint ----
+  void explicit_coordinates(MinimalState& out) {
+    const std::size_t nq = m_.coords.size();
+    std::set<int> dependent_speed_syms;
+    for (std::size_t s = 0; s < m_.speeds.size(); ++s)
+      if (eliminated_at_[s] >= 0) dependent_speed_syms.insert(static_cast<int>(s));
+    // A coordinate whose rate is a dependent speed is the natural one to eliminate.
+    auto rate_is_dependent = [&](std::size_t c) {
+      for (int s : dependent_speed_syms)
+        if (m_.coord_rates[c].is_equal(m_.speeds[static_cast<std::size_t>(s)].sym)) return true;
+      return false;
+    };
+    std::map<int, GiNaC::ex> direct;  // coordinate -> value as solved (may read eliminated ones)
+    GiNaC::exmap full;                // coordinate symbol -> value in kept coordinates only
+    for (const auto& c : m_.constraints) {
+      if (c.level != model::Constraint::Level::Position) continue;
+      int pick = -1;
+      GiNaC::ex pick_value;
+      for (int pass = 0; pass < 2 && pick < 0; ++pass) {
+        for (std::size_t q = 0; q < nq && pick < 0; ++q) {
+          const GiNaC::symbol& sym = m_.coords[q].sym;
+          if (direct.count(static_cast<int>(q)) || !c.residual.has(sym)) continue;
+          if (pass == 0 && !rate_is_dependent(q)) continue;
+          const GiNaC::ex a = c.residual.diff(sym);
+          if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
+          const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
+          if (value.subs(full).has(sym)) continue;  // would be circular
+          pick = static_cast<int>(q);
+          pick_value = value;
+        }
+      }
+      if (pick < 0) continue;
+      const GiNaC::symbol& sym = m_.coords[static_cast<std::size_t>(pick)].sym;
+      const GiNaC::ex value_full = pick_value.subs(full);
+      for (auto& [k, v] : full) v = v.subs(sym == value_full);
+      full[sym] = value_full;
+      direct[pick] = pick_value;
+    }
+    // Evaluation order: each after the eliminated coordinates it reads (depth first).
+    std::set<int> done;
+    std::function<void(int)> visit = [&](int q) {
+      if (done.count(q)) return;
+      done.insert(q);
+      for (const auto& entry : direct)
+        if (direct.at(q).has(m_.coords[static_cast<std::size_t>(entry.first)].sym)) visit(entry.first);
+      out.coords.push_back(ir::Define{m_.coords[static_cast<std::size_t>(q)].sym, direct.at(q), true});
+      out.eliminated_coords.push_back(q);
+    };
+    for (const auto& [q, v] : direct) visit(q);
+    for (std::size_t q = 0; q < nq; ++q)
+      if (!direct.count(static_cast<int>(q))) out.kept_coords.push_back(static_cast<int>(q));
+  }
+
+  // ---- dependent speeds at order 1 ----
+  /// Speed s in terms of the speeds `avail` (a node's y), composing the order-1
+  /// relations of the descendants where s was eliminated.
+  GiNaC::ex express(int s, const std::set<int>& avail, std::map<int, GiNaC::ex>& memo) {
+    if (avail.count(s)) return m_.speeds[static_cast<std::size_t>(s)].sym;
+    auto it = memo.find(s);
+    if (it != memo.end()) return it->second;
+    const int d = eliminated_at_[static_cast<std::size_t>(s)];
+    const NodeResult& r = eom_.nodes[static_cast<std::size_t>(d)];
+    auto rel = relation_.find(s);
+    if (rel == relation_.end()) throw NestedNumeric{d};
+    GiNaC::ex e = rel->second;
+    GiNaC::exmap sub;
+    for (int t : r.y)
+      if (!avail.count(t) && e.has(m_.speeds[static_cast<std::size_t>(t)].sym))
+        sub[m_.speeds[static_cast<std::size_t>(t)].sym] = express(t, avail, memo);
+    if (!sub.empty()) e = e.subs(sub);
+    memo[s] = e;
+    return e;
+  }
+
+  struct NestedNumeric {
+    int node;  // the descendant whose dependent speeds are only known numerically
+  };
+
+  bool dependent_speeds(int n, std::vector<ir::Step>& steps) {
+    const NodeResult& r = eom_.nodes[static_cast<std::size_t>(n)];
+    if (r.dependent.empty()) return true;
+    // Order-1 rows with the descendants' dependent speeds composed in.
+    const std::set<int> avail(r.y.begin(), r.y.end());
+    std::map<int, GiNaC::ex> memo;
+    std::vector<GiNaC::ex> rows;
+    try {
+      for (int ci : r.rows) {
+        GiNaC::ex g = order1_[static_cast<std::size_t>(ci)];
+        GiNaC::exmap sub;
+        for (std::size_t j = 0; j < m_.speeds.size(); ++j)
+          if (eliminated_at_[j] >= 0 && !avail.count(static_cast<int>(j)) && g.has(m_.speeds[j].sym))
+            sub[m_.speeds[j].sym] = express(static_cast<int>(j), avail, memo);
+        rows.push_back(sub.empty() ? g : g.subs(sub));
+      }
+    } catch (const NestedNumeric& e) {
+      diags_.error(m_.nodes[static_cast<std::size_t>(n)].pos,
+                   fmt::format("--state minimal: subsystem '{}' needs the dependent speeds of '{}' in closed form, "
+                               "but those are solved numerically; use --state full",
+                               m_.label(n), m_.label(e.node)));
+      return false;
+    }
+    // Only rows affine in the dependent speeds can be solved for them (not a `nonlinear` block).
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (int s : r.dependent) {
+        const GiNaC::ex slope = rows[i].diff(m_.speeds[static_cast<std::size_t>(s)].sym);
+        bool affine = true;
+        for (int t : r.dependent) affine = affine && !slope.has(m_.speeds[static_cast<std::size_t>(t)].sym);
+        if (affine) continue;
+        const auto& c = m_.constraints[static_cast<std::size_t>(r.rows[i])];
+        diags_.error(c.pos, fmt::format("--state minimal: constraint '{}' is not linear in the speed '{}', so that "
+                                        "speed cannot be rebuilt from the independent ones; use --state full",
+                                        c.name, m_.speeds[static_cast<std::size_t>(s)].name));
+        return false;
+      }
+    if (!r.symbolic_complement) {
+      // X = the dependent speeds: A X = -(rows at X = 0), A = d rows / d X.
+      ir::Solve solve;
+      solve.label = fmt::format("subsystem '{}': dependent speeds", m_.label(n));
+      solve.n = static_cast<int>(r.dependent.size());
+      solve.k = 1;
+      GiNaC::exmap zero;
+      for (int s : r.dependent) zero[m_.speeds[static_cast<std::size_t>(s)].sym] = 0;
+      for (const auto& g : rows) {
+        for (int s : r.dependent) solve.A.push_back(g.diff(m_.speeds[static_cast<std::size_t>(s)].sym));
+        solve.B.push_back(-g.subs(zero));
+      }
+      for (int s : r.dependent) solve.X.push_back(m_.speeds[static_cast<std::size_t>(s)].sym);
+      steps.push_back(solve);
+      return true;
+    }
+    GiNaC::exmap solved;  // in y# only, for the ancestors
+    if (!r.rate_steps.empty()) {
+      // Same rows and order as the rates: each step reads the speeds solved before it.
+      for (std::size_t k = 0; k < r.rate_steps.size(); ++k) {
+        const int s = r.rate_steps[k].first;
+        const GiNaC::symbol& u = m_.speeds[static_cast<std::size_t>(s)].sym;
+        const GiNaC::ex& g = rows[static_cast<std::size_t>(r.step_rows[k])];
+        const GiNaC::ex value = -g.subs(u == 0) / g.diff(u);
+        steps.push_back(ir::Define{u, value, true});
+        const GiNaC::ex in_independent = value.subs(solved);
+        relation_[s] = in_independent;
+        solved[u] = in_independent;
+      }
+      return true;
+    }
+    // Small block with a state-free determinant: exact solve.
+    GiNaC::lst equations, unknowns;
+    for (const auto& g : rows) equations.append(g == 0);
+    for (int s : r.dependent) unknowns.append(m_.speeds[static_cast<std::size_t>(s)].sym);
+    const GiNaC::ex solution = GiNaC::lsolve(equations, unknowns);
+    if (solution.nops() != unknowns.nops()) {
+      diags_.error(m_.nodes[static_cast<std::size_t>(n)].pos,
+                   fmt::format("--state minimal: the velocity constraints of subsystem '{}' do not determine its "
+                               "dependent speeds",
+                               m_.label(n)));
+      return false;
+    }
+    for (std::size_t i = 0; i < solution.nops(); ++i) {
+      const int s = r.dependent[i];
+      const GiNaC::ex value = solution.op(i).rhs();
+      steps.push_back(ir::Define{m_.speeds[static_cast<std::size_t>(s)].sym, value, true});
+      relation_[s] = value;
+    }
+    return true;
+  }
+
+  const model::Model& m_;
+  const Eom& eom_;
+  Diagnostics& diags_;
+  std::vector<int> eliminated_at_;    // speed -> node where it is dependent (-1: root independent)
+  std::vector<GiNaC::ex> order1_;     // order-1 residual of every constraint, model order
+  std::map<int, GiNaC::ex> relation_;  // dependent speed -> value in its node's y#
+};
+
+}  // namespace
+
+std::optional<MinimalState> minimal_state(const model::Model& m, const Eom& eom, Diagnostics& diags) {
+  try {
+    return MinimalStateBuilder(m, eom, diags).run();
+  } catch (const std::exception& e) {
+    diags.error(m.nodes.empty() ? SourcePos{} : m.nodes.back().pos,
+                std::string("internal error while building the minimal state: ") + e.what());
+    return std::nullopt;
+  }
+}
+
+}  // namespace mbsc::sym
