@@ -38,6 +38,8 @@
 
 namespace gen = mbsc_gen::MBSC_NS;
 constexpr int N = CHAIN_N;
+// Generated with --state minimal: x = (angles, rates), like sympy's; else all 6N entries.
+constexpr bool kMinimal = gen::kNx == 2 * N;
 
 #ifndef NO_SYMPY
 extern "C" void SYMPY_MASS_FORCING(const double* q, const double* u, const double* p, double* M, double* F);
@@ -73,10 +75,12 @@ Layout layout() {
     const std::string b = "b" + std::to_string(k + 1);
     L.th[k] = state_index("th" + std::to_string(k + 1));
     L.w[k] = state_index("w" + std::to_string(k + 1));
-    L.bx[k] = state_index(b + ".x");
-    L.by[k] = state_index(b + ".y");
-    L.bu[k] = state_index(b + ".u");
-    L.bv[k] = state_index(b + ".v");
+    if (!kMinimal) {
+      L.bx[k] = state_index(b + ".x");
+      L.by[k] = state_index(b + ".y");
+      L.bu[k] = state_index(b + ".u");
+      L.bv[k] = state_index(b + ".v");
+    }
   }
   return L;
 }
@@ -97,6 +101,7 @@ void mbsc_state(const Layout& L, const double* th, const double* w, double* x) {
     vy += l * std::sin(th[k]) * w[k];
     x[L.th[k]] = th[k];
     x[L.w[k]] = w[k];
+    if (kMinimal) continue;  // the bobs are rebuilt inside rhs
     x[L.bx[k]] = px;
     x[L.by[k]] = py;
     x[L.bu[k]] = vx;

@@ -6,19 +6,23 @@
 #
 #   bash bench/run_chain.sh            (from the repository root; ~10 min on 2 cores)
 #
-# Environment: NS="2 4 8" to run other sizes; SYMPY_TIMEOUT (default 300 s);
+# Environment: NS="2 4 8" to run other sizes; STATE=minimal (default: mbsc's state is
+# (angles, rates) like sympy's) or STATE=full (all 6N coordinates and speeds); SYMPY_TIMEOUT (default 300 s);
 # MBSC_TIMEOUT (default 900 s). Needs g++, cmake, the build dependencies of mbsc,
 # /usr/bin/python3 with sympy (Debian python3-sympy) and GNU time (Debian package
 # `time`, installed with apt-get when missing and running as root).
 #
 # Writes bench/results/chain.csv (one row per N and tool), bench/results/chain.md (the
-# tables, also printed) and bench/results/chain_env.txt (machine, date, versions);
+# tables, also printed) and bench/results/chain_env.txt (machine, date, versions), or
+# chain_full.* with STATE=full;
 # scratch files go to bench/work/ (ignored).
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
 NS=${NS:-"2 4 8 16 32 64"}
+STATE=${STATE:-minimal}
+OUT=chain; [ "$STATE" = full ] && OUT=chain_full   # result files: bench/results/$OUT.{csv,md}, ${OUT}_env.txt
 SYMPY_TIMEOUT=${SYMPY_TIMEOUT:-300}
 MBSC_TIMEOUT=${MBSC_TIMEOUT:-900}
 PY=/usr/bin/python3
@@ -57,11 +61,12 @@ mkdir -p "$WORK" "$RES"
   echo "mbsc: $($MBSC --version 2>&1 | head -1), sources hash $(find src include templates cmake CMakeLists.txt -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16) (sha256 of the sha256s of src/ include/ templates/ cmake/ CMakeLists.txt when built; others may edit them)"
   echo "sympy: $($PY -c 'import sympy; print(sympy.__version__)') (python $($PY -c 'import platform; print(platform.python_version())'))"
   echo "flags: g++ $CXXFLAGS_BENCH -c (generated code and driver)"
+  echo "mbsc state: --state $STATE"
   echo "load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
-} > "$RES/chain_env.txt"
-cat "$RES/chain_env.txt" >&2
+} > "$RES/${OUT}_env.txt"
+cat "$RES/${OUT}_env.txt" >&2
 
-CSV=$RES/chain.csv
+CSV=$RES/$OUT.csv
 echo "n,tool,status,gen_s,peak_rss_mib,rhs_ops,count_ops_sympy,compile_s,ns_per_call,ns_min,ns_max,max_rel_diff,derive_s,codegen_s" > "$CSV"
 
 sympy_stop=""   # set to the N that did not finish; larger N are not attempted
@@ -75,7 +80,7 @@ for n in $NS; do
   log "N=$n mbsc generate"
   t0=$(now)
   set +e
-  timeout "$MBSC_TIMEOUT" /usr/bin/time -f '%M' -o "$dir/mbsc_mem.txt" "$MBSC" generate "$dir/$name.mbs" -o "$dir/gen" >"$dir/mbsc_gen.log" 2>&1
+  timeout "$MBSC_TIMEOUT" /usr/bin/time -f '%M' -o "$dir/mbsc_mem.txt" "$MBSC" generate "$dir/$name.mbs" -o "$dir/gen" --state "$STATE" >"$dir/mbsc_gen.log" 2>&1
   rc=$?
   set -e
   t1=$(now)
@@ -91,7 +96,7 @@ for n in $NS; do
     cpp=$dir/gen/$name/$name.cpp
     m_ops=$(sed -n 's|^//   rhs: .* total \([0-9]*\)$|\1|p' "$cpp")
     if [ "$n" -le 16 ]; then  # cross-check the banner with `mbsc print --stats` (it derives again)
-      s_ops=$("$MBSC" print "$dir/$name.mbs" --stats | awk '$1 == "rhs" { print $NF }')
+      s_ops=$("$MBSC" print "$dir/$name.mbs" --stats --state "$STATE" | awk '$1 == "rhs" { print $NF }')
       [ "$s_ops" = "$m_ops" ] || { echo "run_chain: rhs ops differ: banner $m_ops, --stats $s_ops" >&2; exit 1; }
     fi
     log "N=$n mbsc compile"
@@ -159,10 +164,10 @@ print(d["derive_s"], d["codegen_s"], d["ops_mbsc_conv"], d["count_ops"], round(d
     echo "$n,sympy,ok,$s_gen,$s_mem,$s_ops,$s_raw,$s_cc,,,,,$s_der,$s_cg" >> "$CSV"
   fi
 done
-echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$RES/chain_env.txt"
+echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$RES/${OUT}_env.txt"
 
 # --- tables ----------------------------------------------------------------------------
-$PY - "$CSV" "$RES/chain.md" <<'EOF'
+$PY - "$CSV" "$RES/$OUT.md" <<'EOF'
 # SPDX-License-Identifier: GPL-2.0-or-later
 import csv, sys
 
@@ -198,4 +203,4 @@ text = "\n".join(out) + "\n"
 open(sys.argv[2], "w").write(text)
 print(text)
 EOF
-log "done: $CSV, $RES/chain.md"
+log "done: $CSV, $RES/$OUT.md"

@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
   p->add_flag("--stats", print.stats, "operation counts of the generated functions");
   p->add_option("--freeze", print_freeze, "fold a parameter into the equations: name=value (repeatable)");
   p->add_option("--outputs", print_outputs, "with --stats: only these functions");
+  std::string print_state = "full";
+  p->add_option("--state", print_state, "with --stats: full or minimal (as for generate)")
+      ->check(CLI::IsMember({"full", "minimal"}))
+      ->default_val("full");
 
   mbsc::driver::GenerateArgs gen;
   std::vector<std::string> outputs, freeze;
@@ -85,6 +89,7 @@ int main(int argc, char** argv) {
   if (*p) {
     print.what = split_list(what);
     for (const auto& o : split_list(print_outputs)) print.functions.insert(o);
+    print.minimal_state = print_state == "minimal";
     if (!add_freezes(print_freeze, print.frozen)) return 1;
     return mbsc::driver::run_print(print, std::cout, std::cerr);
   }

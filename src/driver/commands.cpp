@@ -98,6 +98,7 @@ int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
     GenerateOptions opt;
     opt.frozen = a.frozen;
     opt.functions = a.functions;
+    opt.minimal_state = a.minimal_state;
     Diagnostics diags;
     auto g = generate(*m, *eom, opt, diags);
     err << diags.format();

@@ -23,6 +23,7 @@ struct PrintArgs {
   bool stats = false;
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs
+  bool minimal_state = false;       // for --stats with --state minimal
 };
 int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err);
 
