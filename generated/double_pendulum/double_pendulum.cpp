@@ -86,13 +86,13 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double r_b1_v = r_b2_v - p[0]*e_b1_v - (p[4]*p[0]);
   const double t4 = s0*s0;
   const double t5 = c0*c0;
-  const double t6 = -(p[3]*p[2]*p[1])*(-c0*c1 - s0*s1);
+  const double t6 = (p[3]*p[2]*p[1])*(c0*c1 + s0*s1);
   // solve A_0 X = B_0 (2x2, 1 column): reduced mass matrix M z' = h
   double A_0[4] = {
-      -(-p[0]*t4 - p[1]*t5 - p[1]*t4 - p[0]*t5)*p[2]*p[2], t6,
+      (p[0]*t4 + p[1]*t5 + p[1]*t4 + p[0]*t5)*p[2]*p[2], t6,
       t6, p[3]*p[3]*p[1]};
   double B_0[2] = {
-      -p[2]*(-c0*r_b1_u - r_b1_v*s0),
+      p[2]*(c0*r_b1_u + r_b1_v*s0),
       (r_b2_v*s1 - c1*e_b2_u*p[1])*p[3]};
   if (chol_solve(2, 1, A_0, B_0) != 0) return 1;
   const double b1_v = (c0*t0 + B_0[0]*s0)*p[2];
@@ -122,8 +122,8 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double c1 = std::cos(x[5]);
   const double t0 = s0*s0;
   const double t1 = c0*c0;
-  OUT[0] = -(-p[0]*t0 - p[1]*t1 - p[1]*t0 - p[0]*t1)*p[2]*p[2];
-  const double t2 = -(p[3]*p[2]*p[1])*(-c0*c1 - s0*s1);
+  OUT[0] = (p[0]*t0 + p[1]*t1 + p[1]*t0 + p[0]*t1)*p[2]*p[2];
+  const double t2 = (p[3]*p[2]*p[1])*(c0*c1 + s0*s1);
   OUT[1] = t2;
   OUT[2] = t2;
   OUT[3] = p[3]*p[3]*p[1];
@@ -145,7 +145,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double r_b1_u = -p[0]*e_b1_u - e_b2_u*p[1];
   const double r_b2_v = -(e_b2_v + p[4])*p[1];
   const double r_b1_v = r_b2_v - p[0]*e_b1_v - (p[4]*p[0]);
-  OUT[0] = -p[2]*(-c0*r_b1_u - r_b1_v*s0);
+  OUT[0] = p[2]*(c0*r_b1_u + r_b1_v*s0);
   OUT[1] = (r_b2_v*s1 - c1*e_b2_u*p[1])*p[3];
   for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;

@@ -196,7 +196,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double A_1[16] = {
       p[15], 0.0, 0.0, 0.0,
       0.0, p[15], 0.0, 0.0,
-      0.0, 0.0, 0.25*t14*t15 + 0.08333333333333333*(-6.0*t16*s0*s1 - 6.0*c0*c1*t16 - t18*B_0[3])*B_0[3] + 0.5*B_0[3]*t19 + 0.08333333333333333*t21*B_0[6]*B_0[6] + p[10]*B_0[9]*B_0[9] + p[10]*B_0[12]*B_0[12] + t22*t23 + 0.08333333333333333*t14 + t24 + 0.25*t14*t23 + t22*t15, t27,
+      0.0, 0.0, 0.25*t14*t15 + (-0.08333333333333333*(6.0*t16*s0*s1 + 6.0*c0*c1*t16 + t18*B_0[3])*B_0[3]) + 0.5*B_0[3]*t19 + 0.08333333333333333*t21*B_0[6]*B_0[6] + p[10]*B_0[9]*B_0[9] + p[10]*B_0[12]*B_0[12] + t22*t23 + 0.08333333333333333*t14 + t24 + 0.25*t14*t23 + t22*t15, t27,
       0.0, 0.0, t27, B_0[10]*B_0[10]*p[10] + B_0[13]*B_0[13]*p[10] + 0.25*t29*t30 + 0.08333333333333333*t29 + t31*t32 - 0.08333333333333333*t26*B_0[7] - 0.08333333333333333*t18*B_0[4]*B_0[4] - 0.5*t33*B_0[7] + t24 + 0.25*t31*t29 + t32*t30};
   double B_1[4] = {
       u[0] - x[39]*p[16] - x[38]*p[12],
@@ -214,7 +214,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   const double linkage_right_lower_v = 0.5*c2*p[4]*linkage_right_dphi + t8 + t10 + c3*B_1[3]*p[3];
   const double linkage_right_lower_u = t11 - B_1[3]*p[3]*s3 - 0.5*p[4]*linkage_right_dphi*s2 + t12;
   const double linkage_right_upper_v = 0.5*(c3*B_1[3] - s3*t9)*p[3];
-  const double linkage_right_upper_u = 0.5*(-B_1[3]*s3 - c3*t9)*p[3];
+  const double linkage_right_upper_u = -0.5*(B_1[3]*s3 + c3*t9)*p[3];
   const double linkage_left_lower_v = c0*p[1]*B_1[2] + 0.5*c1*linkage_left_dphi*p[2] + t1 + t3;
   const double linkage_left_lower_u = t4 - p[1]*s0*B_1[2] - 0.5*linkage_left_dphi*p[2]*s1 + t5;
   const double linkage_left_upper_v = 0.5*(c0*B_1[2] - t0*s0)*p[1];
@@ -314,7 +314,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t13 = p[6]*t4;
   const double t14 = s2*s2;
   const double t15 = p[17]*p[17]*p[13];
-  OUT[10] = 0.25*t5*t6 + 0.08333333333333333*(-6.0*t7*s2*s0 - 6.0*c2*c0*t7 - t9*B_0[3])*B_0[3] + 0.5*B_0[3]*t10 + 0.08333333333333333*t12*B_0[6]*B_0[6] + p[10]*B_0[9]*B_0[9] + p[10]*B_0[12]*B_0[12] + t13*t14 + 0.08333333333333333*t5 + t15 + 0.25*t5*t14 + t13*t6;
+  OUT[10] = 0.25*t5*t6 + (-0.08333333333333333*(6.0*t7*s2*s0 + 6.0*c2*c0*t7 + t9*B_0[3])*B_0[3]) + 0.5*B_0[3]*t10 + 0.08333333333333333*t12*B_0[6]*B_0[6] + p[10]*B_0[9]*B_0[9] + p[10]*B_0[12]*B_0[12] + t13*t14 + 0.08333333333333333*t5 + t15 + 0.25*t5*t14 + t13*t6;
   const double t16 = p[8]*p[3]*p[4];
   const double t17 = 6.0*c3*c1*t16 - t12*B_0[7] + 6.0*t16*s1*s3;
   const double t18 = B_0[9]*B_0[10]*p[10] - 0.08333333333333333*t9*B_0[3]*B_0[4] - 0.08333333333333333*t17*B_0[6] + 0.5*B_0[4]*t10 + B_0[13]*p[10]*B_0[12];
@@ -379,10 +379,10 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t5 = p[8]*p[4]*p[4];
   const double t6 = 6.0*e_linkage_left_lower_u_i5*(p[8]*p[4])*s2 + 6.0*c2*r_linkage_left_lower_v_i5*p[4] + (3.0*c2*c2*t5 + 3.0*s2*s2*t5 + t5)*B_0[8];
   const double t7 = p[6]*p[2]*p[2];
-  const double t8 = 6.0*e_linkage_left_lower_u*(p[2]*p[6])*s1 - (-3.0*s1*s1*t7 - t7 - 3.0*c1*c1*t7)*B_0[5] + 6.0*r_linkage_left_lower_v*c1*p[2];
+  const double t8 = 6.0*e_linkage_left_lower_u*(p[2]*p[6])*s1 - -(3.0*s1*s1*t7 + t7 + 3.0*c1*c1*t7)*B_0[5] + 6.0*r_linkage_left_lower_v*c1*p[2];
   const double t9 = p[2]*p[1]*p[6];
   const double t10 = B_0[14]*p[10] - (p[18]*p[10]);
-  OUT[2] = r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] - 0.08333333333333333*t6*B_0[6] + 0.5*e_linkage_left_upper_u*s0*(p[1]*p[5]) - 0.08333333333333333*t8*B_0[3] + 0.5*c0*p[1]*r_linkage_left_upper_v - p[9]*x[21] - B_0[9]*B_0[11]*p[10] - 0.5*B_0[5]*(-c0*c1*t9 - t9*s0*s1) - t10*B_0[12];
+  OUT[2] = r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] - 0.08333333333333333*t6*B_0[6] + 0.5*e_linkage_left_upper_u*s0*(p[1]*p[5]) - 0.08333333333333333*t8*B_0[3] + 0.5*c0*p[1]*r_linkage_left_upper_v - p[9]*x[21] - B_0[9]*B_0[11]*p[10] - -0.5*B_0[5]*(c0*c1*t9 + t9*s0*s1) - t10*B_0[12];
   const double t11 = p[8]*p[3]*p[4];
   OUT[3] = p[17]*r_motor_right_w - B_0[13]*t10 + 0.5*c3*p[3]*r_linkage_left_upper_v_i5 + c3*r_linkage_left_lower_v_i5*p[3] + 0.5*(p[7]*p[3])*e_linkage_left_upper_u_i5*s3 - B_0[10]*B_0[11]*p[10] - p[9]*x[29] + 0.5*(t11*s2*s3 + c3*c2*t11)*B_0[8] - 0.08333333333333333*t6*B_0[7] + e_linkage_left_lower_u_i5*(p[8]*p[3])*s3 - 0.08333333333333333*t8*B_0[4];
   for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;

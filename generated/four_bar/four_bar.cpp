@@ -424,7 +424,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   const double t7 = 0.5*x[13]*x[13]*p[6];
   const double t8 = 0.5*x[10]*x[10]*p[5];
   OUT[0] = t0 + t1 + t2 + t3 + t4 + t5 + t6 + t7 + t8;
-  OUT[1] = -p[4]*(-x[1]*p[5] - p[7]*x[7] - x[4]*p[6]);
+  OUT[1] = p[4]*(x[1]*p[5] + p[7]*x[7] + x[4]*p[6]);
   OUT[2] = x[1]*(p[4]*p[5]) + t0 + (p[7]*p[4])*x[7] + t1 + t2 + t3 + x[4]*(p[4]*p[6]) + t4 + t5 + t6 + t7 + t8;
   for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;

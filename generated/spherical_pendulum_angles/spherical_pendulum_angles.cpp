@@ -132,7 +132,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double s1 = std::sin(x[4]);
   const double c1 = std::cos(x[4]);
   const double e_bob_w = -((x[9]*s0*s1 - c1*c0*x[8])*x[9] - (c1*x[9]*c0 - s0*x[8]*s1)*x[8])*p[1];
-  const double e_bob_v = (-(c1*s0*x[8] + x[9]*c0*s1)*x[8] - x[9]*(c0*x[8]*s1 + c1*x[9]*s0))*p[1];
+  const double e_bob_v = -((c1*s0*x[8] + x[9]*c0*s1)*x[8] + x[9]*(c0*x[8]*s1 + c1*x[9]*s0))*p[1];
   const double e_bob_u = -c0*x[8]*x[8]*p[1];
   const double r_bob_u = -(e_bob_u - p[2])*p[0];
   OUT[0] = -(s0*r_bob_u + c0*p[0]*s1*e_bob_w + c1*c0*e_bob_v*p[0])*p[1];
@@ -195,7 +195,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   const double t2 = x[5]*x[5];
   OUT[0] = 0.5*(t0 + t1 + t2)*p[0];
   OUT[1] = -x[0]*(p[0]*p[2]);
-  OUT[2] = -0.5*(2.0*x[0]*p[2] - t2 - t0 - t1)*p[0];
+  OUT[2] = 0.5*(t2 + t0 - 2.0*x[0]*p[2] + t1)*p[0];
   for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }

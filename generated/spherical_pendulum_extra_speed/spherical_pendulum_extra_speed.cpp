@@ -131,7 +131,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t1 = B_0[5] + p[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
   double A_1[4] = {
-      -p[0]*(-B_0[3]*B_0[3] - 1.0), t0,
+      p[0]*(B_0[3]*B_0[3] + 1.0), t0,
       t0, (B_0[4]*B_0[4] + 1.0)*p[0]};
   double B_1[2] = {
       -t1*B_0[3]*p[0],
@@ -159,7 +159,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5],
       2.0*x[4], 2.0*x[5], 0.0};
   if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
-  OUT[0] = -p[0]*(-B_0[3]*B_0[3] - 1.0);
+  OUT[0] = p[0]*(B_0[3]*B_0[3] + 1.0);
   const double t0 = B_0[3]*p[0]*B_0[4];
   OUT[1] = t0;
   OUT[2] = t0;

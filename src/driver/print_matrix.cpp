@@ -53,6 +53,34 @@ std::vector<std::vector<GiNaC::ex>> to_rows(const GiNaC::matrix& M, const model:
   return v;
 }
 
+/// The named variables (e_, r_) that `shown` reads, directly or through each other, from
+/// the subtree of node n, in evaluation order: printed under the matrices that use them.
+std::string where_text(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::vector<GiNaC::ex>>& shown,
+                       bool latex) {
+  std::vector<const ir::Define*> defs;
+  int first = n;  // post-order: the subtree is first..n, first its leftmost leaf
+  while (!m.nodes[first].children.empty()) first = m.nodes[first].children.front();
+  for (int k = first; k <= n; ++k)
+    for (const auto& d : eom.nodes[k].named_defines) defs.push_back(&d);
+  std::vector<bool> needed(defs.size(), false);
+  for (size_t i = defs.size(); i-- > 0;) {
+    bool read = false;
+    for (const auto& row : shown)
+      for (const auto& e : row) read = read || e.has(defs[i]->sym);
+    for (size_t j = i + 1; j < defs.size() && !read; ++j) read = needed[j] && defs[j]->value.has(defs[i]->sym);
+    needed[i] = read;
+  }
+  std::string out;
+  for (size_t i = 0; i < defs.size(); ++i) {
+    if (!needed[i]) continue;
+    const std::string value = fmt_ex(finalize(m, eom, defs[i]->value), latex);
+    out += latex ? fmt::format("% where\\ {} = {}\\\\\n", defs[i]->sym.get_name(), value)
+                 : fmt::format("  {} = {}\n", defs[i]->sym.get_name(), value);
+  }
+  if (out.empty()) return out;
+  return (latex ? std::string() : std::string("  where (evaluated in this order)\n")) + out + "\n";
+}
+
 }  // namespace
 
 std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex) {
@@ -105,9 +133,11 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         v.push_back({finalize(m, eom, e)});
       }
       out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex);
+      out += where_text(m, eom, n, v, latex);
     } else if (w == "M" || w == "h") {
-      out += w == "M" ? matrix_text("M", inames, inames, to_rows(r.M, m, eom), latex)
-                      : matrix_text("h", inames, {"value"}, to_rows(r.h, m, eom), latex);
+      const auto rows = to_rows(w == "M" ? r.M : r.h, m, eom);
+      out += w == "M" ? matrix_text("M", inames, inames, rows, latex) : matrix_text("h", inames, {"value"}, rows, latex);
+      out += where_text(m, eom, n, rows, latex);
     } else {
       throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h)", w));
     }

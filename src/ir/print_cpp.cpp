@@ -158,37 +158,55 @@ class Printer {
   }
 
   // Sum: non-constant terms in canonical order, constants last; a positive term leads when
-  // there is one; negative terms print as "- |term|".
-  Text add(NodeId id) {
+  // there is one; negative terms print as "- |term|". `flip` prints the negated sum (every
+  // sign reversed), for a product that takes the sign out: -2.0*t*(-a - b) -> 2.0*t*(a + b).
+  Text add(NodeId id, bool flip = false) {
     const Node& n = dag_.node(id);
     std::vector<NodeId> terms;
     for (std::int32_t i = 0; i < n.nchild; ++i)
       if (dag_.node(dag_.child(id, i)).kind != NodeKind::Number) terms.push_back(dag_.child(id, i));
     for (std::int32_t i = 0; i < n.nchild; ++i)
       if (dag_.node(dag_.child(id, i)).kind == NodeKind::Number) terms.push_back(dag_.child(id, i));
+    auto subtracted = [&](NodeId t) { return negative(t) != flip; };
     for (std::size_t i = 0; i < terms.size(); ++i) {
-      if (negative(terms[i])) continue;
+      if (subtracted(terms[i])) continue;
       const NodeId lead = terms[i];
       terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(i));
       terms.insert(terms.begin(), lead);
       break;
     }
+    // |term| for a term printed with a sign of its own (a negative one, without its "-").
+    auto magnitude = [&](NodeId t) -> Text {
+      if (!negative(t)) return ref(t);
+      const Node& tn = dag_.node(t);
+      return tn.kind == NodeKind::Number ? Text{number(-tn.value), kPrimary} : mul(t, true);
+    };
     std::string out;
     for (std::size_t i = 0; i < terms.size(); ++i) {
       const NodeId t = terms[i];
-      if (i == 0) {
+      if (i == 0 && !flip) {
         out = wrap(ref(t), kSum);
-      } else if (negative(t)) {
-        const Node& tn = dag_.node(t);
-        const Text neg = tn.kind == NodeKind::Number ? Text{number(-tn.value), kPrimary} : mul(t, true);
-        out += " - " + wrap(neg, kProduct);
+      } else if (i == 0) {
+        const Text m = magnitude(t);
+        out = subtracted(t) ? "-" + wrap(m, kProduct) : wrap(m, kSum);
+      } else if (subtracted(t)) {
+        out += " - " + wrap(magnitude(t), kProduct);
       } else {
-        const Text pos = ref(t);
+        const Text pos = magnitude(t);
         out += " + " + (pos.s[0] == '-' ? "(" + pos.s + ")" : wrap(pos, kSum));
       }
     }
     ops_.adds += static_cast<long>(terms.size()) - 1;
     return {out, kSum};
+  }
+
+  // An inline sum with more subtracted terms than added ones (printed negated in products).
+  bool mostly_subtracted(NodeId f) const {
+    const Node& n = dag_.node(f);
+    if (n.kind != NodeKind::Add || !inline_node(f)) return false;
+    int neg = 0;
+    for (std::int32_t i = 0; i < n.nchild; ++i) neg += negative(dag_.child(f, i)) ? 1 : 0;
+    return 2 * neg > n.nchild;
   }
 
   // Product: [-][coefficient*]factors[/denominator]. Inline powers with exponent -1..-4 or
@@ -199,7 +217,7 @@ class Printer {
     const NodeId coef = coefficient(id);
     double c = coef >= 0 ? dag_.node(coef).value : 1.0;
     if (negate) c = -c;
-    const bool minus = std::signbit(c);
+    bool minus = std::signbit(c);
     const double mag = std::fabs(c);
     std::vector<std::string> num, den;
     if (coef >= 0 && mag != 1.0) num.push_back(number(mag));
@@ -222,6 +240,11 @@ class Printer {
           ++ops_.calls;
           continue;
         }
+      }
+      if (mostly_subtracted(f)) {  // -a - b: print (a + b) and take the sign out
+        num.push_back(wrap(add(f, true), kPrimary));
+        minus = !minus;
+        continue;
       }
       num.push_back(wrap(ref(f), kPrimary));
     }

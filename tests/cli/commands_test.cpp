@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The subcommands as a user meets them: --help, check, print.
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "run_command.hpp"
 
@@ -53,4 +56,38 @@ TEST_CASE("print is the same text in every run (GiNaC's term order is not)", "[c
   CHECK(a.exit_code == 0);
   CHECK(a.output == b.output);
   CHECK(c.output == d.output);
+}
+
+TEST_CASE("generate --state minimal: a smaller state, and clear refusals", "[cli]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fresh_dir("minimal_state");
+  auto r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --state minimal -o " + quote(dir.string()));
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir / "double_pendulum" / "double_pendulum.hpp");
+  const std::string header((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(header.find("kNx = 4;") != std::string::npos);
+  CHECK(header.find("kNxFull = 12;") != std::string::npos);
+  CHECK(header.find("int full_state(") != std::string::npos);
+  CHECK(header.find("constraint_jacobian") == std::string::npos);
+  fs::remove_all(dir);
+
+  // A nonlinear velocity block cannot rebuild its speeds: the constraint is named.
+  const fs::path bad = fresh_dir("minimal_state_bad");
+  r = run(kMbsc + " generate " + model("spherical_pendulum_extra_speed.mbs") + " --state minimal -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("spherical_pendulum_extra_speed.mbs:18:3: error:") != std::string::npos);
+  CHECK(r.output.find("'speed_square'") != std::string::npos);
+  CHECK(fs::is_empty(bad));
+  // Functions that belong to the other state layout.
+  r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --state minimal --outputs rhs,constraint_jacobian -o " +
+          quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("constraint_jacobian") != std::string::npos);
+  r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --outputs full_state -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("full_state") != std::string::npos);
+  r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --state smallest -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(fs::is_empty(bad));
+  fs::remove_all(bad);
 }
