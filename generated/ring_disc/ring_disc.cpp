@@ -301,13 +301,13 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   const double c0 = std::cos(p[5]);
   const double t0 = 0.5*x[11]*x[11]*p[1];
   const double t1 = 0.5*p[0]*x[7]*x[7];
-  const double t2 = 0.25*(p[3]*p[3]*p[1])*x[12]*x[12];
-  const double t3 = 0.5*x[8]*x[8]*p[0];
-  const double t4 = 0.5*x[10]*x[10]*p[1];
-  const double t5 = 0.5*x[9]*x[9]*(p[0]*p[2]*p[2]);
+  const double t2 = 0.5*x[8]*x[8]*p[0];
+  const double t3 = 0.5*x[10]*x[10]*p[1];
+  const double t4 = x[9]*x[9]*(0.5*(p[0]*p[2]*p[2]));
+  const double t5 = x[12]*x[12]*(0.25*(p[3]*p[3]*p[1]));
   OUT[0] = t0 + t1 + t2 + t3 + t4 + t5;
   OUT[1] = ((c0*p[1])*x[4] - (p[1]*s0)*x[3] - x[0]*(p[0]*s0) + (c0*p[0])*x[1])*p[4];
-  OUT[2] = (c0*p[4]*p[0])*x[1] + t0 + t1 - (p[4]*p[1]*s0)*x[3] + t2 - x[0]*(p[4]*p[0]*s0) + t3 + t4 + x[4]*(c0*p[4]*p[1]) + t5;
+  OUT[2] = (c0*p[4]*p[0])*x[1] + t0 + t1 - (p[4]*p[1]*s0)*x[3] - x[0]*(p[4]*p[0]*s0) + t2 + t3 + x[4]*(c0*p[4]*p[1]) + t4 + t5;
   for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
   return 0;
 }

@@ -2,6 +2,7 @@
 #include "canonical_dag.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -148,33 +149,55 @@ NodeId Dag::make_add(std::vector<NodeId> ops) {
 }
 
 NodeId Dag::make_mul(std::vector<NodeId> ops) {
+  // Flatten (the only nested products are invariant sub-products made below), so that
+  // every rule here is a function of the factors alone, not of how they were grouped.
+  std::vector<NodeId> flat;
+  for (std::size_t i = 0; i < ops.size(); ++i) {
+    if (node(ops[i]).kind != NodeKind::Mul) {
+      flat.push_back(ops[i]);
+      continue;
+    }
+    for (std::int32_t k = 0; k < node(ops[i]).nchild; ++k) ops.push_back(child(ops[i], k));
+  }
   // Fold numeric factors (multiplied in canonical order) into one coefficient.
   std::vector<NodeId> numbers;
-  std::size_t kept = 0;
-  for (NodeId c : ops) {
-    if (node(c).kind == NodeKind::Number) numbers.push_back(c);
-    else ops[kept++] = c;
-  }
-  ops.resize(kept);
-  for (NodeId c : numbers)
-    if (node(c).value == 0.0) return make_number(0.0);
-  if (numbers.size() > 1 || (numbers.size() == 1 && node(numbers[0]).value == 1.0 && !ops.empty())) {
-    std::sort(numbers.begin(), numbers.end(), [this](NodeId a, NodeId b) { return less(a, b); });
-    double coef = 1.0;
-    for (NodeId c : numbers) coef *= node(c).value;
-    numbers.clear();
-    if (coef != 1.0 || ops.empty()) numbers.push_back(make_number(coef));
-  }
-  // Invariant factors of a product with anything else in it: one sub-product node.
+  ops.clear();
+  for (NodeId c : flat) (node(c).kind == NodeKind::Number ? numbers : ops).push_back(c);
+  std::sort(numbers.begin(), numbers.end(), [this](NodeId a, NodeId b) { return less(a, b); });
+  double coef = 1.0;
+  for (NodeId c : numbers) coef *= node(c).value;
+  if (coef == 0.0) return make_number(0.0);
+  if (ops.empty()) return make_number(coef);
+  // Two or more invariant factors become one sub-product node: with varying factors,
+  // the coefficient's magnitude goes in too (7*m*l^2 is shared by every entry that
+  // has it) and only its sign stays outside; alone, they keep the coefficient out.
   std::vector<NodeId> invariant, varying;
   for (NodeId c : ops) (node(c).invariant ? invariant : varying).push_back(c);
-  if (invariant.size() >= 2 && (!varying.empty() || !numbers.empty())) {
-    varying.push_back(make_mul(std::move(invariant)));
+  if (invariant.size() >= 2 && !varying.empty()) {
+    if (std::fabs(coef) != 1.0) invariant.push_back(make_number(std::fabs(coef)));
+    varying.push_back(make_invariant_product(std::move(invariant)));
+    coef = coef < 0 ? -1.0 : 1.0;
     ops = std::move(varying);
+  } else if (invariant.size() >= 2 && coef != 1.0) {
+    ops = {make_invariant_product(std::move(invariant))};
   }
-  ops.insert(ops.end(), numbers.begin(), numbers.end());
-  if (ops.empty()) return make_number(1.0);
+  if (coef != 1.0) ops.push_back(make_number(coef));
   if (ops.size() == 1) return ops[0];
+  return make_flat_mul(std::move(ops));
+}
+
+// c * (product of invariant factors) with the factors' product as its own node, so that
+// 7*m*l^2 reads the node m*l^2 that 5*m*l^2 reads too.
+NodeId Dag::make_invariant_product(std::vector<NodeId> factors) {
+  std::vector<NodeId> numbers, rest;
+  for (NodeId c : factors) (node(c).kind == NodeKind::Number ? numbers : rest).push_back(c);
+  NodeId core = rest.size() == 1 ? rest[0] : make_flat_mul(std::move(rest));
+  if (numbers.empty()) return core;
+  return make_flat_mul({core, numbers[0]});
+}
+
+// A Mul node from operands that are already in final form (sorted here).
+NodeId Dag::make_flat_mul(std::vector<NodeId> ops) {
   std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
   Node n;
   n.kind = NodeKind::Mul;

@@ -88,6 +88,8 @@ class Dag {
   NodeId intern(Node n, const NodeId* kids, std::int32_t nkids);
   bool same(const Node& n, const NodeId* kids, std::int32_t nkids, NodeId existing) const;
   void grow_table();
+  NodeId make_invariant_product(std::vector<NodeId> factors);
+  NodeId make_flat_mul(std::vector<NodeId> ops);
 
   std::vector<Node> nodes_;
   std::vector<NodeId> children_;
