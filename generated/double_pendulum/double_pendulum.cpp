@@ -24,9 +24,26 @@
 #include "double_pendulum.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace double_pendulum {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -111,7 +128,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   OUT[9] = b2_v;
   OUT[10] = B_0[0];
   OUT[11] = B_0[1];
-  for (int i = 0; i < 12; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 12)) return 2;
   return 0;
 }
 
@@ -127,7 +144,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   OUT[1] = t2;
   OUT[2] = t2;
   OUT[3] = p[3]*p[3]*p[1];
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -147,7 +164,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double r_b1_v = r_b2_v - p[0]*e_b1_v - (p[4]*p[0]);
   OUT[0] = p[2]*(c0*r_b1_u + r_b1_v*s0);
   OUT[1] = (r_b2_v*s1 - c1*e_b2_u*p[1])*p[3];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -160,7 +177,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[1] = c0*p[2] + x[1];
   OUT[2] = x[2] - x[0] - p[3]*s1;
   OUT[3] = x[3] + c1*p[3] - x[1];
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -173,7 +190,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[1] = x[7] - x[10]*p[2]*s0;
   OUT[2] = x[8] - c1*p[3]*x[11] - x[6];
   OUT[3] = x[9] - x[7] - p[3]*x[11]*s1;
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -206,7 +223,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[21] = 1.0;
   OUT[22] = 0.0;
   OUT[23] = -p[3]*s1;
-  for (int i = 0; i < 24; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 24)) return 2;
   return 0;
 }
 
@@ -218,14 +235,14 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = t0 + t1 + t2 + t3;
   OUT[1] = (x[1]*p[0] + x[3]*p[1])*p[4];
   OUT[2] = t0 + t1 + t2 + (p[4]*p[1])*x[3] + x[1]*(p[4]*p[0]) + t3;
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
 int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[2];
   OUT[1] = x[3];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 

@@ -24,9 +24,26 @@
 #include "five_bar.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace five_bar {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -267,7 +284,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   OUT[39] = B_1[0];
   OUT[40] = motor_right_w;
   OUT[41] = B_1[1];
-  for (int i = 0; i < 42; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 42)) return 2;
   return 0;
 }
 
@@ -340,7 +357,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t28 = p[8]*t25;
   const double t29 = c3*c3;
   OUT[15] = t24*t27 + B_0[10]*B_0[10]*p[10] - 0.08333333333333333*t9*B_0[4]*B_0[4] + B_0[13]*B_0[13]*p[10] + 0.08333333333333333*t26 + t24*t28 + t27*t29 - 0.5*(t20*s1*s3 + c3*c1*t20)*B_0[7] + t16 + t28*t29 - 0.08333333333333333*t22*B_0[7];
-  for (int i = 0; i < 16; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 16)) return 2;
   return 0;
 }
 
@@ -399,7 +416,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   OUT[2] = e_linkage_left_upper_u*(0.5*(p[1]*p[5]))*s0 - 0.08333333333333333*t7*B_0[3] + r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] - 0.08333333333333333*t10*B_0[6] + 0.5*c0*p[1]*r_linkage_left_upper_v - p[9]*x[21] - B_0[9]*B_0[11]*p[10] - -0.5*B_0[5]*(c0*c1*t11 + t11*s0*s1) - t12*B_0[12];
   const double t13 = p[8]*p[3]*p[4];
   OUT[3] = p[17]*r_motor_right_w + e_linkage_left_upper_u_i5*(0.5*(p[7]*p[3]))*s3 - B_0[13]*t12 + 0.5*c3*p[3]*r_linkage_left_upper_v_i5 + c3*r_linkage_left_lower_v_i5*p[3] - B_0[10]*B_0[11]*p[10] - p[9]*x[29] - 0.08333333333333333*t7*B_0[4] + 0.5*(t13*s2*s3 + c3*c2*t13)*B_0[8] - 0.08333333333333333*t10*B_0[7] + e_linkage_left_lower_u_i5*(p[8]*p[3])*s3;
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -435,7 +452,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[14] = t2 - c3*p[4] + t3 + x[16];
   OUT[15] = t4 - p[4]*s3 + x[17];
   OUT[16] = t5 + x[18] + x[7];
-  for (int i = 0; i < 17; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 17)) return 2;
   return 0;
 }
 
@@ -473,7 +490,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   const double t5 = 1.0/p[17];
   OUT[17] = x[25] - t5*x[38];
   OUT[18] = x[33] - t5*x[40];
-  for (int i = 0; i < 19; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 19)) return 2;
   return 0;
 }
 
@@ -928,7 +945,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[434] = 0.0;
   OUT[435] = t4;
   OUT[436] = 0.0;
-  for (int i = 0; i < 437; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 437)) return 2;
   return 0;
 }
 
@@ -954,14 +971,14 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = t0 + t1 + t2 + t3 + t4 + t5 + t6 + t7 + t8 + t9 + t10 + t11 + t12 + t13 + t14 + t15 + t16 + t17;
   OUT[1] = (x[4]*p[6] + x[9]*p[7] + x[1]*p[5] + x[12]*p[8] + p[10]*x[17])*p[18];
   OUT[2] = t0 + t1 + t2 + t3 + x[1]*(p[18]*p[5]) + x[9]*(p[7]*p[18]) + t4 + t5 + x[12]*(p[8]*p[18]) + t6 + t7 + t8 + t9 + t10 + t11 + t12 + t13 + t14 + x[4]*(p[18]*p[6]) + t15 + (p[18]*p[10])*x[17] + t16 + t17;
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
 int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[16];
   OUT[1] = x[17];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 

@@ -24,9 +24,26 @@
 #include "four_bar.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace four_bar {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -190,7 +207,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   OUT[15] = rocker_u;
   OUT[16] = rocker_v;
   OUT[17] = rocker_w;
-  for (int i = 0; i < 18; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 18)) return 2;
   return 0;
 }
 
@@ -233,7 +250,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       0.0, t10};
   if (lu_solve(8, 2, A_0, B_0) != 0) return 1;
   OUT[0] = 0.08333333333333333*(p[0]*p[0]*p[5]) + B_0[6]*B_0[6]*p[6] + B_0[4]*B_0[4]*p[6] + (0.08333333333333333*(p[7]*p[2]*p[2]))*B_0[14]*B_0[14] + B_0[0]*B_0[0]*p[5] + B_0[8]*B_0[8]*(0.08333333333333333*(p[6]*p[1]*p[1])) + p[7]*B_0[12]*B_0[12] + B_0[2]*B_0[2]*p[5] + p[7]*B_0[10]*B_0[10];
-  for (int i = 0; i < 1; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 
@@ -276,7 +293,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
       0.0, t10};
   if (lu_solve(8, 2, A_0, B_0) != 0) return 1;
   OUT[0] = p[8] - B_0[1]*p[5]*B_0[0] - B_0[15]*(0.08333333333333333*(p[7]*p[2]*p[2]))*B_0[14] - B_0[5]*p[6]*B_0[4] - B_0[11]*p[7]*B_0[10] + (p[4]*p[5] - B_0[3]*p[5])*B_0[2] + (p[7]*p[4] - p[7]*B_0[13])*B_0[12] + (p[4]*p[6] - B_0[7]*p[6])*B_0[6] - B_0[9]*B_0[8]*(0.08333333333333333*(p[6]*p[1]*p[1]));
-  for (int i = 0; i < 1; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 
@@ -299,7 +316,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[5] = x[4] - x[7] + 0.5*p[1]*s1 + t3;
   OUT[6] = x[6] + t2 - p[3];
   OUT[7] = x[7] + t3;
-  for (int i = 0; i < 8; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
@@ -322,7 +339,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[5] = x[13] + t3 + 0.5*x[14]*c1*p[1] - x[16];
   OUT[6] = t2 + x[15];
   OUT[7] = t3 + x[16];
-  for (int i = 0; i < 8; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
@@ -409,7 +426,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[69] = 0.0;
   OUT[70] = 1.0;
   OUT[71] = t3;
-  for (int i = 0; i < 72; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 72)) return 2;
   return 0;
 }
 
@@ -426,14 +443,14 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = t0 + t1 + t2 + t3 + t4 + t5 + t6 + t7 + t8;
   OUT[1] = p[4]*(x[1]*p[5] + p[7]*x[7] + x[4]*p[6]);
   OUT[2] = t0 + x[1]*(p[4]*p[5]) + t1 + (p[7]*p[4])*x[7] + t2 + t3 + x[4]*(p[4]*p[6]) + t4 + t5 + t6 + t7 + t8;
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
 int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[2];
   OUT[1] = x[8];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 

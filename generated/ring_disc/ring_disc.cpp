@@ -23,9 +23,26 @@
 #include "ring_disc.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace ring_disc {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -172,7 +189,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   OUT[11] = D_v;
   OUT[12] = B_1[1];
   OUT[13] = B_1[0];
-  for (int i = 0; i < 14; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 14)) return 2;
   return 0;
 }
 
@@ -202,7 +219,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   OUT[1] = t4;
   OUT[2] = t4;
   OUT[3] = p[1]*B_0[10]*B_0[10] + B_0[13]*B_0[13]*p[1] + B_0[1]*B_0[1]*p[0] + B_0[4]*B_0[4]*p[0] + t3*B_0[7]*B_0[7] + 0.5*(p[3]*p[3]*p[1]);
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -235,7 +252,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t7 = -B_0[11]*p[1] - (p[4]*p[1]*s0);
   OUT[0] = t6*B_0[3] - t3*B_0[0] - B_0[12]*t4 - B_0[8]*B_0[6]*t5 + B_0[9]*t7;
   OUT[1] = t6*B_0[4] - t4*B_0[13] - B_0[8]*B_0[7]*t5 + t7*B_0[10] - t3*B_0[1];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -249,7 +266,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[2] = x[7] - c0*t1 - x[10];
   OUT[3] = x[8] - t1*s0 - x[11];
   OUT[4] = c0*x[13]*(p[2] - p[3]) - x[7] + x[10];
-  for (int i = 0; i < 5; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 5)) return 2;
   return 0;
 }
 
@@ -292,7 +309,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[32] = 0.0;
   OUT[33] = 0.0;
   OUT[34] = c0*(p[2] - p[3]);
-  for (int i = 0; i < 35; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 35)) return 2;
   return 0;
 }
 
@@ -308,13 +325,13 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = t0 + t1 + t2 + t3 + t4 + t5;
   OUT[1] = ((c0*p[1])*x[4] - (p[1]*s0)*x[3] - x[0]*(p[0]*s0) + (c0*p[0])*x[1])*p[4];
   OUT[2] = (c0*p[4]*p[0])*x[1] + t0 + t1 - (p[4]*p[1]*s0)*x[3] - x[0]*(p[4]*p[0]*s0) + t2 + t3 + x[4]*(c0*p[4]*p[1]) + t4 + t5;
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
 int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[7];
-  for (int i = 0; i < 1; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 

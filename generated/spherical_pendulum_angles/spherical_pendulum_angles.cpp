@@ -24,9 +24,26 @@
 #include "spherical_pendulum_angles.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace spherical_pendulum_angles {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -106,7 +123,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   OUT[7] = bob_w;
   OUT[8] = B_0[0];
   OUT[9] = B_0[1];
-  for (int i = 0; i < 10; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 10)) return 2;
   return 0;
 }
 
@@ -122,7 +139,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   OUT[1] = 0.0;
   OUT[2] = 0.0;
   OUT[3] = t0*t1;
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -137,7 +154,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double r_bob_u = -(e_bob_u - p[2])*p[0];
   OUT[0] = -(s0*r_bob_u + c0*p[0]*s1*e_bob_w + c1*c0*e_bob_v*p[0])*p[1];
   OUT[1] = -s0*(c1*e_bob_w - e_bob_v*s1)*(p[0]*p[1]);
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -149,7 +166,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[0] = x[0] - c0*p[1];
   OUT[1] = x[1] - c1*s0*p[1];
   OUT[2] = x[2] - s0*p[1]*s1;
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
@@ -161,7 +178,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[0] = s0*p[1]*x[8] + x[5];
   OUT[1] = x[6] - c1*c0*p[1]*x[8] + x[9]*s0*p[1]*s1;
   OUT[2] = x[7] - c0*p[1]*x[8]*s1 - c1*x[9]*s0*p[1];
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
@@ -185,7 +202,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[12] = 1.0;
   OUT[13] = -c0*p[1]*s1;
   OUT[14] = -c1*s0*p[1];
-  for (int i = 0; i < 15; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 15)) return 2;
   return 0;
 }
 
@@ -196,7 +213,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = 0.5*(t0 + t1 + t2)*p[0];
   OUT[1] = -x[0]*(p[0]*p[2]);
   OUT[2] = 0.5*(t2 + t0 - 2.0*x[0]*p[2] + t1)*p[0];
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
@@ -204,7 +221,7 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 

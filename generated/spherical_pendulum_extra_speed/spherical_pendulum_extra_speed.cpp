@@ -24,9 +24,26 @@
 #include "spherical_pendulum_extra_speed.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace mbsc_gen {
 namespace spherical_pendulum_extra_speed {
+
+namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
 
 namespace {
 
@@ -146,7 +163,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   OUT[4] = B_1[0];
   OUT[5] = B_1[1];
   OUT[6] = v2;
-  for (int i = 0; i < 7; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 7)) return 2;
   return 0;
 }
 
@@ -164,7 +181,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   OUT[1] = t0;
   OUT[2] = t0;
   OUT[3] = (B_0[4]*B_0[4] + 1.0)*p[0];
-  for (int i = 0; i < 4; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 4)) return 2;
   return 0;
 }
 
@@ -180,20 +197,20 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t0 = B_0[5] + p[2];
   OUT[0] = -t0*B_0[3]*p[0];
   OUT[1] = -t0*p[0]*B_0[4];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
 int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   OUT[0] = x[0]*x[0] + x[2]*x[2] + x[1]*x[1] - p[1]*p[1];
-  for (int i = 0; i < 1; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 
 int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = 2.0*x[3]*x[0] + 2.0*x[4]*x[1] + 2.0*x[5]*x[2];
   OUT[1] = x[4]*x[4] - x[6] + x[3]*x[3] + x[5]*x[5];
-  for (int i = 0; i < 2; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -206,7 +223,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[5] = 2.0*x[4];
   OUT[6] = 2.0*x[5];
   OUT[7] = -1.0;
-  for (int i = 0; i < 8; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
@@ -217,7 +234,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   OUT[0] = 0.5*(t0 + t1 + t2)*p[0];
   OUT[1] = -x[0]*(p[0]*p[2]);
   OUT[2] = 0.5*(t0 + t1 + t2 - 2.0*x[0]*p[2])*p[0];
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 
@@ -225,7 +242,7 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
-  for (int i = 0; i < 3; ++i) if (!std::isfinite(OUT[i])) return 2;
+  if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
 

@@ -213,10 +213,11 @@ GeneratedFiles emit(const GeneratedModel& m) {
   check_model(m);
   bool need_limits = false;
   const std::string consts = constants(m, need_limits);
-  bool uses_solve = false, uses_chol = false;
+  bool uses_solve = false, uses_chol = false, uses_finite = false;
   for (const auto& f : m.functions) {
     uses_solve = uses_solve || f.body.find("lu_solve(") != std::string::npos;
     uses_chol = uses_chol || f.body.find("chol_solve(") != std::string::npos;
+    uses_finite = uses_finite || f.body.find("all_finite(") != std::string::npos;
   }
 
   // Header.
@@ -232,7 +233,8 @@ GeneratedFiles emit(const GeneratedModel& m) {
   Fragments s;
   s["banner"] = h["banner"];
   s["name"] = m.name;
-  s["support"] = (uses_solve ? lu_solve_code() + "\n" : "") + (uses_chol ? chol_solve_code() + "\n" : "");
+  s["support"] = (uses_finite ? all_finite_code() + "\n" : "") + (uses_solve ? lu_solve_code() + "\n" : "") +
+                 (uses_chol ? chol_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
   s["c_definitions"] = c_definitions(m);
 

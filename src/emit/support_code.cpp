@@ -3,6 +3,29 @@
 
 namespace mbsc::emit {
 
+// Finiteness of a whole output at once: a double is inf or NaN exactly when its 11
+// exponent bits are all ones. Testing the bits of every entry and branching once is
+// cheaper than std::isfinite with a branch per entry (about 4 ns of a 130 ns rhs of the
+// 4-link chain, bench/run_chain.sh).
+const std::string& all_finite_code() {
+  static const std::string code = R"cpp(namespace {
+
+// True when no entry of v[0..n) is infinite or NaN.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
 // In-place Cholesky factorisation A = L L^T (lower triangle), then forward and back
 // substitution on B. Only the lower triangle of A is read.
 const std::string& chol_solve_code() {

@@ -13,6 +13,10 @@ const std::string& lu_solve_code();
 /// symmetric positive definite systems (reduced mass matrices).
 const std::string& chol_solve_code();
 
+/// The anonymous-namespace `bool all_finite(const double* v, int n)` every function's
+/// status check uses (one branch for the whole output, not one per entry).
+const std::string& all_finite_code();
+
 /// The licence exception of generated files, as lines without comment markers.
 const std::string& generated_licence_text();
 

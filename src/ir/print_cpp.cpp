@@ -66,8 +66,7 @@ class Printer {
       }
     }
     if (prog_.nout > 0)
-      lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) +
-                      "; ++i) if (!std::isfinite(OUT[i])) return 2;");
+      lines.push_back("  if (!all_finite(OUT, " + std::to_string(prog_.nout) + ")) return 2;");
     else
       lines.push_back("  (void)OUT;");
     lines.push_back("  return 0;");
