@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Benchmark driver for the planar N-link pendulum chain: mbsc's generated rhs against
-// sympy's generated mass matrix and forcing (KanesMethod) + the Cholesky solve mbsc emits.
+// sympy's generated mass matrix and forcing (KanesMethod) + the Cholesky solve and the
+// finiteness status check mbsc emits.
 //
 // Built per N by bench/run_chain.sh:
 //   g++ -std=c++17 -O2 -march=x86-64 -DCHAIN_N=8 -DMBSC_HEADER='"chain8.hpp"' -I GEN/chain8
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <random>
@@ -144,13 +146,26 @@ int chol_solve(double* A, double* b) {
   return 0;
 }
 
-// sympy's rhs: x = (q, u), xdot = (u, M^-1 F).
+// The status check mbsc's generated functions end with (status 2 instead of a silent
+// inf or NaN), copied so that both rhs meet the same contract.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+
+// sympy's rhs: x = (q, u), xdot = (u, M^-1 F), with mbsc's solver and status check.
 int rhs_sympy(const double* x, double* xdot) {
   double M[N * N];
   double* F = xdot + N;
   SYMPY_MASS_FORCING(x, x + N, g_ps, M, F);
   for (int k = 0; k < N; ++k) xdot[k] = x[N + k];
-  return chol_solve(M, F);
+  if (chol_solve(M, F) != 0) return 1;
+  return all_finite(xdot, 2 * N) ? 0 : 2;
 }
 #endif
 

@@ -74,11 +74,12 @@ std::string where_text(const model::Model& m, const sym::Eom& eom, int n, const 
   for (size_t i = 0; i < defs.size(); ++i) {
     if (!needed[i]) continue;
     const std::string value = fmt_ex(finalize(m, eom, defs[i]->value), latex);
-    out += latex ? fmt::format("% where\\ {} = {}\\\\\n", defs[i]->sym.get_name(), value)
+    out += latex ? fmt::format("{} = {} \\\\\n", canonical_text(defs[i]->sym, true), value)
                  : fmt::format("  {} = {}\n", defs[i]->sym.get_name(), value);
   }
   if (out.empty()) return out;
-  return (latex ? std::string() : std::string("  where (evaluated in this order)\n")) + out + "\n";
+  return (latex ? std::string("% where (evaluated in this order)\n") : std::string("  where (evaluated in this order)\n")) + out +
+         "\n";
 }
 
 }  // namespace

@@ -46,6 +46,24 @@ TEST_CASE("print shows the matrices of a subsystem, in text and LaTeX", "[cli]")
   r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --stats");
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("rhs") != std::string::npos);
+  // h reads named variables (e_ rates, r_ suffix sums): they are listed under it, each
+  // after the ones it reads.
+  r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --what h");
+  CHECK(r.exit_code == 0);
+  const auto where = r.output.find("where (evaluated in this order)");
+  const auto e1 = r.output.find("  e_b1_u = "), e2 = r.output.find("  e_b2_u = "), r1 = r.output.find("  r_b1_u = ");
+  CHECK(where != std::string::npos);
+  CHECK((where < e1 && e1 < e2 && e2 < r1 && r1 != std::string::npos));
+  // With --state minimal the state is smaller, so rhs counts fewer operations.
+  auto ops_of_rhs = [](const std::string& stats) {
+    const auto at = stats.find("\nrhs ");
+    const auto end = stats.find('\n', at + 1);
+    const std::string line = stats.substr(at + 1, end - at - 1);
+    return std::stol(line.substr(line.find_last_of(' ') + 1));
+  };
+  const long full = ops_of_rhs(run(kMbsc + " print " + model("double_pendulum.mbs") + " --stats").output);
+  const long minimal = ops_of_rhs(run(kMbsc + " print " + model("double_pendulum.mbs") + " --stats --state minimal").output);
+  CHECK(minimal < full);
   r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --node nosuch");
   CHECK(r.exit_code == 1);
 }
