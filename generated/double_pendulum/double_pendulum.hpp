@@ -7,6 +7,7 @@
 //   position_constraints: 6 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 14
 //   velocity_constraints: 6 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 18
 //   constraint_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
+//   position_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
 //   energy: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //
@@ -60,6 +61,8 @@ inline constexpr const char* kParamNames[] = {"m1", "m2", "l1", "l2", "g"};
 
 inline constexpr const char* kConstraintNames[] = {"b1x", "b1y", "b2x", "b2y"};
 
+inline constexpr const char* kPositionConstraintNames[] = {"b1x", "b1y", "b2x", "b2y"};
+
 inline constexpr const char* kOutputNames[] = {"tip_x", "tip_y"};
 
 inline constexpr double kParamDefaults[] = {1.0, 0.5, 1.0, 0.8, 9.81};
@@ -94,6 +97,11 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
+/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
@@ -115,6 +123,7 @@ int mbsc_double_pendulum_forcing(double t, const double* x, const double* u, con
 int mbsc_double_pendulum_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_double_pendulum_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

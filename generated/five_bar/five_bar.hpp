@@ -7,6 +7,7 @@
 //   position_constraints: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64
 //   velocity_constraints: 28 adds, 42 muls, 1 divs, 8 calls, 0 solve flops, total 79
 //   constraint_jacobian: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33
+//   position_jacobian: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32
 //   energy: 43 adds, 78 muls, 0 divs, 0 calls, 0 solve flops, total 121
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //
@@ -130,6 +131,25 @@ inline constexpr const char* kConstraintNames[] = {
     "gear_left",
     "gear_right"};
 
+inline constexpr const char* kPositionConstraintNames[] = {
+    "linkage.left.upper_x",
+    "linkage.left.upper_y",
+    "linkage.left.upper_angle",
+    "linkage.left.lower_x",
+    "linkage.left.lower_y",
+    "linkage.left.lower_angle",
+    "linkage.right.upper_x",
+    "linkage.right.upper_y",
+    "linkage.right.upper_angle",
+    "linkage.right.lower_x",
+    "linkage.right.lower_y",
+    "linkage.right.lower_angle",
+    "linkage.left_tip_x",
+    "linkage.left_tip_y",
+    "linkage.right_tip_x",
+    "linkage.right_tip_y",
+    "linkage.chi_def"};
+
 inline constexpr const char* kOutputNames[] = {"payload_x", "payload_y"};
 
 inline constexpr double kParamDefaults[] = {
@@ -183,6 +203,11 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
+/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 43 adds, 78 muls, 0 divs, 0 calls, 0 solve flops, total 121.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
@@ -204,6 +229,7 @@ int mbsc_five_bar_forcing(double t, const double* x, const double* u, const doub
 int mbsc_five_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_five_bar_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

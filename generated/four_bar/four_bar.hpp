@@ -7,6 +7,7 @@
 //   position_constraints: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39
 //   velocity_constraints: 16 adds, 24 muls, 0 divs, 6 calls, 0 solve flops, total 46
 //   constraint_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
+//   position_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //
@@ -74,6 +75,16 @@ inline constexpr const char* kConstraintNames[] = {
     "Q_x",
     "Q_y"};
 
+inline constexpr const char* kPositionConstraintNames[] = {
+    "O_x",
+    "O_y",
+    "A_x",
+    "A_y",
+    "B_x",
+    "B_y",
+    "Q_x",
+    "Q_y"};
+
 inline constexpr const char* kOutputNames[] = {"crank_angle", "rocker_angle"};
 
 inline constexpr double kParamDefaults[] = {0.3, 1.0, 0.8, 0.9, 9.81, 0.3, 1.0, 0.8, 0.0};
@@ -108,6 +119,11 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
+/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
@@ -129,6 +145,7 @@ int mbsc_four_bar_forcing(double t, const double* x, const double* u, const doub
 int mbsc_four_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_four_bar_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

@@ -66,6 +66,10 @@ inline constexpr const char* kConstraintNames[] = {
     "disc_rolls_y",
     "centre_line"};
 
+// kPositionConstraintNames is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr const char* kPositionConstraintNames[1] = {""};
+
 inline constexpr const char* kOutputNames[] = {"ring_speed"};
 
 inline constexpr double kParamDefaults[] = {0.67, 0.08, 1.0, 0.3, 9.8, 0.9272952180016122};

@@ -7,6 +7,7 @@
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
+//   position_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
 //   energy: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //
@@ -58,6 +59,8 @@ inline constexpr const char* kParamNames[] = {"m", "r", "g"};
 
 inline constexpr const char* kConstraintNames[] = {"bx", "by", "bz"};
 
+inline constexpr const char* kPositionConstraintNames[] = {"bx", "by", "bz"};
+
 inline constexpr const char* kOutputNames[] = {"bob_x", "bob_y", "bob_z"};
 
 inline constexpr double kParamDefaults[] = {1.0, 1.0, 9.81};
@@ -92,6 +95,11 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
+/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
@@ -113,6 +121,7 @@ int mbsc_spherical_pendulum_angles_forcing(double t, const double* x, const doub
 int mbsc_spherical_pendulum_angles_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_angles_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

@@ -7,6 +7,7 @@
 //   position_constraints: 3 adds, 4 muls, 0 divs, 0 calls, 0 solve flops, total 7
 //   velocity_constraints: 2 adds, 6 muls, 0 divs, 0 calls, 0 solve flops, total 8
 //   constraint_jacobian: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
+//   position_jacobian: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
 //   energy: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //
@@ -48,6 +49,8 @@ inline constexpr const char* kParamNames[] = {"m", "r", "g"};
 
 inline constexpr const char* kConstraintNames[] = {"rod"};
 
+inline constexpr const char* kPositionConstraintNames[] = {"rod"};
+
 inline constexpr const char* kOutputNames[] = {"bob_x", "bob_y", "bob_z"};
 
 inline constexpr double kParamDefaults[] = {1.0, 1.0, 9.81};
@@ -82,6 +85,11 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
+/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
@@ -103,6 +111,7 @@ int mbsc_spherical_pendulum_cartesian_forcing(double t, const double* x, const d
 int mbsc_spherical_pendulum_cartesian_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_cartesian_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_cartesian_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_cartesian_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_cartesian_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_cartesian_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
                 "only these functions (comma-separated): rhs mass_matrix forcing position_constraints "
-                "velocity_constraints constraint_jacobian energy outputs full_state");
+                "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state");
   std::string state = "full";
   g->add_option("--state", state,
                 "full: x = (all coordinates, all speeds); minimal: x = (coordinates not given explicitly by a "

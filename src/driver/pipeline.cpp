@@ -21,6 +21,7 @@ const std::vector<std::string>& all_function_names() {
                                                  "position_constraints",
                                                  "velocity_constraints",
                                                  "constraint_jacobian",
+                                                 "position_jacobian",
                                                  "energy",
                                                  "outputs",
                                                  "full_state"};
@@ -111,9 +112,11 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
   if (!opt.functions.empty()) {
-    const char* full_only = "constraint_jacobian";  // d/d(all speeds): a full-state notion
-    if (minimal && opt.functions.count(full_only))
-      diags.error(SourcePos{}, "--outputs constraint_jacobian: the Jacobian over all speeds is emitted with --state full only");
+    // Jacobians over all speeds / all coordinates: full-state notions.
+    for (const char* full_only : {"constraint_jacobian", "position_jacobian"})
+      if (minimal && opt.functions.count(full_only))
+        diags.error(SourcePos{}, fmt::format("--outputs {}: the Jacobian over all {} is emitted with --state full only", full_only,
+                                             std::string(full_only) == "constraint_jacobian" ? "speeds" : "coordinates"));
     if (!minimal && opt.functions.count("full_state"))
       diags.error(SourcePos{}, "--outputs full_state: only --state minimal has a state to expand");
     if (diags.has_errors()) return {};
@@ -206,6 +209,13 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
     specs.push_back(f);
   }
+  if (wanted("position_jacobian") && !pos.empty() && !minimal) {
+    ir::FunctionSpec f{"position_jacobian", "d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)", "J",
+                       "kNposc*kNq", {}, {}};
+    for (const auto& g : pos)
+      for (const auto& q : m.coords) f.outputs.push_back(g.diff(q.sym));
+    specs.push_back(f);
+  }
   if (wanted("energy") && eom.has_energy) {
     ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", rebuild, {}};
     f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
@@ -275,10 +285,15 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     params.push_back(m.params[k].name);
     defaults.push_back(m.param_defaults[k]);
   }
-  for (const auto& c : m.constraints) cons.push_back(c.name);
+  std::vector<std::string> position_cons;
+  for (const auto& c : m.constraints) {
+    cons.push_back(c.name);
+    if (c.level == model::Constraint::Level::Position) position_cons.push_back(c.name);
+  }
   for (const auto& o : m.outputs) outs.push_back(o.name);
   g.name_lists = {{"kStateNames", state},   {"kDofNames", dof},         {"kInputNames", inputs},
-                  {"kParamNames", params},  {"kConstraintNames", cons}, {"kOutputNames", outs}};
+                  {"kParamNames", params},  {"kConstraintNames", cons}, {"kPositionConstraintNames", position_cons},
+                  {"kOutputNames", outs}};
   g.double_lists = {{"kParamDefaults", defaults}};
   if (ms) {
     g.int_constants.push_back({"kNqFull", nq_full});

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-2.0-or-later WITH mbsc-runtime-exception
+// (see LICENSE: this header may be included in applications under any terms)
+#pragma once
+/// Assembly: a consistent state from partial data, for a model generated with the full
+/// state (x = (q0, q1)). The caller marks which coordinates and speeds are given; the
+/// others start from the caller's guesses.
+///   1. Newton on the position constraints over the free coordinates, each step the
+///      least-squares solution of J_free dq = -g (column-pivoted QR, so redundant
+///      constraints and extra free coordinates are fine: the surplus keeps its guess);
+///   2. the velocity constraints, affine in the speeds (A v + b = 0), solved once for the
+///      free speeds.
+/// Failure says which constraint is left unsatisfied; a final Jacobian whose pivots
+/// span more than `singular_ratio` is reported as near a singular configuration.
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "mbsc/runtime/least_squares.hpp"
+
+namespace mbsc::runtime {
+
+/// The generated functions assembly needs, filled from the generated header:
+///   {F::kNq, F::kNu, F::kNposc, F::kNc, F::position_constraints, F::position_jacobian,
+///    F::velocity_constraints, F::constraint_jacobian, F::kPositionConstraintNames,
+///    F::kConstraintNames}
+/// (a model without position constraints passes nullptr for the first two functions).
+struct AssemblyModel {
+  using Fn = int (*)(double, const double*, const double*, const double*, double*);
+  int nq, nu, nposc, nc;
+  Fn position_constraints;               // kNposc residuals
+  Fn position_jacobian;                  // kNposc x kNq
+  Fn velocity_constraints;               // kNc residuals, affine in the speeds
+  Fn constraint_jacobian;                // kNc x kNu
+  const char* const* position_names;     // kNposc names
+  const char* const* constraint_names;   // kNc names
+};
+
+struct AssemblyOptions {
+  double tolerance = 1e-12;     // on the largest residual, scaled by max(1, |x|)
+  int max_iterations = 50;
+  double singular_ratio = 1e8;  // largest / smallest pivot of the final Jacobian
+};
+
+struct AssemblyResult {
+  enum class Status { Ok, PositionNotSolved, VelocityNotSolved, EvaluationFailed };
+  Status status = Status::Ok;
+  int iterations = 0;
+  double position_residual = 0.0;  // largest |g| at the end
+  double velocity_residual = 0.0;  // largest |A v + b| at the end
+  int worst_constraint = -1;       // index into the position (or all) residuals when not solved
+  bool near_singular = false;      // the last Jacobian's pivots span more than singular_ratio
+  double pivot_ratio = 0.0;
+  std::string message;             // what happened, naming the constraint on failure
+  bool ok() const { return status == Status::Ok; }
+};
+
+/// x: the full state (kNq + kNu), given entries set, the rest guessed. given_q[i] / given_u[j]
+/// mark the coordinates / speeds that must not change.
+inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<double>& x, const std::vector<bool>& given_q,
+                               const std::vector<bool>& given_u, const double* u, const double* p,
+                               const AssemblyOptions& opt = {}) {
+  AssemblyResult res;
+  auto scale = [&]() {
+    double s = 1.0;
+    for (double e : x) s = std::max(s, std::fabs(e));
+    return s;
+  };
+  auto worst = [](const std::vector<double>& r, int& at) {
+    double w = 0.0;
+    at = -1;
+    for (std::size_t i = 0; i < r.size(); ++i)
+      if (!(std::fabs(r[i]) <= w)) w = std::fabs(r[i]), at = static_cast<int>(i);
+    return w;
+  };
+  // ---- positions ----
+  std::vector<int> free_q;
+  for (int i = 0; i < m.nq; ++i)
+    if (!given_q[static_cast<std::size_t>(i)]) free_q.push_back(i);
+  if (m.nposc > 0) {
+    std::vector<double> g(static_cast<std::size_t>(m.nposc)), J(static_cast<std::size_t>(m.nposc) * static_cast<std::size_t>(m.nq));
+    for (;;) {
+      if (m.position_constraints(t, x.data(), u, p, g.data()) != 0) {
+        res.status = AssemblyResult::Status::EvaluationFailed;
+        res.message = "the position constraints could not be evaluated (non-finite value) at the current guess";
+        return res;
+      }
+      res.position_residual = worst(g, res.worst_constraint);
+      if (res.position_residual <= opt.tolerance * scale()) break;
+      if (res.iterations == opt.max_iterations || free_q.empty()) {
+        res.status = AssemblyResult::Status::PositionNotSolved;
+        const std::string name = res.worst_constraint >= 0 ? m.position_names[res.worst_constraint] : "?";
+        res.message = "position constraint '" + name + "' cannot be satisfied from the given data (residual " +
+                      std::to_string(res.position_residual) + " after " + std::to_string(res.iterations) + " Newton steps)";
+        return res;
+      }
+      if (m.position_jacobian(t, x.data(), u, p, J.data()) != 0) {
+        res.status = AssemblyResult::Status::EvaluationFailed;
+        res.message = "the position Jacobian could not be evaluated (non-finite value)";
+        return res;
+      }
+      std::vector<double> Jf(static_cast<std::size_t>(m.nposc) * free_q.size()), rhs(static_cast<std::size_t>(m.nposc));
+      for (int i = 0; i < m.nposc; ++i) {
+        for (std::size_t k = 0; k < free_q.size(); ++k)
+          Jf[static_cast<std::size_t>(i) * free_q.size() + k] =
+              J[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nq) + static_cast<std::size_t>(free_q[k])];
+        rhs[static_cast<std::size_t>(i)] = -g[static_cast<std::size_t>(i)];
+      }
+      const LeastSquares step = solve_least_squares(Jf, rhs, m.nposc, static_cast<int>(free_q.size()));
+      for (std::size_t k = 0; k < free_q.size(); ++k) x[static_cast<std::size_t>(free_q[k])] += step.x[k];
+      res.pivot_ratio = step.smallest_pivot > 0 ? step.largest_pivot / step.smallest_pivot : INFINITY;
+      ++res.iterations;
+    }
+    // Conditioning where we ended (also when the guess was already consistent).
+    if (!free_q.empty() && m.position_jacobian(t, x.data(), u, p, J.data()) == 0) {
+      std::vector<double> Jf(static_cast<std::size_t>(m.nposc) * free_q.size());
+      for (int i = 0; i < m.nposc; ++i)
+        for (std::size_t k = 0; k < free_q.size(); ++k)
+          Jf[static_cast<std::size_t>(i) * free_q.size() + k] =
+              J[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nq) + static_cast<std::size_t>(free_q[k])];
+      const LeastSquares at_end = solve_least_squares(Jf, std::vector<double>(static_cast<std::size_t>(m.nposc), 0.0), m.nposc,
+                                                      static_cast<int>(free_q.size()));
+      res.pivot_ratio = at_end.smallest_pivot > 0 ? at_end.largest_pivot / at_end.smallest_pivot : INFINITY;
+    }
+  }
+  // ---- speeds: A v + b = 0 for the free ones ----
+  if (m.nc > 0) {
+    const std::size_t nq = static_cast<std::size_t>(m.nq);
+    std::vector<int> free_u;
+    for (int j = 0; j < m.nu; ++j)
+      if (!given_u[static_cast<std::size_t>(j)]) {
+        free_u.push_back(j);
+        x[nq + static_cast<std::size_t>(j)] = 0.0;
+      }
+    std::vector<double> A(static_cast<std::size_t>(m.nc) * static_cast<std::size_t>(m.nu)), r(static_cast<std::size_t>(m.nc));
+    if (m.constraint_jacobian(t, x.data(), u, p, A.data()) != 0 || m.velocity_constraints(t, x.data(), u, p, r.data()) != 0) {
+      res.status = AssemblyResult::Status::EvaluationFailed;
+      res.message = "the velocity constraints could not be evaluated (non-finite value)";
+      return res;
+    }
+    std::vector<double> Af(static_cast<std::size_t>(m.nc) * free_u.size()), rhs(static_cast<std::size_t>(m.nc));
+    for (int i = 0; i < m.nc; ++i) {
+      for (std::size_t k = 0; k < free_u.size(); ++k)
+        Af[static_cast<std::size_t>(i) * free_u.size() + k] =
+            A[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nu) + static_cast<std::size_t>(free_u[k])];
+      rhs[static_cast<std::size_t>(i)] = -r[static_cast<std::size_t>(i)];
+    }
+    const LeastSquares v = solve_least_squares(Af, rhs, m.nc, static_cast<int>(free_u.size()));
+    for (std::size_t k = 0; k < free_u.size(); ++k) x[nq + static_cast<std::size_t>(free_u[k])] = v.x[k];
+    m.velocity_constraints(t, x.data(), u, p, r.data());
+    int at = -1;
+    res.velocity_residual = worst(r, at);
+    if (!(res.velocity_residual <= opt.tolerance * scale())) {
+      res.status = AssemblyResult::Status::VelocityNotSolved;
+      res.worst_constraint = at;
+      res.message = std::string("velocity constraint '") + (at >= 0 ? m.constraint_names[at] : "?") +
+                    "' cannot be satisfied with the given speeds (residual " + std::to_string(res.velocity_residual) + ")";
+      return res;
+    }
+  }
+  res.near_singular = res.pivot_ratio > opt.singular_ratio;
+  res.message = res.near_singular ? "assembled, but near a singular configuration (Jacobian pivots span " +
+                                        std::to_string(res.pivot_ratio) + ")"
+                                  : "assembled";
+  return res;
+}
+
+}  // namespace mbsc::runtime

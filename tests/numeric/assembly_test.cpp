@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Assembly (include/mbsc/runtime/assemble.hpp): consistent states of the four-bar and the
+// five-bar from their driving angles and rates, and a clear failure for data that cannot
+// be completed.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+
+#include "five_bar/five_bar.hpp"
+#include "four_bar/four_bar.hpp"
+#include "mbsc/runtime/assemble.hpp"
+#include "test_support.hpp"
+
+using mbsc::runtime::AssemblyModel;
+using mbsc::runtime::AssemblyResult;
+using mbsc_test::index_of;
+
+namespace {
+
+template <class T>
+double largest(const T& v) {
+  double w = 0.0;
+  for (double e : v) w = std::max(w, std::fabs(e));
+  return w;
+}
+
+}  // namespace
+
+TEST_CASE("assembly: four-bar from the crank angle and rate", "[numeric][assembly]") {
+  namespace F = mbsc_gen::four_bar;
+  const AssemblyModel model{F::kNq,
+                            F::kNu,
+                            F::kNposc,
+                            F::kNc,
+                            F::position_constraints,
+                            F::position_jacobian,
+                            F::velocity_constraints,
+                            F::constraint_jacobian,
+                            F::kPositionConstraintNames,
+                            F::kConstraintNames};
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
+  for (double crank : {0.3, 1.2, 2.5, 4.0, 5.5}) {
+    // Only the crank is given; the other bodies start at rough angles, their centres at 0.
+    std::vector<double> x(F::kNx, 0.0);
+    x[ix("crank.theta")] = crank;
+    x[ix("coupler.theta")] = 0.4;
+    x[ix("rocker.theta")] = 1.9;
+    x[ix("crank.w")] = 2.0;
+    std::vector<bool> given_q(F::kNq, false), given_u(F::kNu, false);
+    given_q[ix("crank.theta")] = true;
+    given_u[ix("crank.w") - F::kNq] = true;
+    const AssemblyResult r = mbsc::runtime::assemble(model, 0.0, x, given_q, given_u, nullptr, F::kParamDefaults);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    CHECK(x[ix("crank.theta")] == crank);
+    CHECK(x[ix("crank.w")] == 2.0);
+    // Independent check with the generated residuals.
+    std::vector<double> g(F::kNposc), v(F::kNc);
+    REQUIRE(F::position_constraints(0.0, x.data(), nullptr, F::kParamDefaults, g.data()) == 0);
+    REQUIRE(F::velocity_constraints(0.0, x.data(), nullptr, F::kParamDefaults, v.data()) == 0);
+    CHECK(largest(g) < 1e-12);
+    CHECK(largest(v) < 1e-12);
+    CHECK(!r.near_singular);
+  }
+}
+
+TEST_CASE("assembly: data that cannot be completed name the constraint", "[numeric][assembly]") {
+  namespace F = mbsc_gen::four_bar;
+  const AssemblyModel model{F::kNq,          F::kNu,          F::kNposc, F::kNc, F::position_constraints, F::position_jacobian,
+                            F::velocity_constraints, F::constraint_jacobian, F::kPositionConstraintNames, F::kConstraintNames};
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
+  // Crank and rocker both given, at angles the coupler cannot join.
+  std::vector<double> x(F::kNx, 0.0);
+  x[ix("crank.theta")] = 0.0;
+  x[ix("rocker.theta")] = 0.0;
+  std::vector<bool> given_q(F::kNq, false), given_u(F::kNu, false);
+  given_q[ix("crank.theta")] = true;
+  given_q[ix("rocker.theta")] = true;
+  const AssemblyResult r = mbsc::runtime::assemble(model, 0.0, x, given_q, given_u, nullptr, F::kParamDefaults);
+  CHECK(r.status == AssemblyResult::Status::PositionNotSolved);
+  REQUIRE(r.worst_constraint >= 0);
+  CHECK(r.message.find(std::string("'") + F::kPositionConstraintNames[r.worst_constraint] + "'") != std::string::npos);
+  // Speeds that contradict the constraints: the crank and rocker rates both given.
+  std::vector<double> y(F::kNx, 0.0);
+  y[ix("crank.theta")] = 1.2;
+  y[ix("coupler.theta")] = 0.4;
+  y[ix("rocker.theta")] = 1.9;
+  y[ix("crank.w")] = 1.0;
+  y[ix("rocker.w")] = 5.0;
+  std::vector<bool> gq(F::kNq, false), gu(F::kNu, false);
+  gq[ix("crank.theta")] = true;
+  gu[ix("crank.w") - F::kNq] = true;
+  gu[ix("rocker.w") - F::kNq] = true;
+  const AssemblyResult s = mbsc::runtime::assemble(model, 0.0, y, gq, gu, nullptr, F::kParamDefaults);
+  CHECK(s.status == AssemblyResult::Status::VelocityNotSolved);
+  CHECK(s.message.find("velocity constraint '") != std::string::npos);
+}
+
+TEST_CASE("assembly: five-bar with motors from the two base angles and rates", "[numeric][assembly]") {
+  namespace F = mbsc_gen::five_bar;
+  const AssemblyModel model{F::kNq,          F::kNu,          F::kNposc, F::kNc, F::position_constraints, F::position_jacobian,
+                            F::velocity_constraints, F::constraint_jacobian, F::kPositionConstraintNames, F::kConstraintNames};
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
+  std::vector<double> x(F::kNx, 0.0);
+  // The base angles and their rates (the thesis's inputs), rough guesses for the elbows.
+  x[ix("linkage.left.theta")] = 2.0;
+  x[ix("linkage.right.theta")] = 1.1;
+  x[ix("linkage.left.phi")] = 1.0;
+  x[ix("linkage.right.phi")] = 2.1;
+  x[ix("linkage.left.dtheta")] = 0.5;
+  x[ix("linkage.right.dtheta")] = -0.3;
+  std::vector<bool> given_q(F::kNq, false), given_u(F::kNu, false);
+  given_q[ix("linkage.left.theta")] = true;
+  given_q[ix("linkage.right.theta")] = true;
+  given_u[ix("linkage.left.dtheta") - F::kNq] = true;
+  given_u[ix("linkage.right.dtheta") - F::kNq] = true;
+  const double u[2] = {0.0, 0.0};
+  const AssemblyResult r = mbsc::runtime::assemble(model, 0.0, x, given_q, given_u, u, F::kParamDefaults);
+  INFO(r.message);
+  REQUIRE(r.ok());
+  std::vector<double> g(F::kNposc), v(F::kNc);
+  REQUIRE(F::position_constraints(0.0, x.data(), u, F::kParamDefaults, g.data()) == 0);
+  REQUIRE(F::velocity_constraints(0.0, x.data(), u, F::kParamDefaults, v.data()) == 0);
+  CHECK(largest(g) < 1e-12);
+  CHECK(largest(v) < 1e-12);
+  CHECK(x[ix("linkage.left.theta")] == 2.0);
+  CHECK(x[ix("linkage.right.dtheta")] == -0.3);
+  // The payload closes the loop: both elbow chains end at it.
+  const double s = 0.1, aU = 0.25, aB = 0.35;
+  const double lx = -s + aU * std::cos(x[ix("linkage.left.theta")]) + aB * std::cos(x[ix("linkage.left.phi")]);
+  const double rx = s + aU * std::cos(x[ix("linkage.right.theta")]) + aB * std::cos(x[ix("linkage.right.phi")]);
+  CHECK(lx == Approx(rx).margin(1e-9));
+}
