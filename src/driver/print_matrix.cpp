@@ -139,8 +139,19 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       const auto rows = to_rows(w == "M" ? r.M : r.h, m, eom);
       out += w == "M" ? matrix_text("M", inames, inames, rows, latex) : matrix_text("h", inames, {"value"}, rows, latex);
       out += where_text(m, eom, n, rows, latex);
+    } else if (w == "invariants") {
+      // The node's constraints as written or as joints expand them: residual = 0.
+      out += latex ? fmt::format("% invariants of {}\n", who) : fmt::format("invariants of {} (residual = 0)\n", who);
+      for (int ci : m.nodes[n].constraints) {
+        const auto& c = m.constraints[ci];
+        const char* level = c.level == model::Constraint::Level::Position ? "position" : "velocity";
+        const std::string text = fmt_ex(finalize(m, eom, c.residual), latex);
+        out += latex ? fmt::format("% {} ({})\n{} = 0 \\\\\n", c.name, level, text)
+                     : fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
+      }
+      out += "\n";
     } else {
-      throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h)", w));
+      throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h invariants)", w));
     }
   }
   return out;

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "mbsc/model/expr_convert.hpp"
+#include "planar_library.hpp"
 
 namespace mbsc::model {
 
@@ -114,6 +115,9 @@ class Builder {
           if (gravity_stmt_) diags_.error(s->pos, "gravity given twice");
           gravity_stmt_ = s.get();
           break;
+        case Kind::Ground:
+          declare_ground(*s);
+          break;
         default:
           break;
       }
@@ -125,6 +129,23 @@ class Builder {
         auto e = conv.convert(*g);
         if (e) m_.gravity.push_back(*e);
       }
+    }
+  }
+
+  // ground { point NAME (x, y)  axis NAME (px, py) (dx, dy) }: fixed points and lines.
+  void declare_ground(const Statement& g) {
+    ExprConverter conv = converter(-1);
+    for (const auto& sp : g.body) {
+      const Statement& s = *sp;
+      std::vector<GiNaC::ex> v;
+      for (const auto& e : s.exprs) {
+        auto c = conv.convert(*e);
+        if (!c) return;
+        v.push_back(*c);
+      }
+      if (s.kind == Kind::Point) library_.add_point(PlanarLibrary::kGround, s.name, v[0], v[1], s.name_pos);
+      else if (s.kind == Kind::Axis) library_.add_axis(PlanarLibrary::kGround, s.name, v[0], v[1], v[2], v[3], s.name_pos);
+      else diags_.error(s.pos, "only 'point' and 'axis' statements belong in 'ground'");
     }
   }
 
@@ -460,6 +481,53 @@ class Builder {
         case Kind::Subsystem:
         case Kind::Coordinate:
           break;
+        case Kind::Ground:
+          if (id != m_.root()) diags_.error(s.pos, "'ground' belongs at the top level");
+          break;
+        case Kind::Point:
+        case Kind::Com:
+        case Kind::Axis: {
+          std::vector<GiNaC::ex> v;
+          for (const auto& e : s.exprs) {
+            auto c = convert(id, e, false, false, false);
+            if (!c) break;
+            v.push_back(*c);
+          }
+          if (v.size() != s.exprs.size()) break;
+          if (s.kind == Kind::Point) library_.add_point(id, s.name, v[0], v[1], s.name_pos);
+          else if (s.kind == Kind::Com) library_.set_com(id, v[0], v[1], s.pos);
+          else library_.add_axis(id, s.name, v[0], v[1], v[2], v[3], s.name_pos);
+          break;
+        }
+        case Kind::Joint:
+        case Kind::Spring:
+        case Kind::Damper: {
+          PlanarLibrary::Element e;
+          e.name = s.name;
+          e.kind = s.kind == Kind::Joint ? s.kind_name : s.kind == Kind::Spring ? "spring" : "damper";
+          e.pos = s.pos;
+          e.kind_pos = s.kind == Kind::Joint ? s.kind_pos : s.pos;
+          e.end1 = s.paths[0].text;
+          e.end1_pos = s.paths[0].pos;
+          e.end2 = s.paths[1].text;
+          e.end2_pos = s.paths[1].pos;
+          e.option = s.kind == Kind::Joint ? s.level : "";
+          e.option_pos = s.path.pos;
+          // Actuator values may read the state and inputs; spring and damper data are constants.
+          const bool actuator = s.kind == Kind::Joint && s.level != "angle";
+          if (s.value) {
+            auto v = convert(id, s.value, actuator, false, false);
+            if (!v) break;
+            e.value = *v;
+          }
+          if (!s.exprs.empty()) {
+            auto v = convert(id, s.exprs[0], false, false, false);
+            if (!v) break;
+            e.length = *v;
+          }
+          library_.add_element(id, e);
+          break;
+        }
       }
     }
     if (body_kind && !has_mass_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
@@ -648,6 +716,7 @@ class Builder {
 
   Diagnostics& diags_;
   Model m_;
+  PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
   std::map<std::string, Entry> table_;
   std::map<std::string, const Statement*> components_;
   const Statement* gravity_stmt_ = nullptr;

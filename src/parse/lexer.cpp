@@ -9,10 +9,10 @@ namespace mbsc::parse {
 
 namespace {
 
-constexpr std::array<const char*, 18> statement_keywords = {
+constexpr std::array<const char*, 25> statement_keywords = {
     "model",      "parameter", "input",   "gravity", "include", "component",   "subsystem", "body",   "coordinate",
     "speed",      "constraint", "force",  "mass",    "inertia", "kinetic",     "potential", "independent",
-    "output"};
+    "output",     "point",      "com",    "axis",    "ground",  "joint",       "spring",    "damper"};
 
 constexpr std::array<const char*, 4> other_keywords = {"position", "velocity", "nonlinear", "energy"};
 

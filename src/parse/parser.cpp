@@ -251,6 +251,12 @@ class Parser {
     if (k == "potential") return parse_valued(out, kw, Statement::Kind::Potential);
     if (k == "independent") return parse_independent(out, kw);
     if (k == "output") return parse_output(out, kw);
+    if (k == "point") return parse_point(out, kw);
+    if (k == "com") return parse_com(out, kw);
+    if (k == "axis") return parse_axis(out, kw);
+    if (k == "ground") return parse_ground(out, kw);
+    if (k == "joint") return parse_joint(out, kw);
+    if (k == "spring" || k == "damper") return parse_spring(out, kw);
     fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
   }
 
@@ -489,6 +495,103 @@ class Parser {
     push(out, std::move(st));
   }
 
+  // '(' expr ',' expr ')'
+  void parse_pair(std::vector<ExprPtr>& into, const std::string& what) {
+    expect(TK::LParen, "'(' before " + what);
+    into.push_back(parse_expr());
+    expect(TK::Comma, "',' between the two components of " + what);
+    into.push_back(parse_expr());
+    expect(TK::RParen, "')' after " + what);
+  }
+
+  // 'point' IDENT '(' expr ',' expr ')'
+  void parse_point(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Point, kw);
+    const Token name = expect_name("point name after 'point'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    parse_pair(st.exprs, "the body coordinates of point '" + name.text + "'");
+    end_statement("point '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'com' '(' expr ',' expr ')'
+  void parse_com(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Com, kw);
+    parse_pair(st.exprs, "the body coordinates of the mass centre");
+    end_statement("com");
+    push(out, std::move(st));
+  }
+
+  // 'axis' IDENT '(' expr ',' expr ')' '(' expr ',' expr ')'
+  void parse_axis(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Axis, kw);
+    const Token name = expect_name("axis name after 'axis'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    parse_pair(st.exprs, "the point of axis '" + name.text + "'");
+    parse_pair(st.exprs, "the direction of axis '" + name.text + "'");
+    end_statement("axis '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'ground' '{' (point | axis)* '}'
+  void parse_ground(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Ground, kw);
+    if (!at_brace_past_newlines()) fail_expected("'{' after 'ground'");
+    parse_block(st, "ground");
+    end_statement("the body of ground");
+    push(out, std::move(st));
+  }
+
+  // 'joint' [IDENT ':'] IDENT PATH PATH [IDENT expr]
+  void parse_joint(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Joint, kw);
+    Token kind = expect_name("joint kind (revolute, prismatic, weld) or 'NAME :' after 'joint'");
+    if (accept(TK::Colon)) {
+      st.name = kind.text;
+      st.name_pos = kind.pos;
+      kind = expect_name("joint kind (revolute, prismatic, weld) after 'joint " + st.name + " :'");
+    }
+    st.kind_name = kind.text;
+    st.kind_pos = kind.pos;
+    const std::string what = "joint" + (st.name.empty() ? std::string() : " '" + st.name + "'");
+    st.paths.push_back(parse_path("first point or axis of " + what));
+    st.paths.push_back(parse_path("second point of " + what));
+    // An option word ("force" is also a statement keyword, so test it before the end).
+    const Token& opt = peek();
+    if (opt.kind == TK::Ident || (opt.kind == TK::Keyword && opt.text == "force")) {
+      st.path = ast::Path{opt.text, opt.pos};  // the option keyword and where it is
+      st.level = take().text;
+      st.value = parse_expr();
+    }
+    end_statement(what);
+    push(out, std::move(st));
+  }
+
+  // 'spring' IDENT PATH PATH 'stiffness' expr ['length' expr]
+  // 'damper' IDENT PATH PATH 'coefficient' expr
+  void parse_spring(std::vector<StatementPtr>& out, const Token& kw) {
+    const bool spring = kw.text == "spring";
+    Statement st = begin(spring ? Statement::Kind::Spring : Statement::Kind::Damper, kw);
+    const Token name = expect_name(kw.text + " name after '" + kw.text + "'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    const std::string what = kw.text + " '" + name.text + "'";
+    st.paths.push_back(parse_path("first point of " + what));
+    st.paths.push_back(parse_path("second point of " + what));
+    const char* main_word = spring ? "stiffness" : "coefficient";
+    if (!(peek().kind == TK::Ident && peek().text == main_word)) fail_expected(std::string("'") + main_word + "' after the points of " + what);
+    take();
+    st.value = parse_expr();
+    if (spring && peek().kind == TK::Ident && peek().text == "length") {
+      take();
+      st.exprs.push_back(parse_expr());
+    }
+    end_statement(what);
+    push(out, std::move(st));
+  }
+
   // 'mass' expr | 'inertia' expr | 'kinetic' expr | 'potential' expr
   void parse_valued(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind) {
     Statement st = begin(kind, kw);
@@ -530,7 +633,7 @@ class Parser {
 
   // path := IDENT ('.' IDENT)*
   ast::Path parse_path(const std::string& what) {
-    const Token first = expect_name(what);
+    const Token first = at_keyword("ground") ? take() : expect_name(what);
     ast::Path p;
     p.text = first.text;
     p.pos = first.pos;

@@ -67,6 +67,18 @@ struct Statement {
     Potential,    // potential expr                     value
     Independent,  // independent PATH, PATH ...         paths
     Output,       // output NAME = expr | output energy name, value (null for "output energy")
+    // Planar library level (docs/language.md "Bodies, points and joints"):
+    Point,        // point NAME (ex, ey)                name, exprs = {ex, ey} (body coordinates)
+    Com,          // com (ex, ey)                       exprs = {ex, ey}
+    Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy}
+    Ground,       // ground { point/axis ... }          body
+    Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr]
+                  //                                    name (may be empty), kind_name, paths, level = OPTION,
+                  //                                    path.pos = OPTION's position, value
+    Spring,       // spring NAME PATH PATH stiffness expr [length expr]
+                  //                                    name, paths, value = stiffness, exprs = {length} (may be empty)
+    Damper,       // damper NAME PATH PATH coefficient expr
+                  //                                    name, paths, value = coefficient
   };
   Kind kind = Kind::Model;
   SourcePos pos;       // position of the keyword
@@ -82,7 +94,7 @@ struct Statement {
   bool nonlinear = false;          // Constraint: "nonlinear" given
   std::vector<Equation> equations; // Constraint rows
   Path path;                       // Force target
-  std::vector<Path> paths;         // Independent list
+  std::vector<Path> paths;         // Independent list; Joint / Spring / Damper ends
   std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
   bool has_body = false;
 };

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The planar library level of the model language (private to src/model): points, axes
+/// and mass centres in body coordinates, the ground, joints, springs and dampers. Each
+/// element expands into what a user could write by hand at the invariant level:
+///   * a joint into position constraints, derived from its vector form (a revolute joint
+///     is r_Q - r_P = 0, a prismatic one n . (r_Q - r_A) = 0 plus a relative angle, a
+///     weld both), so a new joint type is a new vector constraint, not new derivatives;
+///   * an actuator, spring or damper into generalized forces on the bodies' speeds, by the
+///     partial velocities of the points it acts at (Q = (d v_P / d q1)^T F), and a spring
+///     into a potential-energy term.
+/// Body coordinates of a rigid2d body are (x, y, theta) of its mass centre (the absolute
+/// parametrization of the AMESim paper); a point p given in the body frame, with the mass
+/// centre at c in that frame, is at (x, y) + R(theta) (p - c).
+#include <ginac/ginac.h>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/model/model.hpp"
+
+namespace mbsc::model {
+
+class PlanarLibrary {
+ public:
+  PlanarLibrary(Model& m, Diagnostics& diags);
+
+  /// Declarations. `node` is the body's node, or kGround.
+  static constexpr int kGround = -1;
+  void add_point(int node, const std::string& name, const GiNaC::ex& ex, const GiNaC::ex& ey, const SourcePos& pos);
+  void set_com(int node, const GiNaC::ex& ex, const GiNaC::ex& ey, const SourcePos& pos);
+  void add_axis(int node, const std::string& name, const GiNaC::ex& px, const GiNaC::ex& py, const GiNaC::ex& dx,
+                const GiNaC::ex& dy, const SourcePos& pos);
+
+  /// A joint, spring or damper stated at node `owner` (its constraints belong there).
+  struct Element {
+    std::string name;        // "" for an unnamed joint: one is made up
+    std::string kind;        // revolute | prismatic | weld | spring | damper
+    SourcePos pos, kind_pos;
+    std::string end1, end2;  // paths as written
+    SourcePos end1_pos, end2_pos;
+    std::string option;      // joints: torque | force | angle ("" when absent)
+    SourcePos option_pos;
+    std::optional<GiNaC::ex> value;   // the option's value; spring stiffness; damper coefficient
+    std::optional<GiNaC::ex> length;  // spring rest length
+  };
+  void add_element(int owner, const Element& e);
+
+ private:
+  struct Frame;  // a body's pose: origin of its mass centre, angle, speeds
+  struct Point {
+    int node;
+    GiNaC::ex ex, ey;
+  };
+  struct Axis {
+    int node;
+    GiNaC::ex px, py, dx, dy;
+  };
+  struct Located {  // a resolved point: its body and world position
+    int node;
+    GiNaC::ex x, y;
+  };
+
+  std::optional<Located> point(int owner, const std::string& path, const SourcePos& pos);
+  std::optional<std::pair<Located, std::pair<GiNaC::ex, GiNaC::ex>>> axis(int owner, const std::string& path,
+                                                                         const SourcePos& pos);
+  /// Full name of a body path seen from node `owner` (inner scopes first), or "ground".
+  std::optional<int> body(int owner, const std::string& path) const;
+  std::pair<GiNaC::ex, GiNaC::ex> world(int node, const GiNaC::ex& px, const GiNaC::ex& py) const;
+  std::optional<GiNaC::ex> angle(int node) const;
+  /// World velocity of the material point of `node` at world position (x, y).
+  std::pair<GiNaC::ex, GiNaC::ex> velocity(int node, const GiNaC::ex& x, const GiNaC::ex& y) const;
+  /// Generalized forces of a world force (fx, fy) acting at world (x, y) on `node`.
+  void apply_force(int node, const GiNaC::ex& x, const GiNaC::ex& y, const GiNaC::ex& fx, const GiNaC::ex& fy,
+                   const SourcePos& pos);
+  void apply_torque(int node, const GiNaC::ex& tau, const SourcePos& pos);
+  void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+
+  Model& m_;
+  Diagnostics& diags_;
+  std::map<std::string, Point> points_;   // "crank.A", "ground.origin"
+  std::map<std::string, Axis> axes_;      // "ground.x_axis", "rocker.slot"
+  std::map<int, std::pair<GiNaC::ex, GiNaC::ex>> com_;  // rigid2d node -> mass centre in body coordinates
+  int unnamed_ = 0;
+};
+
+}  // namespace mbsc::model
