@@ -1,13 +1,13 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-# mbsc_add_model(<target> MODEL <file.mbs> [NAME name] [STATE full|minimal] [OUTPUTS fn...]
-#                [FREEZE name=value...])
+# mbsc_add_model(<target> MODEL <file.mbs> [NAME name] [STATE full|minimal]
+#                [FORMULATION complement|multipliers] [OUTPUTS fn...] [FREEZE name=value...])
 #
 # Runs the mbsc compiler at build time and adds the generated C++ to <target>.
 # Without NAME, the model's name (its `model NAME` statement) must equal the file's
 # stem; NAME renames the generated namespace and files (e.g. a frozen variant).
 # The generated header is included as "<name>/<name>.hpp".
 function(mbsc_add_model target)
-  cmake_parse_arguments(ARG "" "MODEL;NAME;STATE" "OUTPUTS;FREEZE" ${ARGN})
+  cmake_parse_arguments(ARG "" "MODEL;NAME;STATE;FORMULATION" "OUTPUTS;FREEZE" ${ARGN})
   if(NOT ARG_MODEL)
     message(FATAL_ERROR "mbsc_add_model: MODEL is required")
   endif()
@@ -21,6 +21,9 @@ function(mbsc_add_model target)
   endif()
   if(ARG_STATE)
     list(APPEND args --state ${ARG_STATE})
+  endif()
+  if(ARG_FORMULATION)
+    list(APPEND args --formulation ${ARG_FORMULATION})
   endif()
   if(ARG_OUTPUTS)
     string(REPLACE ";" "," outs "${ARG_OUTPUTS}")

@@ -70,7 +70,14 @@ int main(int argc, char** argv) {
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
                 "only these functions (comma-separated): rhs mass_matrix forcing position_constraints "
-                "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state");
+                "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state multipliers "
+                "reaction_forces");
+  std::string formulation = "complement";
+  g->add_option("--formulation", formulation,
+                "complement: the modular method, reduced to the independent speeds; multipliers: all speeds with "
+                "Lagrange multipliers and Baumgarte stabilization (gains alpha, beta at the end of p[])")
+      ->check(CLI::IsMember({"complement", "multipliers"}))
+      ->default_val("complement");
   std::string state = "full";
   g->add_option("--state", state,
                 "full: x = (all coordinates, all speeds); minimal: x = (coordinates not given explicitly by a "
@@ -95,6 +102,7 @@ int main(int argc, char** argv) {
   }
   for (const auto& o : split_list(outputs)) gen.functions.insert(o);
   gen.minimal_state = state == "minimal";
+  gen.multipliers = formulation == "multipliers";
   if (!add_freezes(freeze, gen.frozen)) return 1;
   return mbsc::driver::run_generate(gen, std::cout, std::cerr);
 }

@@ -129,6 +129,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   Diagnostics diags;
   GenerateOptions opt;
   opt.functions = a.functions;
+  opt.multipliers = a.multipliers;
   opt.minimal_state = a.minimal_state;
   opt.frozen = a.frozen;
   opt.name = a.name;

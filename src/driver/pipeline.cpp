@@ -24,7 +24,9 @@ const std::vector<std::string>& all_function_names() {
                                                  "position_jacobian",
                                                  "energy",
                                                  "outputs",
-                                                 "full_state"};
+                                                 "full_state",
+                                                 "multipliers",
+                                                 "reaction_forces"};
   return names;
 }
 
@@ -247,7 +249,33 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     if (!minimal) return std::nullopt;
   }
   const sym::MinimalState* ms = minimal ? &*minimal : nullptr;
-  auto specs = function_specs(m, eom, opt, diags, ms);
+  if (opt.multipliers && ms) {
+    diags.error(SourcePos{}, "--formulation multipliers integrates the full state (all coordinates and speeds); "
+                             "drop --state minimal");
+    return std::nullopt;
+  }
+  const BaumgarteGains gains;
+  std::vector<ir::FunctionSpec> specs;
+  if (opt.multipliers) {
+    for (const char* reduced : {"mass_matrix", "forcing"})
+      if (opt.functions.count(reduced))
+        diags.error(SourcePos{}, fmt::format("--outputs {}: the reduced mass matrix and forcing belong to --formulation "
+                                             "complement",
+                                             reduced));
+    GenerateOptions rest = opt;  // the functions both formulations share
+    if (rest.functions.empty())
+      for (const auto& n : all_function_names()) rest.functions.insert(n);
+    for (const char* own : {"rhs", "mass_matrix", "forcing", "full_state", "multipliers", "reaction_forces"})
+      rest.functions.erase(own);
+    specs = multiplier_specs(m, eom, opt, gains);
+    if (!rest.functions.empty())
+      for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(f);
+  } else {
+    for (const char* own : {"multipliers", "reaction_forces"})
+      if (opt.functions.count(own))
+        diags.error(SourcePos{}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
+    if (!diags.has_errors()) specs = function_specs(m, eom, opt, diags, ms);
+  }
   if (diags.has_errors()) return std::nullopt;
   emit::GeneratedModel g;
   g.name = opt.name.empty() ? m.name : opt.name;
@@ -255,6 +283,8 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   g.tool_version = MBSC_VERSION;
   for (const auto& [name, v] : opt.frozen) g.banner_notes.push_back(fmt::format("frozen parameter: {} = {}", name, emit::format_double(v)));
   if (ms) g.banner_notes.push_back("minimal state: x = (kept coordinates, independent speeds)");
+  if (opt.multipliers)
+    g.banner_notes.push_back("formulation: Lagrange multipliers with Baumgarte stabilization (p[] ends with alpha, beta)");
   const long nq_full = static_cast<long>(m.coords.size()), nu_full = static_cast<long>(m.speeds.size());
   const long nq = ms ? static_cast<long>(ms->kept_coords.size()) : nq_full;
   const long nu = ms ? static_cast<long>(eom.ndof()) : nu_full;
@@ -265,7 +295,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
                      {"kNx", nq + nu},
                      {"kNdof", eom.ndof()},
                      {"kNin", static_cast<long>(m.inputs.size())},
-                     {"kNp", static_cast<long>(eom.free_params.size())},
+                     {"kNp", static_cast<long>(eom.free_params.size()) + (opt.multipliers ? 2 : 0)},
                      {"kNc", static_cast<long>(m.constraints.size())},
                      {"kNposc", nposc},
                      {"kNy", static_cast<long>(m.outputs.size())}};
@@ -291,6 +321,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     if (c.level == model::Constraint::Level::Position) position_cons.push_back(c.name);
   }
   for (const auto& o : m.outputs) outs.push_back(o.name);
+  if (opt.multipliers) {
+    params.push_back(gains.alpha.get_name());
+    params.push_back(gains.beta.get_name());
+    defaults.push_back(BaumgarteGains::kDefault);
+    defaults.push_back(BaumgarteGains::kDefault);
+  }
   g.name_lists = {{"kStateNames", state},   {"kDofNames", dof},         {"kInputNames", inputs},
                   {"kParamNames", params},  {"kConstraintNames", cons}, {"kPositionConstraintNames", position_cons},
                   {"kOutputNames", outs}};
@@ -302,6 +338,11 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     g.name_lists.push_back({"kFullStateNames", full_state});
   }
   auto binds = bindings(m, eom, ms);
+  if (opt.multipliers) {
+    const std::size_t np = eom.free_params.size();
+    binds.push_back({gains.alpha, fmt::format("p[{}]", np), true});
+    binds.push_back({gains.beta, fmt::format("p[{}]", np + 1), true});
+  }
   for (const auto& spec : specs) {
     try {
       g.functions.push_back(ir::lower(spec, binds));

@@ -9,6 +9,7 @@
 
 #include "mbsc/sym/complement.hpp"
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/multipliers.hpp"
 #include "mbsc/sym/probe.hpp"
 
 namespace mbsc::sym {
@@ -58,23 +59,7 @@ class Deriver {
   GiNaC::ex fz(const GiNaC::ex& e) const { return frozen_.empty() ? e : e.subs(frozen_); }
 
   // ---- leaf generalized forces f (thesis (4.7)): inertia, gravity, applied forces ----
-  GiNaC::ex own_force(const model::Node& node, int s, int k) {
-    GiNaC::ex f = 0;
-    const bool body = model::is_body(node.kind);
-    if (body) {
-      // Body speeds are (u, v[, w]) = rates of (x, y[, z | theta]).
-      const bool is_rotation = node.kind == LeafKind::Rigid2d && k == 2;
-      if (is_rotation) {
-        f += -fz(node.inertia) * m_.speed_dots[s];
-      } else {
-        f += -fz(node.mass) * m_.speed_dots[s];
-        if (k < static_cast<int>(m_.gravity.size())) f += fz(node.mass) * fz(m_.gravity[k]);
-      }
-    }
-    for (const auto& force : m_.forces)
-      if (force.speed == s) f += fz(force.value);
-    return f;
-  }
+  GiNaC::ex own_force(const model::Node& /*node*/, int s, int /*k*/) { return fz(sym::own_force(m_, s)); }
 
   /// q1dot of speed s in terms of the variables `avail` (this node's y), composing the
   /// dependent-rate layers of the descendants where s was eliminated.

@@ -109,3 +109,28 @@ TEST_CASE("generate --state minimal: a smaller state, and clear refusals", "[cli
   CHECK(fs::is_empty(bad));
   fs::remove_all(bad);
 }
+
+TEST_CASE("generate --formulation multipliers: its functions and its refusals", "[cli]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fresh_dir("multipliers");
+  auto r = run(kMbsc + " generate " + model("four_bar.mbs") + " --formulation multipliers -o " + quote(dir.string()));
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir / "four_bar" / "four_bar.hpp");
+  const std::string header((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(header.find("int multipliers(") != std::string::npos);
+  CHECK(header.find("int reaction_forces(") != std::string::npos);
+  CHECK(header.find("\"baumgarte_alpha\"") != std::string::npos);
+  CHECK(header.find("int mass_matrix(") == std::string::npos);
+  fs::remove_all(dir);
+  const fs::path bad = fresh_dir("multipliers_bad");
+  r = run(kMbsc + " generate " + model("four_bar.mbs") + " --formulation multipliers --state minimal -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("--state minimal") != std::string::npos);
+  r = run(kMbsc + " generate " + model("four_bar.mbs") + " --outputs multipliers -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  r = run(kMbsc + " generate " + model("four_bar.mbs") + " --formulation multipliers --outputs mass_matrix -o " +
+          quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(fs::is_empty(bad));
+  fs::remove_all(bad);
+}

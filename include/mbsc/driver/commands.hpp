@@ -34,6 +34,7 @@ struct GenerateArgs {
   std::map<std::string, double> frozen;
   std::string name;                 // --name (default: the model's name)
   bool minimal_state = false;       // --state minimal
+  bool multipliers = false;         // --formulation multipliers
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 

@@ -25,7 +25,19 @@ struct GenerateOptions {
   std::map<std::string, double> frozen;   // --freeze name=value
   std::string name;                       // --name: C++ namespace and file stem (default: the model's name)
   bool minimal_state = false;             // --state minimal: x = (kept q0, z), see sym/minimal_state.hpp
+  bool multipliers = false;               // --formulation multipliers (sym/multipliers.hpp)
 };
+
+/// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]
+/// entries (kParamNames "baumgarte_alpha", "baumgarte_beta").
+struct BaumgarteGains {
+  GiNaC::symbol alpha{"baumgarte_alpha"}, beta{"baumgarte_beta"};
+  static constexpr double kDefault = 10.0;  // 1/s: critically damped, f ~ exp(-10 t)
+};
+
+/// rhs, multipliers and reaction_forces of the multipliers formulation.
+std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                               const BaumgarteGains& gains);
 
 /// Parses and builds a model file (includes resolved). nullopt on error.
 std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags);

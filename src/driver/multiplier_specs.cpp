@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The functions of `--formulation multipliers` (include/mbsc/sym/multipliers.hpp): rhs,
+// multipliers and reaction_forces from one (nu + nc) solve, over the full state.
+#include <fmt/format.h>
+
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/sym/multipliers.hpp"
+#include "mbsc/sym/tidy.hpp"
+
+namespace mbsc::driver {
+
+std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                               const BaumgarteGains& gains) {
+  const sym::MultiplierForm form = sym::multiplier_form(m);
+  const unsigned nu = form.My.rows(), nc = form.A.rows();
+  auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
+  std::vector<GiNaC::symbol> lambda;
+  for (unsigned r = 0; r < nc; ++r) lambda.emplace_back(fmt::format("lambda_{}", r));
+  // [My  -A^T] [q1'   ]   [hy                                     ]
+  // [A    0  ] [lambda] = [-(b + 2 alpha (A q1 + a) + beta^2 g)   ]
+  auto kkt = [&]() {
+    ir::Solve s;
+    s.label = "multipliers: [My -A^T; A 0] [q1'; lambda] = [hy; -(b + 2 alpha f' + beta^2 f)]";
+    s.n = static_cast<int>(nu + nc);
+    s.k = 1;
+    for (unsigned i = 0; i < nu + nc; ++i) {
+      for (unsigned j = 0; j < nu + nc; ++j) {
+        GiNaC::ex e = 0;
+        if (i < nu && j < nu) e = form.My(i, j);
+        else if (i < nu) e = -form.A(j - nu, i);
+        else if (j < nu) e = form.A(i - nu, j);
+        s.A.push_back(fin(e));
+      }
+      if (i < nu) {
+        s.B.push_back(fin(form.hy(i, 0)));
+      } else {
+        const unsigned r = i - nu;
+        s.B.push_back(fin(-(form.b(r, 0) + 2 * gains.alpha * form.velocity(r, 0) + gains.beta * gains.beta * form.g(r, 0))));
+      }
+    }
+    for (unsigned j = 0; j < nu; ++j) s.X.push_back(m.speed_dots[j]);
+    for (const auto& l : lambda) s.X.push_back(l);
+    return s;
+  };
+  auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
+  std::vector<ir::FunctionSpec> specs;
+  if (wanted("rhs")) {
+    ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates), multipliers formulation", "xdot", "kNx",
+                       {kkt()}, {}};
+    for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
+    for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+    specs.push_back(f);
+  }
+  if (wanted("multipliers") && nc > 0) {
+    ir::FunctionSpec f{"multipliers", "Lagrange multipliers lambda, one per constraint (kConstraintNames)", "lambda", "kNc",
+                       {kkt()}, {}};
+    for (const auto& l : lambda) f.outputs.push_back(l);
+    specs.push_back(f);
+  }
+  if (wanted("reaction_forces") && nc > 0) {
+    ir::FunctionSpec f{"reaction_forces", "generalized constraint forces A^T lambda along each speed (kStateNames after kNq)",
+                       "R", "kNu", {kkt()}, {}};
+    for (unsigned j = 0; j < nu; ++j) {
+      GiNaC::ex e = 0;
+      for (unsigned r = 0; r < nc; ++r) e += fin(form.A(r, j)) * lambda[r];
+      f.outputs.push_back(e);
+    }
+    specs.push_back(f);
+  }
+  return specs;
+}
+
+}  // namespace mbsc::driver
