@@ -435,7 +435,7 @@ class Builder {
         }
         case Kind::Potential: {
           auto e = convert(id, s.value, false, false, false);
-          if (e) node.potential = *e;
+          if (e) node.potential += *e;  // several terms add up (library springs add theirs too)
           break;
         }
         case Kind::Independent:
@@ -505,6 +505,7 @@ class Builder {
           PlanarLibrary::Element e;
           e.name = s.name;
           e.kind = s.kind == Kind::Joint ? s.kind_name : s.kind == Kind::Spring ? "spring" : "damper";
+          if (s.kind != Kind::Joint && s.kind_name == "rotational") e.kind = "rotational_" + e.kind;
           e.pos = s.pos;
           e.kind_pos = s.kind == Kind::Joint ? s.kind_pos : s.pos;
           e.end1 = s.paths[0].text;
@@ -514,7 +515,7 @@ class Builder {
           e.option = s.kind == Kind::Joint ? s.level : "";
           e.option_pos = s.path.pos;
           // Actuator values may read the state and inputs; spring and damper data are constants.
-          const bool actuator = s.kind == Kind::Joint && s.level != "angle";
+          const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio";
           if (s.value) {
             auto v = convert(id, s.value, actuator, false, false);
             if (!v) break;

@@ -183,20 +183,74 @@ void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiN
   m_.constraints.push_back(c);
 }
 
+// ---- between two bodies' angles: gear pairs, rotational springs and dampers ----
+
+void PlanarLibrary::add_rotational(int owner, const Element& e, const std::string& name, const std::string& what) {
+  const auto a = body(owner, e.end1), b = body(owner, e.end2);
+  if (!a || !b) {
+    diags_.error(!a ? e.end1_pos : e.end2_pos,
+                 fmt::format("{}: unknown body '{}' (a rigid2d body or ground)", what, !a ? e.end1 : e.end2));
+    return;
+  }
+  const auto tha = angle(*a), thb = angle(*b);
+  if (!tha || !thb || *a == *b) {
+    diags_.error(e.end2_pos, fmt::format("{} needs two different rigid bodies (or a rigid body and the ground)", what));
+    return;
+  }
+  auto rate = [&](int n) {
+    return n == kGround ? GiNaC::ex(0) : GiNaC::ex(m_.speeds[m_.nodes[n].speeds[2]].sym);
+  };
+  if (e.kind == "gear") {
+    // w_b = -ratio w_a (external mesh), as a velocity constraint between the bodies.
+    if (e.option != "ratio") {
+      diags_.error(e.kind_pos, fmt::format("{} needs 'ratio r' (w_{} = -r w_{})", what, e.end2, e.end1));
+      return;
+    }
+    Constraint c;
+    c.name = join(m_.nodes[owner].name, name + ".ratio");
+    c.node = owner;
+    c.level = Constraint::Level::Velocity;
+    c.residual = rate(*b) + *e.value * rate(*a);
+    c.pos = e.pos;
+    m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
+    m_.constraints.push_back(c);
+    return;
+  }
+  if (e.kind == "rotational_spring") {
+    const GiNaC::ex twist = *thb - *tha - (e.length ? *e.length : GiNaC::ex(0));
+    apply_torque(*b, -*e.value * twist, e.pos);
+    apply_torque(*a, *e.value * twist, e.pos);
+    m_.nodes[owner].potential += *e.value * twist * twist / 2;
+  } else {
+    const GiNaC::ex tau = -*e.value * (rate(*b) - rate(*a));
+    apply_torque(*b, tau, e.pos);
+    apply_torque(*a, -tau, e.pos);
+  }
+}
+
 // ---- joints, springs, dampers ----
 
 void PlanarLibrary::add_element(int owner, const Element& e) {
-  const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld";
-  if (!joint && e.kind != "spring" && e.kind != "damper") {
-    diags_.error(e.kind_pos, fmt::format("unknown joint kind '{}' (known: revolute, prismatic, weld)", e.kind));
+  const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld" || e.kind == "pin_in_slot" ||
+                     e.kind == "gear";
+  if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
+    diags_.error(e.kind_pos,
+                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear)", e.kind));
     return;
   }
   const std::string name = e.name.empty() ? fmt::format("{}{}", e.kind, ++unnamed_) : e.name;
-  const std::string what = fmt::format("{} '{}'", joint ? "joint" : e.kind, name);
+  const std::string what = fmt::format("{} '{}'", joint ? "joint" : e.kind == "rotational_spring"   ? "spring"
+                                                                   : e.kind == "rotational_damper" ? "damper"
+                                                                                                   : e.kind,
+                                       name);
+  if (e.kind == "gear" || e.kind == "rotational_spring" || e.kind == "rotational_damper") {
+    add_rotational(owner, e, name, what);
+    return;
+  }
   // Ends: two points, or (prismatic) an axis and a point.
   std::optional<Located> p1, p2;
   std::pair<GiNaC::ex, GiNaC::ex> dir;
-  if (e.kind == "prismatic") {
+  if (e.kind == "prismatic" || e.kind == "pin_in_slot") {
     auto a = axis(owner, e.end1, e.end1_pos);
     if (!a) return;
     p1 = a->first;
@@ -222,7 +276,7 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     add_constraint(owner, name + ".x", dx, e.pos);
     add_constraint(owner, name + ".y", dy, e.pos);
   }
-  if (e.kind == "prismatic") {
+  if (e.kind == "prismatic" || e.kind == "pin_in_slot") {
     // The point stays on the line: the normal component of r_Q - r_A vanishes.
     add_constraint(owner, name + ".normal", dir.first * dy - dir.second * dx, e.pos);
   }
@@ -248,7 +302,7 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     apply_torque(p2->node, *e.value, e.option_pos);
     apply_torque(p1->node, -*e.value, e.option_pos);
   } else if (e.option == "force") {
-    if (e.kind != "prismatic") {
+    if (e.kind != "prismatic" && e.kind != "pin_in_slot") {
       diags_.error(e.option_pos, fmt::format("{} has no sliding motion for a force to act along ({} allows {})", what, e.kind,
                                              e.kind == "revolute" ? "a torque" : "no actuator"));
       return;

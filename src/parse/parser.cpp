@@ -569,8 +569,8 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // 'spring' IDENT PATH PATH 'stiffness' expr ['length' expr]
-  // 'damper' IDENT PATH PATH 'coefficient' expr
+  // 'spring' IDENT ['rotational'] PATH PATH 'stiffness' expr [('length' | 'angle') expr]
+  // 'damper' IDENT ['rotational'] PATH PATH 'coefficient' expr
   void parse_spring(std::vector<StatementPtr>& out, const Token& kw) {
     const bool spring = kw.text == "spring";
     Statement st = begin(spring ? Statement::Kind::Spring : Statement::Kind::Damper, kw);
@@ -578,13 +578,18 @@ class Parser {
     st.name = name.text;
     st.name_pos = name.pos;
     const std::string what = kw.text + " '" + name.text + "'";
+    if (peek().kind == TK::Ident && peek().text == "rotational") {
+      take();
+      st.kind_name = "rotational";  // between two bodies' angles, not two points
+    }
     st.paths.push_back(parse_path("first point of " + what));
     st.paths.push_back(parse_path("second point of " + what));
     const char* main_word = spring ? "stiffness" : "coefficient";
     if (!(peek().kind == TK::Ident && peek().text == main_word)) fail_expected(std::string("'") + main_word + "' after the points of " + what);
     take();
     st.value = parse_expr();
-    if (spring && peek().kind == TK::Ident && peek().text == "length") {
+    const char* rest_word = st.kind_name == "rotational" ? "angle" : "length";
+    if (spring && peek().kind == TK::Ident && peek().text == rest_word) {
       take();
       st.exprs.push_back(parse_expr());
     }

@@ -12,6 +12,8 @@
 #include "mbsc/runtime/rk4.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "slider_crank_invariants/slider_crank_invariants.hpp"
+#include "slot_gear/slot_gear.hpp"
+#include "slot_gear_invariants/slot_gear_invariants.hpp"
 #include "spring_pendulum/spring_pendulum.hpp"
 #include "spring_pendulum_undamped/spring_pendulum_undamped.hpp"
 #include "test_support.hpp"
@@ -94,4 +96,46 @@ TEST_CASE("planar library: spring conserves energy, damper dissipates it", "[num
   const auto damped = energy_history(D::rhs, D::energy, D::kParamDefaults, D::kNx, D::kStateNames);
   for (std::size_t i = 1; i < damped.size(); ++i) CHECK(damped[i] <= damped[i - 1] + 1e-10);
   CHECK(damped.back() < damped.front() - 0.1);  // it really moved and lost energy
+}
+
+TEST_CASE("planar library: pin-in-slot, gear, rotational spring and damper equal their hand-written forms",
+          "[numeric][planar]") {
+  namespace L = mbsc_gen::slot_gear;
+  namespace H = mbsc_gen::slot_gear_invariants;
+  REQUIRE(L::kNdof == 2);
+  REQUIRE(H::kNdof == 2);
+  const AssemblyModel model{L::kNq,          L::kNu,          L::kNposc, L::kNc, L::position_constraints, L::position_jacobian,
+                            L::velocity_constraints, L::constraint_jacobian, L::kPositionConstraintNames, L::kConstraintNames};
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(L::kStateNames, L::kNx, n)); };
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> angle(-3.0, 3.0), pos(0.2, 1.5), rate(-3.0, 3.0);
+  for (int k = 0; k < 20; ++k) {
+    std::vector<double> x(L::kNx, 0.0);
+    const double th = angle(rng), s = pos(rng);
+    x[ix("bar.theta")] = th;
+    x[ix("pin.x")] = s * std::cos(th);
+    x[ix("pin.y")] = s * std::sin(th) + 0.01;  // a little off the slot: assembly moves it
+    x[ix("bar.w")] = rate(rng);
+    x[ix("pin.u")] = rate(rng);
+    std::vector<bool> gq(L::kNq, false), gu(L::kNu, false);
+    gq[ix("bar.theta")] = gq[ix("pin.x")] = true;
+    gu[ix("bar.w") - L::kNq] = gu[ix("pin.u") - L::kNq] = true;
+    const auto r = mbsc::runtime::assemble(model, 0.0, x, gq, gu, nullptr, L::kParamDefaults);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    // The gear: the wheel turns the other way, twice as fast.
+    CHECK(x[ix("wheel.w")] == Approx(-2.0 * x[ix("bar.w")]).margin(1e-12));
+    std::vector<double> y(H::kNx);
+    for (int i = 0; i < H::kNx; ++i) y[static_cast<std::size_t>(i)] = x[ix(H::kStateNames[i])];
+    std::vector<double> xd(L::kNx), yd(H::kNx);
+    REQUIRE(L::rhs(0.0, x.data(), nullptr, L::kParamDefaults, xd.data()) == 0);
+    REQUIRE(H::rhs(0.0, y.data(), nullptr, H::kParamDefaults, yd.data()) == 0);
+    double scale = 1.0;
+    for (double e : yd) scale = std::max(scale, std::abs(e));
+    for (int i = 0; i < H::kNx; ++i) CHECK(std::abs(xd[ix(H::kStateNames[i])] - yd[static_cast<std::size_t>(i)]) < 1e-10 * scale);
+    std::vector<double> e1(3), e2(3);
+    REQUIRE(L::energy(0.0, x.data(), nullptr, L::kParamDefaults, e1.data()) == 0);
+    REQUIRE(H::energy(0.0, y.data(), nullptr, H::kParamDefaults, e2.data()) == 0);
+    CHECK(e1[2] == Approx(e2[2]).epsilon(1e-12));
+  }
 }

@@ -75,10 +75,11 @@ struct Statement {
     Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,
                   //                                    path.pos = OPTION's position, value
-    Spring,       // spring NAME PATH PATH stiffness expr [length expr]
-                  //                                    name, paths, value = stiffness, exprs = {length} (may be empty)
-    Damper,       // damper NAME PATH PATH coefficient expr
-                  //                                    name, paths, value = coefficient
+    Spring,       // spring NAME [rotational] PATH PATH stiffness expr [length|angle expr]
+                  //                                    name, kind_name = "rotational" or "", paths, value = stiffness,
+                  //                                    exprs = {rest length or angle} (may be empty)
+    Damper,       // damper NAME [rotational] PATH PATH coefficient expr
+                  //                                    name, kind_name, paths, value = coefficient
   };
   Kind kind = Kind::Model;
   SourcePos pos;       // position of the keyword
