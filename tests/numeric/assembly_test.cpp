@@ -28,16 +28,7 @@ double largest(const T& v) {
 
 TEST_CASE("assembly: four-bar from the crank angle and rate", "[numeric][assembly]") {
   namespace F = mbsc_gen::four_bar;
-  const AssemblyModel model{F::kNq,
-                            F::kNu,
-                            F::kNposc,
-                            F::kNc,
-                            F::position_constraints,
-                            F::position_jacobian,
-                            F::velocity_constraints,
-                            F::constraint_jacobian,
-                            F::kPositionConstraintNames,
-                            F::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(F);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
   for (double crank : {0.3, 1.2, 2.5, 4.0, 5.5}) {
     // Only the crank is given; the other bodies start at rough angles, their centres at 0.
@@ -66,8 +57,7 @@ TEST_CASE("assembly: four-bar from the crank angle and rate", "[numeric][assembl
 
 TEST_CASE("assembly: data that cannot be completed name the constraint", "[numeric][assembly]") {
   namespace F = mbsc_gen::four_bar;
-  const AssemblyModel model{F::kNq,          F::kNu,          F::kNposc, F::kNc, F::position_constraints, F::position_jacobian,
-                            F::velocity_constraints, F::constraint_jacobian, F::kPositionConstraintNames, F::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(F);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
   // Crank and rocker both given, at angles the coupler cannot join.
   std::vector<double> x(F::kNx, 0.0);
@@ -98,8 +88,7 @@ TEST_CASE("assembly: data that cannot be completed name the constraint", "[numer
 
 TEST_CASE("assembly: five-bar with motors from the two base angles and rates", "[numeric][assembly]") {
   namespace F = mbsc_gen::five_bar;
-  const AssemblyModel model{F::kNq,          F::kNu,          F::kNposc, F::kNc, F::position_constraints, F::position_jacobian,
-                            F::velocity_constraints, F::constraint_jacobian, F::kPositionConstraintNames, F::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(F);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(F::kStateNames, F::kNx, n)); };
   std::vector<double> x(F::kNx, 0.0);
   // The base angles and their rates (the thesis's inputs), rough guesses for the elbows.

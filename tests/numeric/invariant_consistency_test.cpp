@@ -17,9 +17,7 @@ namespace S = mbsc_gen::slider_crank;
 
 TEST_CASE("slider-crank joints: velocity residual = d/dt position residual, d/dt velocity residual = 0",
           "[numeric][planar]") {
-  const mbsc::runtime::AssemblyModel model{S::kNq,          S::kNu,          S::kNposc, S::kNc, S::position_constraints,
-                                           S::position_jacobian, S::velocity_constraints, S::constraint_jacobian,
-                                           S::kPositionConstraintNames, S::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(S);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(S::kStateNames, S::kNx, n)); };
   std::mt19937 rng(41);
   std::uniform_real_distribution<double> angle(0.0, 6.28), rate(-5.0, 5.0);

@@ -55,8 +55,7 @@ TEST_CASE("multipliers: four-bar equals the complement form, states and trajecto
   namespace M = mbsc_gen::four_bar_mult;
   REQUIRE(M::kNx == C::kNx);
   const auto pm = with_gains(M::kParamDefaults, C::kNp);
-  const AssemblyModel model{C::kNq,          C::kNu,          C::kNposc, C::kNc, C::position_constraints, C::position_jacobian,
-                            C::velocity_constraints, C::constraint_jacobian, C::kPositionConstraintNames, C::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(C);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(C::kStateNames, C::kNx, n)); };
   std::vector<double> x0;
   for (double crank : {0.4, 1.5, 3.0, 4.4}) {
@@ -100,8 +99,7 @@ TEST_CASE("multipliers: slider-crank (library joints, inputs) equals the complem
   namespace C = mbsc_gen::slider_crank;
   namespace M = mbsc_gen::slider_crank_mult;
   const auto pm = with_gains(M::kParamDefaults, C::kNp);
-  const AssemblyModel model{C::kNq,          C::kNu,          C::kNposc, C::kNc, C::position_constraints, C::position_jacobian,
-                            C::velocity_constraints, C::constraint_jacobian, C::kPositionConstraintNames, C::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(C);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(C::kStateNames, C::kNx, n)); };
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> angle(0.0, 6.28), rate(-15.0, 15.0), load(-3.0, 3.0);

@@ -28,8 +28,7 @@ TEST_CASE("planar library: slider-crank with joints equals the hand-written inva
   REQUIRE(L::kNdof == 1);
   REQUIRE(H::kNdof == 1);
   REQUIRE(L::kNx == H::kNx);
-  const AssemblyModel model{L::kNq,          L::kNu,          L::kNposc, L::kNc, L::position_constraints, L::position_jacobian,
-                            L::velocity_constraints, L::constraint_jacobian, L::kPositionConstraintNames, L::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(L);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(L::kStateNames, L::kNx, n)); };
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> angle(0.0, 6.28), rate(-20.0, 20.0), load(-5.0, 5.0);
@@ -104,8 +103,7 @@ TEST_CASE("planar library: pin-in-slot, gear, rotational spring and damper equal
   namespace H = mbsc_gen::slot_gear_invariants;
   REQUIRE(L::kNdof == 2);
   REQUIRE(H::kNdof == 2);
-  const AssemblyModel model{L::kNq,          L::kNu,          L::kNposc, L::kNc, L::position_constraints, L::position_jacobian,
-                            L::velocity_constraints, L::constraint_jacobian, L::kPositionConstraintNames, L::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(L);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(L::kStateNames, L::kNx, n)); };
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> angle(-3.0, 3.0), pos(0.2, 1.5), rate(-3.0, 3.0);

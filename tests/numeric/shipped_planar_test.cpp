@@ -37,8 +37,7 @@ void same_accelerations(Fn complement, Fn multipliers, const std::vector<double>
 TEST_CASE("Whitworth: assembly from the crank angle gives the thesis's configuration", "[numeric][shipped]") {
   namespace W = mbsc_gen::whitworth;
   REQUIRE(W::kNdof == 1);  // Gruebler: 3 (5 - 1) - 2 * 5 - 1 (pin in slot) = 1
-  const AssemblyModel model{W::kNq,          W::kNu,          W::kNposc, W::kNc, W::position_constraints, W::position_jacobian,
-                            W::velocity_constraints, W::constraint_jacobian, W::kPositionConstraintNames, W::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(W);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(W::kStateNames, W::kNx, n)); };
   std::vector<double> x(W::kNx, 0.0);
   // Given: the crank at 45 degrees (pin at (0.1, 0.4)) turning at pi/2 rad/s; rough guesses
@@ -72,8 +71,7 @@ TEST_CASE("Whitworth: assembly from the crank angle gives the thesis's configura
 TEST_CASE("3RRR: assembly from the platform pose gives the thesis's elbows", "[numeric][shipped]") {
   namespace R = mbsc_gen::three_rrr;
   REQUIRE(R::kNdof == 3);  // Gruebler: 3 (8 - 1) - 2 * 9 = 3
-  const AssemblyModel model{R::kNq,          R::kNu,          R::kNposc, R::kNc, R::position_constraints, R::position_jacobian,
-                            R::velocity_constraints, R::constraint_jacobian, R::kPositionConstraintNames, R::kConstraintNames};
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(R);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(R::kStateNames, R::kNx, n)); };
   std::vector<double> x(R::kNx, 0.0);
   // Given: the platform at the origin, not turned, moving (the thesis's prescribed motion

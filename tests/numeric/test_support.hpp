@@ -17,3 +17,10 @@ inline int index_of(const char* const* names, int n, const std::string& name) {
 }
 
 }  // namespace mbsc_test
+
+/// The runtime assembly's view of a generated full-state model (namespace NS).
+#define MBSC_TEST_ASSEMBLY_MODEL(NS)                                                                                \
+  mbsc::runtime::AssemblyModel {                                                                                    \
+    NS::kNq, NS::kNu, NS::kNposc, NS::kNc, NS::position_constraints, NS::position_jacobian, NS::velocity_constraints, \
+        NS::constraint_jacobian, NS::kPositionConstraintNames, NS::kConstraintNames                                 \
+  }

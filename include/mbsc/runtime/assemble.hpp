@@ -55,6 +55,16 @@ struct AssemblyResult {
   bool ok() const { return status == Status::Ok; }
 };
 
+/// The columns `cols` of a rows x ncols row-major matrix, row-major.
+inline std::vector<double> select_columns(const std::vector<double>& M, int rows, int ncols, const std::vector<int>& cols) {
+  std::vector<double> out(static_cast<std::size_t>(rows) * cols.size());
+  for (int i = 0; i < rows; ++i)
+    for (std::size_t k = 0; k < cols.size(); ++k)
+      out[static_cast<std::size_t>(i) * cols.size() + k] =
+          M[static_cast<std::size_t>(i) * static_cast<std::size_t>(ncols) + static_cast<std::size_t>(cols[k])];
+  return out;
+}
+
 /// x: the full state (kNq + kNu), given entries set, the rest guessed. given_q[i] / given_u[j]
 /// mark the coordinates / speeds that must not change.
 inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<double>& x, const std::vector<bool>& given_q,
@@ -99,26 +109,18 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
         res.message = "the position Jacobian could not be evaluated (non-finite value)";
         return res;
       }
-      std::vector<double> Jf(static_cast<std::size_t>(m.nposc) * free_q.size()), rhs(static_cast<std::size_t>(m.nposc));
-      for (int i = 0; i < m.nposc; ++i) {
-        for (std::size_t k = 0; k < free_q.size(); ++k)
-          Jf[static_cast<std::size_t>(i) * free_q.size() + k] =
-              J[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nq) + static_cast<std::size_t>(free_q[k])];
-        rhs[static_cast<std::size_t>(i)] = -g[static_cast<std::size_t>(i)];
-      }
-      const LeastSquares step = solve_least_squares(Jf, rhs, m.nposc, static_cast<int>(free_q.size()));
+      std::vector<double> rhs(static_cast<std::size_t>(m.nposc));
+      for (int i = 0; i < m.nposc; ++i) rhs[static_cast<std::size_t>(i)] = -g[static_cast<std::size_t>(i)];
+      const LeastSquares step =
+          solve_least_squares(select_columns(J, m.nposc, m.nq, free_q), rhs, m.nposc, static_cast<int>(free_q.size()));
       for (std::size_t k = 0; k < free_q.size(); ++k) x[static_cast<std::size_t>(free_q[k])] += step.x[k];
       res.pivot_ratio = step.smallest_pivot > 0 ? step.largest_pivot / step.smallest_pivot : INFINITY;
       ++res.iterations;
     }
     // Conditioning where we ended (also when the guess was already consistent).
     if (!free_q.empty() && m.position_jacobian(t, x.data(), u, p, J.data()) == 0) {
-      std::vector<double> Jf(static_cast<std::size_t>(m.nposc) * free_q.size());
-      for (int i = 0; i < m.nposc; ++i)
-        for (std::size_t k = 0; k < free_q.size(); ++k)
-          Jf[static_cast<std::size_t>(i) * free_q.size() + k] =
-              J[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nq) + static_cast<std::size_t>(free_q[k])];
-      const LeastSquares at_end = solve_least_squares(Jf, std::vector<double>(static_cast<std::size_t>(m.nposc), 0.0), m.nposc,
+      const LeastSquares at_end = solve_least_squares(select_columns(J, m.nposc, m.nq, free_q),
+                                                      std::vector<double>(static_cast<std::size_t>(m.nposc), 0.0), m.nposc,
                                                       static_cast<int>(free_q.size()));
       res.pivot_ratio = at_end.smallest_pivot > 0 ? at_end.largest_pivot / at_end.smallest_pivot : INFINITY;
     }
@@ -138,14 +140,9 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
       res.message = "the velocity constraints could not be evaluated (non-finite value)";
       return res;
     }
-    std::vector<double> Af(static_cast<std::size_t>(m.nc) * free_u.size()), rhs(static_cast<std::size_t>(m.nc));
-    for (int i = 0; i < m.nc; ++i) {
-      for (std::size_t k = 0; k < free_u.size(); ++k)
-        Af[static_cast<std::size_t>(i) * free_u.size() + k] =
-            A[static_cast<std::size_t>(i) * static_cast<std::size_t>(m.nu) + static_cast<std::size_t>(free_u[k])];
-      rhs[static_cast<std::size_t>(i)] = -r[static_cast<std::size_t>(i)];
-    }
-    const LeastSquares v = solve_least_squares(Af, rhs, m.nc, static_cast<int>(free_u.size()));
+    std::vector<double> rhs(static_cast<std::size_t>(m.nc));
+    for (int i = 0; i < m.nc; ++i) rhs[static_cast<std::size_t>(i)] = -r[static_cast<std::size_t>(i)];
+    const LeastSquares v = solve_least_squares(select_columns(A, m.nc, m.nu, free_u), rhs, m.nc, static_cast<int>(free_u.size()));
     for (std::size_t k = 0; k < free_u.size(); ++k) x[nq + static_cast<std::size_t>(free_u[k])] = v.x[k];
     m.velocity_constraints(t, x.data(), u, p, r.data());
     int at = -1;
