@@ -515,7 +515,7 @@ class Builder {
           e.option = s.kind == Kind::Joint ? s.level : "";
           e.option_pos = s.path.pos;
           // Actuator values may read the state and inputs; spring and damper data are constants.
-          const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio";
+          const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio" && s.level != "radius";
           if (s.value) {
             auto v = convert(id, s.value, actuator, false, false);
             if (!v) break;

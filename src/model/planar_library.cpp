@@ -228,14 +228,50 @@ void PlanarLibrary::add_rotational(int owner, const Element& e, const std::strin
   }
 }
 
+// ---- a disc rolling without slipping on a fixed line ----
+
+void PlanarLibrary::add_rolling(int owner, const Element& e, const std::string& name, const std::string& what) {
+  auto a = axis(owner, e.end1, e.end1_pos);
+  if (!a) return;
+  if (a->first.node != kGround) {
+    diags_.error(e.end1_pos, fmt::format("{}: rolling on a moving body's line is not supported yet; use a ground axis", what));
+    return;
+  }
+  const auto disc = body(owner, e.end2);
+  if (!disc || *disc == kGround || m_.nodes[*disc].kind != LeafKind::Rigid2d) {
+    diags_.error(e.end2_pos, fmt::format("{}: '{}' is not a rigid2d body (the disc; its mass centre is its centre)", what, e.end2));
+    return;
+  }
+  if (e.option != "radius") {
+    diags_.error(e.kind_pos, fmt::format("{} needs 'radius r'", what));
+    return;
+  }
+  const Node& b = m_.nodes[*disc];
+  const GiNaC::ex cx = m_.coords[b.coords[0]].sym, cy = m_.coords[b.coords[1]].sym, r = *e.value;
+  // Unit tangent t along the axis, the disc on its left (normal n = (-t_y, t_x)).
+  const GiNaC::ex len = GiNaC::sqrt(a->second.first * a->second.first + a->second.second * a->second.second);
+  const GiNaC::ex tx = a->second.first / len, ty = a->second.second / len;
+  // Contact: the centre is r from the line. No slip: the contact point is at rest,
+  // v_c . t + r w = 0.
+  add_constraint(owner, name + ".contact", -ty * (cx - a->first.x) + tx * (cy - a->first.y) - r, e.pos);
+  Constraint c;
+  c.name = join(m_.nodes[owner].name, name + ".no_slip");
+  c.node = owner;
+  c.level = Constraint::Level::Velocity;
+  c.residual = tx * m_.speeds[b.speeds[0]].sym + ty * m_.speeds[b.speeds[1]].sym + r * m_.speeds[b.speeds[2]].sym;
+  c.pos = e.pos;
+  m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
+  m_.constraints.push_back(c);
+}
+
 // ---- joints, springs, dampers ----
 
 void PlanarLibrary::add_element(int owner, const Element& e) {
   const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld" || e.kind == "pin_in_slot" ||
-                     e.kind == "gear";
+                     e.kind == "gear" || e.kind == "rolling";
   if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
     diags_.error(e.kind_pos,
-                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear)", e.kind));
+                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear, rolling)", e.kind));
     return;
   }
   const std::string name = e.name.empty() ? fmt::format("{}{}", e.kind, ++unnamed_) : e.name;
@@ -245,6 +281,10 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
                                        name);
   if (e.kind == "gear" || e.kind == "rotational_spring" || e.kind == "rotational_damper") {
     add_rotational(owner, e, name, what);
+    return;
+  }
+  if (e.kind == "rolling") {
+    add_rolling(owner, e, name, what);
     return;
   }
   // Ends: two points, or (prismatic) an axis and a point.

@@ -38,12 +38,12 @@ class PlanarLibrary {
   /// A joint, spring or damper stated at node `owner` (its constraints belong there).
   struct Element {
     std::string name;        // "" for an unnamed joint: one is made up
-    std::string kind;        // revolute | prismatic | pin_in_slot | weld | gear | spring | damper |
+    std::string kind;        // revolute | prismatic | pin_in_slot | weld | gear | rolling | spring | damper |
                              // rotational_spring | rotational_damper
     SourcePos pos, kind_pos;
     std::string end1, end2;  // paths as written
     SourcePos end1_pos, end2_pos;
-    std::string option;      // joints: torque | force | angle | ratio ("" when absent)
+    std::string option;      // joints: torque | force | angle | ratio | radius ("" when absent)
     SourcePos option_pos;
     std::optional<GiNaC::ex> value;   // the option's value; spring stiffness; damper coefficient
     std::optional<GiNaC::ex> length;  // spring rest length (rotational: rest angle)
@@ -80,6 +80,7 @@ class PlanarLibrary {
   void apply_torque(int node, const GiNaC::ex& tau, const SourcePos& pos);
   void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
   void add_rotational(int owner, const Element& e, const std::string& name, const std::string& what);
+  void add_rolling(int owner, const Element& e, const std::string& name, const std::string& what);
 
   Model& m_;
   Diagnostics& diags_;

@@ -10,6 +10,7 @@
 
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/rk4.hpp"
+#include "rolling_disc/rolling_disc.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "slider_crank_invariants/slider_crank_invariants.hpp"
 #include "slot_gear/slot_gear.hpp"
@@ -135,5 +136,32 @@ TEST_CASE("planar library: pin-in-slot, gear, rotational spring and damper equal
     REQUIRE(L::energy(0.0, x.data(), nullptr, L::kParamDefaults, e1.data()) == 0);
     REQUIRE(H::energy(0.0, y.data(), nullptr, H::kParamDefaults, e2.data()) == 0);
     CHECK(e1[2] == Approx(e2[2]).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("planar library: a disc rolling down an incline accelerates at 2/3 g sin(alpha)", "[numeric][planar]") {
+  namespace R = mbsc_gen::rolling_disc;
+  REQUIRE(R::kNdof == 1);
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(R::kStateNames, R::kNx, n)); };
+  auto par = [](const char* n) { return R::kParamDefaults[index_of(R::kParamNames, R::kNp, n)]; };
+  const double alpha = par("alpha"), r = par("r"), g = par("g");
+  const double tx = std::cos(alpha), ty = -std::sin(alpha), nx = -ty, ny = tx;  // tangent, normal
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> s(-2.0, 2.0), v(-3.0, 3.0), th(-3.0, 3.0);
+  for (int k = 0; k < 10; ++k) {
+    // On the slope at arc length s, rolling at speed v: w = -v / r.
+    const double sk = s(rng), vk = v(rng);
+    std::vector<double> x(R::kNx, 0.0), xd(R::kNx);
+    x[ix("disc.x")] = sk * tx + r * nx;
+    x[ix("disc.y")] = sk * ty + r * ny;
+    x[ix("disc.theta")] = th(rng);
+    x[ix("disc.u")] = vk * tx;
+    x[ix("disc.v")] = vk * ty;
+    x[ix("disc.w")] = -vk / r;
+    REQUIRE(R::rhs(0.0, x.data(), nullptr, R::kParamDefaults, xd.data()) == 0);
+    const double a = 2.0 / 3.0 * g * std::sin(alpha);  // down the slope, along +t
+    CHECK(xd[ix("disc.u")] == Approx(a * tx).margin(1e-12));
+    CHECK(xd[ix("disc.v")] == Approx(a * ty).margin(1e-12));
+    CHECK(xd[ix("disc.w")] == Approx(-a / r).margin(1e-11));
   }
 }
