@@ -42,24 +42,25 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     for (const auto& l : lambda) s.X.push_back(l);
     return s;
   };
+  const ir::Solve system = kkt();  // every function below starts with the same solve
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
   std::vector<ir::FunctionSpec> specs;
   if (wanted("rhs")) {
     ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates), multipliers formulation", "xdot", "kNx",
-                       {kkt()}, {}};
+                       {system}, {}};
     for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
     for (const auto& s : m.speed_dots) f.outputs.push_back(s);
     specs.push_back(f);
   }
   if (wanted("multipliers") && nc > 0) {
     ir::FunctionSpec f{"multipliers", "Lagrange multipliers lambda, one per constraint (kConstraintNames)", "lambda", "kNc",
-                       {kkt()}, {}};
+                       {system}, {}};
     for (const auto& l : lambda) f.outputs.push_back(l);
     specs.push_back(f);
   }
   if (wanted("reaction_forces") && nc > 0) {
     ir::FunctionSpec f{"reaction_forces", "generalized constraint forces A^T lambda along each speed (kStateNames after kNq)",
-                       "R", "kNu", {kkt()}, {}};
+                       "R", "kNu", {system}, {}};
     for (unsigned j = 0; j < nu; ++j) {
       GiNaC::ex e = 0;
       for (unsigned r = 0; r < nc; ++r) e += fin(form.A(r, j)) * lambda[r];

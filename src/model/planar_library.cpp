@@ -111,22 +111,30 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::velocity(int node, const GiNaC::e
   return {u - w * ry, v + w * rx};
 }
 
+// "body.name" seen from `owner`: the body's node and the declaration in `table`, or null.
+template <class Decl>
+const Decl* PlanarLibrary::element_of(int owner, const std::string& path, const std::map<std::string, Decl>& table,
+                                      int& node) const {
+  const auto dot = path.rfind('.');
+  if (dot == std::string::npos) return nullptr;
+  const auto b = body(owner, path.substr(0, dot));
+  if (!b) return nullptr;
+  auto it = table.find(join(*b == kGround ? "ground" : m_.nodes[*b].name, path.substr(dot + 1)));
+  if (it == table.end()) return nullptr;
+  node = *b;
+  return &it->second;
+}
+
 std::optional<PlanarLibrary::Located> PlanarLibrary::point(int owner, const std::string& path, const SourcePos& pos) {
   // A particle2d body is a point itself.
   if (auto b = body(owner, path); b && *b != kGround && m_.nodes[*b].kind == LeafKind::Particle2d) {
     auto r = world(*b, 0, 0);
     return Located{*b, r.first, r.second};
   }
-  const auto dot = path.rfind('.');
-  if (dot != std::string::npos) {
-    if (auto b = body(owner, path.substr(0, dot))) {
-      const std::string full = join(*b == kGround ? "ground" : m_.nodes[*b].name, path.substr(dot + 1));
-      auto it = points_.find(full);
-      if (it != points_.end()) {
-        auto r = world(*b, it->second.ex, it->second.ey);
-        return Located{*b, r.first, r.second};
-      }
-    }
+  int node = kGround;
+  if (const Point* p = element_of(owner, path, points_, node)) {
+    auto r = world(node, p->ex, p->ey);
+    return Located{node, r.first, r.second};
   }
   diags_.error(pos, fmt::format("unknown point '{}' (a point of a rigid2d body or the ground, or a particle2d body)", path));
   return std::nullopt;
@@ -135,20 +143,13 @@ std::optional<PlanarLibrary::Located> PlanarLibrary::point(int owner, const std:
 std::optional<std::pair<PlanarLibrary::Located, std::pair<GiNaC::ex, GiNaC::ex>>> PlanarLibrary::axis(int owner,
                                                                                                       const std::string& path,
                                                                                                       const SourcePos& pos) {
-  const auto dot = path.rfind('.');
-  if (dot != std::string::npos) {
-    if (auto b = body(owner, path.substr(0, dot))) {
-      const std::string full = join(*b == kGround ? "ground" : m_.nodes[*b].name, path.substr(dot + 1));
-      auto it = axes_.find(full);
-      if (it != axes_.end()) {
-        const Axis& a = it->second;
-        auto base = world(*b, a.px, a.py);
-        // The direction turns with the body: R(theta) d.
-        const auto th = angle(*b);
-        const GiNaC::ex c = th ? GiNaC::cos(*th) : GiNaC::ex(1), s = th ? GiNaC::sin(*th) : GiNaC::ex(0);
-        return std::make_pair(Located{*b, base.first, base.second}, std::make_pair(c * a.dx - s * a.dy, s * a.dx + c * a.dy));
-      }
-    }
+  int node = kGround;
+  if (const Axis* a = element_of(owner, path, axes_, node)) {
+    auto base = world(node, a->px, a->py);
+    // The direction turns with the body: R(theta) d.
+    const auto th = angle(node);
+    const GiNaC::ex c = th ? GiNaC::cos(*th) : GiNaC::ex(1), s = th ? GiNaC::sin(*th) : GiNaC::ex(0);
+    return std::make_pair(Located{node, base.first, base.second}, std::make_pair(c * a->dx - s * a->dy, s * a->dx + c * a->dy));
   }
   diags_.error(pos, fmt::format("unknown axis '{}' (an axis of a rigid2d body or the ground)", path));
   return std::nullopt;

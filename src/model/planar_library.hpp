@@ -68,8 +68,10 @@ class PlanarLibrary {
   std::optional<Located> point(int owner, const std::string& path, const SourcePos& pos);
   std::optional<std::pair<Located, std::pair<GiNaC::ex, GiNaC::ex>>> axis(int owner, const std::string& path,
                                                                          const SourcePos& pos);
-  /// Full name of a body path seen from node `owner` (inner scopes first), or "ground".
+  /// The body a path names, seen from node `owner` (inner scopes first), or kGround.
   std::optional<int> body(int owner, const std::string& path) const;
+  template <class Decl>
+  const Decl* element_of(int owner, const std::string& path, const std::map<std::string, Decl>& table, int& node) const;
   std::pair<GiNaC::ex, GiNaC::ex> world(int node, const GiNaC::ex& px, const GiNaC::ex& py) const;
   std::optional<GiNaC::ex> angle(int node) const;
   /// World velocity of the material point of `node` at world position (x, y).
