@@ -9,7 +9,7 @@
 
 #include "mbsc/sym/complement.hpp"
 #include "mbsc/sym/eom.hpp"
-#include "mbsc/sym/multipliers.hpp"
+#include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
 
 namespace mbsc::sym {

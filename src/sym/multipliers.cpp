@@ -1,31 +1,10 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/multipliers.hpp"
 
-#include <algorithm>
-
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/own_force.hpp"
 
 namespace mbsc::sym {
-
-GiNaC::ex own_force(const model::Model& m, int speed) {
-  const model::Node& node = m.nodes[static_cast<std::size_t>(m.speeds[static_cast<std::size_t>(speed)].node)];
-  const auto at = std::find(node.speeds.begin(), node.speeds.end(), speed);
-  const std::size_t k = static_cast<std::size_t>(at - node.speeds.begin());
-  GiNaC::ex f = 0;
-  if (model::is_body(node.kind)) {
-    // Body speeds are (u, v[, w]) = rates of (x, y[, z | theta]).
-    const GiNaC::ex rate = m.speed_dots[static_cast<std::size_t>(speed)];
-    if (node.kind == model::LeafKind::Rigid2d && k == 2) {
-      f += -node.inertia * rate;
-    } else {
-      f += -node.mass * rate;
-      if (k < m.gravity.size()) f += node.mass * m.gravity[k];
-    }
-  }
-  for (const auto& force : m.forces)
-    if (force.speed == speed) f += force.value;
-  return f;
-}
 
 MultiplierForm multiplier_form(const model::Model& m) {
   const unsigned nu = static_cast<unsigned>(m.speeds.size()), nc = static_cast<unsigned>(m.constraints.size());

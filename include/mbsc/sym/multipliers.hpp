@@ -24,11 +24,6 @@ struct MultiplierForm {
   GiNaC::matrix g;   // nc x 1: position residuals (0 rows for velocity constraints)
 };
 
-/// Every speed's own generalized effective force at its leaf or node (bodies: inertia and
-/// gravity; custom leaves: their `force` statements; plus every applied `force`), as a
-/// function of the speeds' rates. Shared by both formulations.
-GiNaC::ex own_force(const model::Model& m, int speed);
-
 MultiplierForm multiplier_form(const model::Model& m);
 
 }  // namespace mbsc::sym
