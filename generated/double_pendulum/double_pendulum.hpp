@@ -36,6 +36,8 @@ inline constexpr int kNp = 5;
 inline constexpr int kNc = 4;
 inline constexpr int kNposc = 4;
 inline constexpr int kNy = 2;
+inline constexpr int kNpartitions = 1;
+inline constexpr int kNblocks = 0;
 
 inline constexpr const char* kStateNames[] = {
     "b1.x",
@@ -64,6 +66,12 @@ inline constexpr const char* kConstraintNames[] = {"b1x", "b1y", "b2x", "b2y"};
 inline constexpr const char* kPositionConstraintNames[] = {"b1x", "b1y", "b2x", "b2y"};
 
 inline constexpr const char* kOutputNames[] = {"tip_x", "tip_y"};
+
+inline constexpr const char* kPartitionNames[] = {"w1, w2"};
+
+// kBlockNames is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr const char* kBlockNames[1] = {""};
 
 inline constexpr double kParamDefaults[] = {1.0, 0.5, 1.0, 0.8, 9.81};
 
@@ -112,6 +120,17 @@ int energy(double t, const double* x, const double* u, const double* p, double* 
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds
+/// kPartitionNames[k]); every partition gives the same xdot where its blocks are regular.
+/// Returns what that rhs returns, or 3 when k is out of range.
+int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k
+/// solves by LU at this state; 1 when it solves none, 0 when one is singular. The
+/// run time switches to another partition when this degrades
+/// (include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.
+int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+
 }  // namespace double_pendulum
 }  // namespace mbsc_gen
 
@@ -126,4 +145,6 @@ int mbsc_double_pendulum_constraint_jacobian(double t, const double* x, const do
 int mbsc_double_pendulum_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_double_pendulum_rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_double_pendulum_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

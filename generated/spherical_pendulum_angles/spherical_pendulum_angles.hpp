@@ -36,6 +36,8 @@ inline constexpr int kNp = 3;
 inline constexpr int kNc = 3;
 inline constexpr int kNposc = 3;
 inline constexpr int kNy = 3;
+inline constexpr int kNpartitions = 1;
+inline constexpr int kNblocks = 0;
 
 inline constexpr const char* kStateNames[] = {
     "bob.x",
@@ -62,6 +64,12 @@ inline constexpr const char* kConstraintNames[] = {"bx", "by", "bz"};
 inline constexpr const char* kPositionConstraintNames[] = {"bx", "by", "bz"};
 
 inline constexpr const char* kOutputNames[] = {"bob_x", "bob_y", "bob_z"};
+
+inline constexpr const char* kPartitionNames[] = {"dtheta, dphi"};
+
+// kBlockNames is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr const char* kBlockNames[1] = {""};
 
 inline constexpr double kParamDefaults[] = {1.0, 1.0, 9.81};
 
@@ -110,6 +118,17 @@ int energy(double t, const double* x, const double* u, const double* p, double* 
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds
+/// kPartitionNames[k]); every partition gives the same xdot where its blocks are regular.
+/// Returns what that rhs returns, or 3 when k is out of range.
+int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k
+/// solves by LU at this state; 1 when it solves none, 0 when one is singular. The
+/// run time switches to another partition when this degrades
+/// (include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.
+int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+
 }  // namespace spherical_pendulum_angles
 }  // namespace mbsc_gen
 
@@ -124,4 +143,6 @@ int mbsc_spherical_pendulum_angles_constraint_jacobian(double t, const double* x
 int mbsc_spherical_pendulum_angles_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_angles_rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_angles_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 }  // extern "C"

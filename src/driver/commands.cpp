@@ -33,15 +33,23 @@ std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
   return fmt::format("{}", fmt::join(v, ", "));
 }
 
-/// Loads and derives; prints diagnostics. Returns false (exit 1) on user errors.
+/// Loads and derives; prints diagnostics. Returns false (exit 1) on user errors. The
+/// `alternative` independent sets are derived too, so their mistakes are reported here;
+/// `partitions` (when given) receives each partition's independent speeds.
 bool load_and_derive(const std::string& path, const std::map<std::string, double>& frozen, std::optional<model::Model>& m,
-                     std::optional<sym::Eom>& eom, std::ostream& err) {
+                     std::optional<sym::Eom>& eom, std::ostream& err, std::vector<std::string>* partitions = nullptr) {
   Diagnostics diags;
-  m = load_model(path, diags);
+  m = load_model(path, diags, frozen);
   if (m) {
     sym::Options opt;
     opt.frozen = frozen;
     eom = sym::derive(*m, opt, diags);
+    if (eom && partitions) partitions->push_back(speed_names(*m, eom->independent));
+    for (int k = 1; eom && k < m->partition_count(); ++k) {
+      opt.partition = k;
+      auto alt = sym::derive(*m, opt, diags);
+      if (alt && partitions) partitions->push_back(speed_names(*m, alt->independent));
+    }
   }
   err << diags.format();
   return m && eom && !diags.has_errors();
@@ -52,7 +60,8 @@ bool load_and_derive(const std::string& path, const std::map<std::string, double
 int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<model::Model> m;
   std::optional<sym::Eom> eom;
-  if (!load_and_derive(a.model, {}, m, eom, err)) return 1;
+  std::vector<std::string> partitions;
+  if (!load_and_derive(a.model, {}, m, eom, err, &partitions)) return 1;
   out << fmt::format("model {}: {} degree(s) of freedom\n", m->name, eom->ndof());
   out << fmt::format("  coordinates q0 ({}):", m->coords.size());
   for (const auto& q : m->coords) out << " " << q.name;
@@ -61,6 +70,8 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   out << fmt::format("\n  parameters ({}), inputs ({}), constraints ({}), outputs ({})\n", m->params.size(), m->inputs.size(),
                      m->constraints.size(), m->outputs.size() + (m->output_energy ? 1 : 0));
   out << fmt::format("  independent speeds: {}\n", speed_names(*m, eom->independent));
+  if (partitions.size() > 1)
+    out << fmt::format("  partitions for run-time re-selection (rhs_partition): {}\n", fmt::join(partitions, " | "));
   out << "subsystem tree (leaves to root):\n";
   for (size_t n = 0; n < m->nodes.size(); ++n) {
     const auto& node = m->nodes[n];

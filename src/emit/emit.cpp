@@ -154,6 +154,53 @@ std::string parameters(const ir::LoweredFunction& f, bool definition) {
          param("const double*", "p") + ", double* OUT";
 }
 
+// The partition dispatchers: signatures, and bodies that switch on k.
+constexpr const char* kDispatchParams = "int k, double t, const double* x, const double* u, const double* p, double* OUT";
+
+std::string partition_declarations() {
+  return comment_block("State derivative computed with partition k (0 <= k < kNpartitions, independent speeds\n"
+                       "kPartitionNames[k]); every partition gives the same xdot where its blocks are regular.\n"
+                       "Returns what that rhs returns, or 3 when k is out of range.",
+                       "///") +
+         "\nint rhs_partition(" + kDispatchParams + ");\n\n" +
+         comment_block("OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k\n"
+                       "solves by LU at this state; 1 when it solves none, 0 when one is singular. The\n"
+                       "run time switches to another partition when this degrades\n"
+                       "(include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.",
+                       "///") +
+         "\nint conditioning_partition(" + kDispatchParams + ");";
+}
+
+std::string partition_definitions(const GeneratedModel& m, const PartitionTable& table) {
+  std::string rhs = std::string("int rhs_partition(") + kDispatchParams + ") {\n  switch (k) {\n";
+  for (std::size_t k = 0; k < table.rhs.size(); ++k)
+    rhs += "    case " + std::to_string(k) + ": return " + table.rhs[k] + "(t, x, u, p, OUT);\n";
+  rhs += "    default: return 3;\n  }\n}";
+  std::string cond = std::string("int conditioning_partition(") + kDispatchParams + ") {\n";
+  bool any_blocks = false;
+  for (const auto& name : table.conditioning) any_blocks = any_blocks || !name.empty();
+  if (!any_blocks) cond += "  // No partition solves a block by LU: nothing can degrade.\n  (void)t;\n  (void)x;\n  (void)u;\n  (void)p;\n";
+  cond += "  switch (k) {\n";
+  for (std::size_t k = 0; k < table.conditioning.size(); ++k) {
+    const std::string& name = table.conditioning[k];
+    int nout = 0;
+    for (const auto& f : m.functions)
+      if (f.name == name) nout = f.nout;
+    cond += "    case " + std::to_string(k) + ": {\n";
+    if (name.empty() || nout == 0) {
+      cond += "      OUT[0] = 1.0;\n      return 0;\n    }\n";
+      continue;
+    }
+    cond += "      double rc[" + std::to_string(nout) + "];\n";
+    cond += "      const int status = " + name + "(t, x, u, p, rc);\n";
+    cond += "      double smallest = 1.0;\n";
+    cond += "      for (int i = 0; i < " + std::to_string(nout) + "; ++i) smallest = rc[i] < smallest ? rc[i] : smallest;\n";
+    cond += "      OUT[0] = status == 0 ? smallest : 0.0;\n      return status;\n    }\n";
+  }
+  cond += "    default: return 3;\n  }\n}";
+  return rhs + "\n\n" + cond;
+}
+
 std::string declarations(const GeneratedModel& m) {
   std::vector<std::string> blocks;
   for (const auto& f : m.functions) {
@@ -164,12 +211,14 @@ std::string declarations(const GeneratedModel& m) {
            "Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.";
     blocks.push_back(comment_block(doc, "///") + "\nint " + f.name + "(" + parameters(f, false) + ");");
   }
+  if (m.partitions) blocks.push_back(partition_declarations());
   return join(blocks, "\n\n");
 }
 
 std::string definitions(const GeneratedModel& m) {
   std::vector<std::string> blocks;
   for (const auto& f : m.functions) blocks.push_back("int " + f.name + "(" + parameters(f, true) + ") {\n" + f.body + "\n}");
+  if (m.partitions) blocks.push_back(partition_definitions(m, *m.partitions));
   return join(blocks, "\n\n");
 }
 
@@ -180,6 +229,9 @@ std::string c_signature(const GeneratedModel& m, const ir::LoweredFunction& f) {
 std::string c_declarations(const GeneratedModel& m) {
   std::vector<std::string> lines;
   for (const auto& f : m.functions) lines.push_back(c_signature(m, f) + ";");
+  if (m.partitions)
+    for (const char* f : {"rhs_partition", "conditioning_partition"})
+      lines.push_back("int mbsc_" + m.name + "_" + f + "(" + kDispatchParams + ");");
   return join(lines, "\n");
 }
 
@@ -188,6 +240,10 @@ std::string c_definitions(const GeneratedModel& m) {
   for (const auto& f : m.functions)
     blocks.push_back("extern \"C\" " + c_signature(m, f) + " {\n  return mbsc_gen::" + m.name + "::" + f.name +
                      "(t, x, u, p, OUT);\n}");
+  if (m.partitions)
+    for (const char* f : {"rhs_partition", "conditioning_partition"})
+      blocks.push_back("extern \"C\" int mbsc_" + m.name + "_" + f + "(" + kDispatchParams + ") {\n  return mbsc_gen::" +
+                       m.name + "::" + f + "(k, t, x, u, p, OUT);\n}");
   return join(blocks, "\n\n");
 }
 
@@ -196,7 +252,7 @@ void check_model(const GeneratedModel& m) {
   check_name("model name", m.name);
   // A namespace called std would hide ::std inside the generated code.
   if (m.name == "std") throw std::runtime_error("cannot emit a model named 'std'");
-  std::set<std::string> names = {"lu_solve", "chol_solve"};  // the solvers the source defines there
+  std::set<std::string> names = {"lu_solve", "chol_solve", "rcond_1norm"};  // the solvers the source defines there
   auto claim = [&](const std::string& what, const std::string& n) {
     check_name(what, n);
     if (!names.insert(n).second) throw std::runtime_error("cannot emit: the name '" + n + "' is used twice");
@@ -205,6 +261,8 @@ void check_model(const GeneratedModel& m) {
   for (const auto& c : m.name_lists) claim("name list", c.first);
   for (const auto& c : m.double_lists) claim("value list", c.first);
   for (const auto& f : m.functions) claim("function", f.name);
+  if (m.partitions)
+    for (const char* f : {"rhs_partition", "conditioning_partition"}) claim("function", f);
 }
 
 }  // namespace
@@ -213,9 +271,10 @@ GeneratedFiles emit(const GeneratedModel& m) {
   check_model(m);
   bool need_limits = false;
   const std::string consts = constants(m, need_limits);
-  bool uses_solve = false, uses_chol = false, uses_finite = false;
+  bool uses_solve = false, uses_chol = false, uses_finite = false, uses_rcond = false;
   for (const auto& f : m.functions) {
-    uses_solve = uses_solve || f.body.find("lu_solve(") != std::string::npos;
+    uses_rcond = uses_rcond || f.body.find("rcond_1norm(") != std::string::npos;
+    uses_solve = uses_solve || uses_rcond || f.body.find("lu_solve(") != std::string::npos;
     uses_chol = uses_chol || f.body.find("chol_solve(") != std::string::npos;
     uses_finite = uses_finite || f.body.find("all_finite(") != std::string::npos;
   }
@@ -233,7 +292,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
   Fragments s;
   s["banner"] = h["banner"];
   s["name"] = m.name;
-  s["support"] = (uses_finite ? all_finite_code() + "\n" : "") + (uses_solve ? lu_solve_code() + "\n" : "") +
+  s["support"] = (uses_finite ? all_finite_code() + "\n" : "") + (uses_solve ? lu_solve_code() + "\n" : "") + (uses_rcond ? rcond_code() + "\n" : "") +
                  (uses_chol ? chol_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
   s["c_definitions"] = c_definitions(m);

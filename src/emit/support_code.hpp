@@ -17,6 +17,9 @@ const std::string& chol_solve_code();
 /// status check uses (one branch for the whole output, not one per entry).
 const std::string& all_finite_code();
 
+/// rcond_1norm(n, A, W): reciprocal 1-norm condition number of a block (needs lu_solve).
+const std::string& rcond_code();
+
 /// The licence exception of generated files, as lines without comment markers.
 const std::string& generated_licence_text();
 

@@ -74,6 +74,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
       block.k = s.k;
       block.label = s.label;
       block.spd = s.spd;
+      block.condition = s.condition;
       block.A = std::move(solve_a[static_cast<std::size_t>(j)]);
       block.B = std::move(solve_b[static_cast<std::size_t>(j)]);
       prog->roots.push_back({Root::Kind::Solve, block.number, -1});
@@ -86,7 +87,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
 
   // Names a Define's temporary must avoid: the parameters, the loop index, std, lu_solve,
   // and every identifier the bindings' texts use.
-  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve"};
+  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm"};
   for (const Binding& b : bindings) add_identifiers(b.cpp, reserved);
 
   schedule(*prog, define_names, reserved);

@@ -82,9 +82,13 @@ class Printer {
   void solve(const SolveBlock& s, std::vector<std::string>& lines) {
     const std::string id = std::to_string(s.number);
     const std::string label = comment_text(s.label);
-    lines.push_back("  // solve A_" + id + " X = B_" + id + " (" + std::to_string(s.n) + "x" + std::to_string(s.n) +
-                    ", " + std::to_string(s.k) + (s.k == 1 ? " column" : " columns") + ")" +
-                    (label.empty() ? "" : ": " + label));
+    if (s.condition)
+      lines.push_back("  // B_" + id + "[0] = reciprocal condition number of A_" + id + " (" + std::to_string(s.n) + "x" +
+                      std::to_string(s.n) + ")" + (label.empty() ? "" : ": " + label));
+    else
+      lines.push_back("  // solve A_" + id + " X = B_" + id + " (" + std::to_string(s.n) + "x" + std::to_string(s.n) +
+                      ", " + std::to_string(s.k) + (s.k == 1 ? " column" : " columns") + ")" +
+                      (label.empty() ? "" : ": " + label));
     auto array = [&](const char* arr, const std::vector<NodeId>& entries, int cols) {
       lines.push_back("  double " + std::string(arr) + id + "[" + std::to_string(entries.size()) + "] = {");
       for (std::size_t r = 0; r * static_cast<std::size_t>(cols) < entries.size(); ++r) {
@@ -94,6 +98,14 @@ class Printer {
         lines.push_back("      " + join(row, ", ") + (last ? "};" : ","));
       }
     };
+    if (s.condition) {
+      // A_i is destroyed; B_i holds the result, then A_i^-1 as workspace.
+      array("A_", s.A, s.n);
+      lines.push_back("  double B_" + id + "[" + std::to_string(s.n * s.n + 1) + "];");
+      lines.push_back("  B_" + id + "[0] = rcond_1norm(" + std::to_string(s.n) + ", A_" + id + ", B_" + id + " + 1);");
+      ops_.solve_flops += lu_solve_flops(s.n, s.n) + 2L * s.n * s.n;
+      return;
+    }
     array("A_", s.A, s.n);
     array("B_", s.B, s.k);
     lines.push_back(std::string("  if (") + (s.spd ? "chol_solve(" : "lu_solve(") + std::to_string(s.n) + ", " +

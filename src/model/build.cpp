@@ -439,17 +439,27 @@ class Builder {
           break;
         }
         case Kind::Independent:
-          node.independent_pos = s.pos;
+        case Kind::Alternative: {
+          std::vector<int> set;
           for (const auto& p : s.paths) {
             auto v = lookup_variable(id, p);
             if (!v) continue;
             if (v->first) {
-              diags_.error(p.pos, fmt::format("independent variable '{}' is a coordinate; name its speed", p.text));
+              diags_.error(p.pos, fmt::format("{} variable '{}' is a coordinate; name its speed",
+                                              s.kind == Kind::Independent ? "independent" : "alternative", p.text));
               continue;
             }
-            node.independent.push_back(v->second);
+            set.push_back(v->second);
+          }
+          if (s.kind == Kind::Independent) {
+            node.independent_pos = s.pos;
+            node.independent.insert(node.independent.end(), set.begin(), set.end());
+          } else {
+            node.alternatives.push_back(set);
+            node.alternative_pos.push_back(s.pos);
           }
           break;
+        }
         case Kind::Output:
           if (!s.value) {
             if (id != m_.root()) {
@@ -737,7 +747,9 @@ class Builder {
 std::optional<Model> build(const ast::File& file, Diagnostics& diags) {
   Builder b(diags);
   try {
-    return b.run(file);
+    auto m = b.run(file);
+    if (m) m->structural = file.structural;
+    return m;
   } catch (const std::exception& e) {
     diags.error(SourcePos{file.path, 0, 0}, std::string("internal error while building the model: ") + e.what());
     return std::nullopt;

@@ -40,13 +40,18 @@ fs::path identity(const std::string& path) {
 
 class IncludeResolver {
  public:
-  explicit IncludeResolver(Diagnostics& diags) : diags_(diags) {}
+  IncludeResolver(Diagnostics& diags, const std::map<std::string, double>& overrides)
+      : diags_(diags), overrides_(overrides) {}
+
+  /// The parameters loop bounds and indices used, over every file read.
+  const std::map<std::string, double>& structural() const { return structural_; }
 
   /// Parses `text` (the contents of `path`) and appends its statements to `out`,
   /// each Include statement replaced by the statements of the file it names.
   void expand(const std::string& path, const std::string& text, std::vector<ast::StatementPtr>& out) {
     ast::File file;
-    if (!parse_source(text, path, diags_, file)) ok_ = false;
+    if (!parse_source(text, path, diags_, file, overrides_)) ok_ = false;
+    structural_.insert(file.structural.begin(), file.structural.end());
     stack_.push_back(identity(path));
     for (const auto& st : file.statements) {
       if (st->kind != ast::Statement::Kind::Include) {
@@ -87,23 +92,27 @@ class IncludeResolver {
   }
 
   Diagnostics& diags_;
+  const std::map<std::string, double>& overrides_;
+  std::map<std::string, double> structural_;  // loop parameters of every file
   std::vector<fs::path> stack_;  // files being expanded, outermost first
   bool ok_ = true;
 };
 
 }  // namespace
 
-std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags) {
+std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
+                                    const std::map<std::string, double>& overrides) {
   std::string text;
   if (!read_text(path, text)) {
     diags.error(SourcePos{path, 0, 0}, "cannot open file '" + path + "'");
     return std::nullopt;
   }
-  IncludeResolver resolver(diags);
+  IncludeResolver resolver(diags, overrides);
   ast::File file;
   file.path = path;
   resolver.expand(path, text, file.statements);
   if (!resolver.ok()) return std::nullopt;
+  file.structural = resolver.structural();
   return file;
 }
 

@@ -9,12 +9,12 @@ namespace mbsc::parse {
 
 namespace {
 
-constexpr std::array<const char*, 25> statement_keywords = {
+constexpr std::array<const char*, 26> statement_keywords = {
     "model",      "parameter", "input",   "gravity", "include", "component",   "subsystem", "body",   "coordinate",
-    "speed",      "constraint", "force",  "mass",    "inertia", "kinetic",     "potential", "independent",
+    "speed",      "constraint", "force",  "mass",    "inertia", "kinetic",     "potential", "independent", "alternative",
     "output",     "point",      "com",    "axis",    "ground",  "joint",       "spring",    "damper"};
 
-constexpr std::array<const char*, 4> other_keywords = {"position", "velocity", "nonlinear", "energy"};
+constexpr std::array<const char*, 5> other_keywords = {"position", "velocity", "nonlinear", "energy", "for"};
 
 bool is_ident_start(char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
@@ -137,6 +137,8 @@ class Lexer {
       case '(': kind = TokenKind::LParen; break;
       case ')': kind = TokenKind::RParen; break;
       case '{': kind = TokenKind::LBrace; break;
+      case '[': kind = TokenKind::LBracket; break;
+      case ']': kind = TokenKind::RBracket; break;
       case '}': kind = TokenKind::RBrace; break;
       case '+': kind = TokenKind::Plus; break;
       case '-': kind = TokenKind::Minus; break;

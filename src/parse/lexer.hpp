@@ -22,6 +22,8 @@ enum class TokenKind {
   RParen,     // )
   LBrace,     // {
   RBrace,     // }
+  LBracket,   // [  (indices, expanded away by loop_expansion before parsing)
+  RBracket,   // ]
   Plus,       // +
   Minus,      // -
   Star,       // *

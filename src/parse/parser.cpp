@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "lexer.hpp"
+#include "loop_expansion.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "parser_internal.hpp"
 
@@ -249,7 +250,8 @@ class Parser {
     if (k == "inertia") return parse_valued(out, kw, Statement::Kind::Inertia);
     if (k == "kinetic") return parse_valued(out, kw, Statement::Kind::Kinetic);
     if (k == "potential") return parse_valued(out, kw, Statement::Kind::Potential);
-    if (k == "independent") return parse_independent(out, kw);
+    if (k == "independent") return parse_independent(out, kw, Statement::Kind::Independent);
+    if (k == "alternative") return parse_independent(out, kw, Statement::Kind::Alternative);
     if (k == "output") return parse_output(out, kw);
     if (k == "point") return parse_point(out, kw);
     if (k == "com") return parse_com(out, kw);
@@ -605,14 +607,14 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // 'independent' path (',' path)*
-  void parse_independent(std::vector<StatementPtr>& out, const Token& kw) {
-    Statement st = begin(Statement::Kind::Independent, kw);
+  // ('independent' | 'alternative') path (',' path)*
+  void parse_independent(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind) {
+    Statement st = begin(kind, kw);
     for (;;) {
       st.paths.push_back(parse_path("name after " + after_last()));
       if (!accept(TK::Comma)) break;
     }
-    end_statement("independent '" + st.paths.back().text + "'", /*in_list=*/true);
+    end_statement(kw.text + " '" + st.paths.back().text + "'", /*in_list=*/true);
     push(out, std::move(st));
   }
 
@@ -768,17 +770,21 @@ class Parser {
 
 }  // namespace
 
-bool parse_source(const std::string& text, const std::string& file, Diagnostics& diags, ast::File& out) {
+bool parse_source(const std::string& text, const std::string& file, Diagnostics& diags, ast::File& out,
+                  const std::map<std::string, double>& overrides) {
   const int errors_before = diags.error_count();
-  Parser parser(lex(text, file), diags);
+  auto tokens = expand_loops(lex(text, file), diags, overrides, out.structural);
+  if (diags.error_count() != errors_before) return false;
+  Parser parser(std::move(tokens), diags);
   out.path = file;
   out.statements = parser.parse_file();
   return diags.error_count() == errors_before;
 }
 
-std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags) {
+std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags,
+                                    const std::map<std::string, double>& overrides) {
   ast::File out;
-  if (!parse_source(text, file, diags, out)) return std::nullopt;
+  if (!parse_source(text, file, diags, out, overrides)) return std::nullopt;
   return out;
 }
 

@@ -32,6 +32,18 @@ class Deriver {
     eliminated_at_.assign(m.speeds.size(), -1);
   }
 
+  /// The independent set asked for at a node in this partition (empty: automatic).
+  const std::vector<int>& requested(const model::Node& node) const {
+    const int k = eom_.options.partition;
+    return k > 0 && k <= static_cast<int>(node.alternatives.size()) ? node.alternatives[static_cast<std::size_t>(k - 1)]
+                                                                     : node.independent;
+  }
+  SourcePos requested_pos(const model::Node& node) const {
+    const int k = eom_.options.partition;
+    return k > 0 && k <= static_cast<int>(node.alternatives.size()) ? node.alternative_pos[static_cast<std::size_t>(k - 1)]
+                                                                     : node.independent_pos;
+  }
+
   static std::map<std::string, double> param_values(const model::Model& m, const Options& o) {
     std::map<std::string, double> v;
     for (size_t i = 0; i < m.params.size(); ++i) v[m.params[i].name] = m.param_defaults[i];
@@ -149,19 +161,19 @@ class Deriver {
     const int nr = static_cast<int>(rows.size());
     if (nr == 0) {
       // Without constraints every y is independent; a given set must say exactly that.
-      for (int s : node.independent)
+      for (int s : requested(node))
         if (!avail.count(s)) {
-          diags_.error(node.independent_pos, fmt::format("independent speed '{}' is not free at subsystem '{}' (it is not one of its "
+          diags_.error(requested_pos(node), fmt::format("independent speed '{}' is not free at subsystem '{}' (it is not one of its "
                                                          "speeds or was eliminated in a child subsystem)",
                                                          m_.speeds[s].name, m_.label(n)));
           return false;
         }
-      if (!node.independent.empty() && node.independent.size() != r.y.size()) {
-        diags_.error(node.independent_pos, fmt::format("subsystem '{}' has {} degree(s) of freedom but {} independent speed(s) are given",
-                                                       m_.label(n), r.y.size(), node.independent.size()));
+      if (!requested(node).empty() && requested(node).size() != r.y.size()) {
+        diags_.error(requested_pos(node), fmt::format("subsystem '{}' has {} degree(s) of freedom but {} independent speed(s) are given",
+                                                       m_.label(n), r.y.size(), requested(node).size()));
         return false;
       }
-      r.independent = node.independent.empty() ? r.y : node.independent;
+      r.independent = requested(node).empty() ? r.y : requested(node);
       r.rank = 0;
       // C is a permutation (the given order of the independent speeds).
       r.C = GiNaC::matrix(ny, ny);
@@ -180,7 +192,7 @@ class Deriver {
       for (int j = 0; j < ny; ++j) r.B(i, j) = rows[i].diff(m_.speed_dots[r.y[j]]);
       r.b(i, 0) = rows[i].subs(zero);
     }
-    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, node.independent, node.independent_pos};
+    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node)};
     auto choice = choose_partition(in, diags_);
     if (!choice) return false;
     r.rank = nr;
@@ -614,8 +626,12 @@ std::optional<Eom> derive(const model::Model& model, const Options& options, Dia
       return std::nullopt;
     }
   }
+  // Parameters that shaped the model's structure (loop bounds, indices) are frozen at
+  // the value the expansion used.
+  Options with_structure = options;
+  for (const auto& [name, v] : model.structural) with_structure.frozen.emplace(name, v);
   try {
-    Deriver d(model, options, diags);
+    Deriver d(model, with_structure, diags);
     return d.run();
   } catch (const std::exception& e) {
     diags.error(model.nodes.empty() ? SourcePos{} : model.nodes.back().pos,

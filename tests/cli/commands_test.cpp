@@ -33,6 +33,10 @@ TEST_CASE("check reports the degrees of freedom and the partition", "[cli]") {
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("4 degree(s) of freedom") != std::string::npos);
   CHECK(r.output.find("numeric (LU in generated code)") != std::string::npos);
+  r = run(kMbsc + " check " + model("four_bar_toggle.mbs"));
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("partitions for run-time re-selection (rhs_partition): crank.w | rocker.w | coupler.w") !=
+        std::string::npos);
 }
 
 TEST_CASE("print shows the matrices of a subsystem, in text and LaTeX", "[cli]") {
@@ -104,6 +108,11 @@ TEST_CASE("generate --state minimal: a smaller state, and clear refusals", "[cli
   r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --outputs full_state -o " + quote(bad.string()));
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("full_state") != std::string::npos);
+  // Alternative independent sets re-select at run time over the full state only.
+  r = run(kMbsc + " generate " + model("four_bar_toggle.mbs") + " --state minimal -o " + quote(bad.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("four_bar_toggle.mbs:43:1: error: 'alternative' independent sets need --state full") !=
+        std::string::npos);
   r = run(kMbsc + " generate " + model("double_pendulum.mbs") + " --state smallest -o " + quote(bad.string()));
   CHECK(r.exit_code == 1);
   CHECK(fs::is_empty(bad));

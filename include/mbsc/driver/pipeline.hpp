@@ -40,7 +40,9 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
                                                const BaumgarteGains& gains);
 
 /// Parses and builds a model file (includes resolved). nullopt on error.
-std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags);
+/// `overrides` (the --freeze values) also set the parameters `for` loops and indices use.
+std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags,
+                                      const std::map<std::string, double>& overrides = {});
 
 /// Expression with component formals and frozen parameters substituted.
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e);
@@ -51,6 +53,12 @@ GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& 
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal = nullptr);
 std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal = nullptr);
+
+/// The `conditioning` function of an rhs: the rcond of every block the rhs solves by LU
+/// (not the Cholesky of M), one output per block in solve order.
+ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::string& name);
+/// The labels of those blocks (kBlockNames).
+std::vector<std::string> conditioning_labels(const ir::FunctionSpec& conditioning);
 
 /// Model + Eom -> everything the emitter prints.
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// Everything the emitter prints for one model, and the printed files.
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -8,6 +9,13 @@
 #include "mbsc/ir/program.hpp"
 
 namespace mbsc::emit {
+
+/// Run-time re-selection of the independent set: the rhs and conditioning function of
+/// each partition, dispatched by rhs_partition(k, ...) / conditioning_partition(k, ...).
+struct PartitionTable {
+  std::vector<std::string> rhs;           // function name per partition ("rhs", "rhs_alt1", ...)
+  std::vector<std::string> conditioning;  // "" when that partition solves no block by LU
+};
 
 struct GeneratedModel {
   std::string name;          // model name: C++ namespace and file stem
@@ -18,6 +26,7 @@ struct GeneratedModel {
   std::vector<std::pair<std::string, std::vector<std::string>>> name_lists;       // {"kStateNames", {...}}
   std::vector<std::pair<std::string, std::vector<double>>> double_lists;          // {"kParamDefaults", {...}}
   std::vector<ir::LoweredFunction> functions;
+  std::optional<PartitionTable> partitions;  // emitted with rhs and conditioning
 };
 
 struct GeneratedFiles {

@@ -45,6 +45,10 @@ struct Solve {
   /// Cholesky factorisation (n^3/6 instead of n^3/3) and returns status 1 when A is not
   /// positive definite to working precision.
   bool spd = false;
+  /// Not a solve: X[0] := the reciprocal 1-norm condition number of A,
+  /// 1 / (|A|_1 |A^-1|_1), or 0 when A is singular to working precision (B unused, k = 1).
+  /// What the generated `conditioning` functions report for each block the rhs solves.
+  bool condition = false;
 };
 
 using Step = std::variant<Define, Solve>;

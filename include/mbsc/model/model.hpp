@@ -4,6 +4,7 @@
 /// expression is already a GiNaC expression over the symbols of `symbols`.
 #include <ginac/ginac.h>
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -73,6 +74,10 @@ struct Node {
   std::vector<int> constraints;  // constraints declared at this node (leaf or ⊕ invariants)
   std::vector<int> independent;  // chosen independent speeds (empty: automatic)
   SourcePos independent_pos;
+  /// Other independent sets (`alternative` statements), for run-time re-selection:
+  /// partition k > 0 of the model uses alternatives[k - 1] here when it exists.
+  std::vector<std::vector<int>> alternatives;
+  std::vector<SourcePos> alternative_pos;
   GiNaC::ex mass, inertia;    // bodies
   SourcePos mass_pos;
   GiNaC::ex kinetic, potential;  // user-given energy terms (0 when absent)
@@ -83,6 +88,9 @@ struct Node {
 /// (children before parents, root last).
 struct Model {
   std::string name;
+  /// Parameters that `for` bounds or indices used (parse::File::structural): derived
+  /// and generated frozen at these values.
+  std::map<std::string, double> structural;
   std::string source_text_hash;
   std::vector<Node> nodes;
   std::vector<Variable> coords;   // q0
@@ -103,6 +111,13 @@ struct Model {
   int root() const { return static_cast<int>(nodes.size()) - 1; }
   /// A node's name for messages: its dotted path, or "<top>" for the root.
   std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }
+  /// Number of partitions (independent sets) the model declares: 1 + the most
+  /// `alternative` statements at any node.
+  int partition_count() const {
+    std::size_t k = 0;
+    for (const auto& n : nodes) k = std::max(k, n.alternatives.size());
+    return static_cast<int>(k) + 1;
+  }
 };
 
 }  // namespace mbsc::model

@@ -2,6 +2,7 @@
 #pragma once
 /// The syntax tree of a model file. It mirrors the text: user names and nesting are kept,
 /// and every node carries the SourcePos of its first token. No name is resolved here.
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -66,6 +67,7 @@ struct Statement {
     Kinetic,      // kinetic expr                       value
     Potential,    // potential expr                     value
     Independent,  // independent PATH, PATH ...         paths
+    Alternative,  // alternative PATH, PATH ...         paths (another independent set, for run-time re-selection)
     Output,       // output NAME = expr | output energy name, value (null for "output energy")
     // Planar library level (docs/language.md "Bodies, points and joints"):
     Point,        // point NAME (ex, ey)                name, exprs = {ex, ey} (body coordinates)
@@ -105,6 +107,9 @@ struct Statement {
 struct File {
   std::string path;
   std::vector<StatementPtr> statements;
+  /// Parameters that loop bounds or indices used, with the value used (structural:
+  /// the model freezes them, since other values need another expansion).
+  std::map<std::string, double> structural;
 };
 
 }  // namespace mbsc::ast

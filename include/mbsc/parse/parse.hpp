@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// Lexer + recursive-descent parser for the model language (docs/language.md).
+#include <map>
 #include <optional>
 #include <string>
 
@@ -11,11 +12,15 @@ namespace mbsc::parse {
 
 /// Parses model text. `file` is only used in positions. Include statements are kept
 /// as they are (not resolved). Returns nullopt when any syntax error was reported.
-std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags);
+/// `overrides`: parameter values for loop bounds and indices (--freeze), see
+/// docs/language.md "Repeated structure".
+std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags,
+                                    const std::map<std::string, double>& overrides = {});
 
 /// Reads and parses a file, splicing top-level `include "x.mbs"` statements in place
 /// (paths relative to the including file). A missing file or a cyclic include is an
 /// error at the include statement. Returns nullopt on any error.
-std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags);
+std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
+                                    const std::map<std::string, double>& overrides = {});
 
 }  // namespace mbsc::parse

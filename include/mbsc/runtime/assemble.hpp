@@ -11,6 +11,7 @@
 ///      free speeds.
 /// Failure says which constraint is left unsatisfied; a final Jacobian whose pivots
 /// span more than `singular_ratio` is reported as near a singular configuration.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -51,6 +52,8 @@ struct AssemblyResult {
   int worst_constraint = -1;       // index into the position (or all) residuals when not solved
   bool near_singular = false;      // the last Jacobian's pivots span more than singular_ratio
   double pivot_ratio = 0.0;
+  int position_rank = -1;          // numerical rank of the final Jacobian over the free coordinates
+  int position_full_rank = 0;      // what it has at a regular point: min(kNposc, free coordinates)
   std::string message;             // what happened, naming the constraint on failure
   bool ok() const { return status == Status::Ok; }
 };
@@ -123,6 +126,8 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
                                                       std::vector<double>(static_cast<std::size_t>(m.nposc), 0.0), m.nposc,
                                                       static_cast<int>(free_q.size()));
       res.pivot_ratio = at_end.smallest_pivot > 0 ? at_end.largest_pivot / at_end.smallest_pivot : INFINITY;
+      res.position_rank = at_end.rank;
+      res.position_full_rank = std::min(m.nposc, static_cast<int>(free_q.size()));
     }
   }
   // ---- speeds: A v + b = 0 for the free ones ----
@@ -156,8 +161,14 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
     }
   }
   res.near_singular = res.pivot_ratio > opt.singular_ratio;
+  res.near_singular = res.near_singular || (res.position_rank >= 0 && res.position_rank < res.position_full_rank);
+  const bool rank_drop = res.position_rank >= 0 && res.position_rank < res.position_full_rank;
   res.message = res.near_singular ? "assembled, but near a singular configuration (Jacobian pivots span " +
-                                        std::to_string(res.pivot_ratio) + ")"
+                                        std::to_string(res.pivot_ratio) +
+                                        (rank_drop ? "; Jacobian rank " + std::to_string(res.position_rank) + " instead of " +
+                                                         std::to_string(res.position_full_rank)
+                                                   : std::string()) +
+                                        ")"
                                   : "assembled";
   return res;
 }

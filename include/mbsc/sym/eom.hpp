@@ -55,6 +55,9 @@ struct NodeResult {
 struct Options {
   std::map<std::string, double> frozen;  // parameter name -> value folded into the code
   bool reuse_components = true;           // derive a component once, instantiate by substitution
+  /// Which declared independent set to use: 0 = each node's `independent` (or automatic),
+  /// k > 0 = each node's k-th `alternative` where it has one (model::Model::partition_count).
+  int partition = 0;
 };
 
 /// Derived equations of a whole model.

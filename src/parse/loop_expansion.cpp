@@ -1,0 +1,280 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `for` loops and `name[index]`, expanded on tokens (see loop_expansion.hpp).
+#include "loop_expansion.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <optional>
+
+namespace mbsc::parse {
+namespace {
+
+constexpr long kMaxIterations = 10000;
+
+bool ends_statement(TokenKind k) {
+  return k == TokenKind::Comma || k == TokenKind::Newline || k == TokenKind::Semicolon || k == TokenKind::End ||
+         k == TokenKind::RBrace;
+}
+
+class Expander {
+ public:
+  Expander(const std::vector<Token>& t, Diagnostics& d, const std::map<std::string, double>& overrides,
+           std::map<std::string, double>& structural)
+      : t_(t), diags_(d), overrides_(overrides), structural_(structural) {}
+
+  std::vector<Token> run() {
+    collect_parameters();
+    std::vector<Token> out;
+    if (!expand(0, t_.size() - 1, {}, out)) return t_;  // errors reported; the parse stops
+    out.push_back(t_.back());                             // End
+    return out;
+  }
+
+ private:
+  using Env = std::map<std::string, long>;
+
+  /// `parameter a = <number>, ...`: the parameters a bound or an index may use.
+  void collect_parameters() {
+    for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
+      if (t_[i].kind != TokenKind::Keyword || t_[i].text != "parameter") continue;
+      std::size_t j = i + 1;
+      while (j + 2 < t_.size() && t_[j].kind == TokenKind::Ident && t_[j + 1].kind == TokenKind::Equals) {
+        std::size_t k = j + 2;
+        const double sign = t_[k].kind == TokenKind::Minus ? -1.0 : 1.0;
+        if (sign < 0) ++k;
+        const auto ov = overrides_.find(t_[j].text);
+        if (ov != overrides_.end()) params_[t_[j].text] = ov->second;
+        else if (t_[k].kind == TokenKind::Number && k + 1 < t_.size() && ends_statement(t_[k + 1].kind))
+          params_[t_[j].text] = sign * std::stod(t_[k].text);
+        // Skip to the next ',' of this statement (parentheses may hold commas).
+        int depth = 0;
+        while (k < t_.size() && !(depth == 0 && ends_statement(t_[k].kind))) {
+          depth += t_[k].kind == TokenKind::LParen ? 1 : t_[k].kind == TokenKind::RParen ? -1 : 0;
+          ++k;
+        }
+        if (k >= t_.size() || t_[k].kind != TokenKind::Comma) break;
+        j = k + 1;
+      }
+    }
+  }
+
+  void emit(std::vector<Token>& out, Token tok) {
+    // Repeated bodies meet at line ends: one newline is enough.
+    if (tok.kind == TokenKind::Newline && !out.empty() && out.back().kind == TokenKind::Newline) return;
+    out.push_back(std::move(tok));
+  }
+
+  void emit_number(std::vector<Token>& out, long v, const SourcePos& pos) {
+    if (v >= 0) return emit(out, {TokenKind::Number, std::to_string(v), pos});
+    emit(out, {TokenKind::LParen, "(", pos});
+    emit(out, {TokenKind::Minus, "-", pos});
+    emit(out, {TokenKind::Number, std::to_string(-v), pos});
+    emit(out, {TokenKind::RParen, ")", pos});
+  }
+
+  /// The index of the token closing the bracket or brace opened at `open`, or npos.
+  std::size_t closing(std::size_t open, std::size_t end, TokenKind o, TokenKind c) const {
+    int depth = 0;
+    for (std::size_t i = open; i < end; ++i) {
+      if (t_[i].kind == o) ++depth;
+      if (t_[i].kind == c && --depth == 0) return i;
+    }
+    return std::string::npos;
+  }
+
+  bool expand(std::size_t b, std::size_t e, const Env& env, std::vector<Token>& out) {
+    for (std::size_t i = b; i < e;) {
+      const Token& tok = t_[i];
+      if (tok.kind == TokenKind::Keyword && tok.text == "for") {
+        const std::size_t next = expand_for(i, e, env, out);
+        if (next == std::string::npos) return false;
+        i = next;
+        continue;
+      }
+      if (tok.kind == TokenKind::Ident && i + 1 < e && t_[i + 1].kind == TokenKind::LBracket) {
+        const std::size_t close = closing(i + 1, e, TokenKind::LBracket, TokenKind::RBracket);
+        if (close == std::string::npos) {
+          diags_.error(t_[i + 1].pos, fmt::format("'[' after '{}' is not closed with ']'", tok.text));
+          return false;
+        }
+        auto v = evaluate(i + 2, close, env, fmt::format("index of '{}'", tok.text), t_[i + 1].pos);
+        if (!v) return false;
+        emit(out, {TokenKind::Ident, fmt::format("{}_{}", tok.text, *v), tok.pos});
+        i = close + 1;
+        continue;
+      }
+      if (tok.kind == TokenKind::LBracket || tok.kind == TokenKind::RBracket) {
+        diags_.error(tok.pos, fmt::format("'{}' belongs after a name, as in crank[i]", tok.text));
+        return false;
+      }
+      const bool after_dot = i > 0 && t_[i - 1].kind == TokenKind::Dot;
+      if (tok.kind == TokenKind::Ident && !after_dot) {
+        auto it = env.find(tok.text);
+        if (it != env.end()) {
+          emit_number(out, it->second, tok.pos);
+          ++i;
+          continue;
+        }
+      }
+      emit(out, tok);
+      ++i;
+    }
+    return true;
+  }
+
+  // 'for' IDENT '=' intexpr 'to' intexpr '{' tokens '}'
+  std::size_t expand_for(std::size_t i, std::size_t e, const Env& env, std::vector<Token>& out) {
+    const Token& kw = t_[i];
+    if (i + 2 >= e || t_[i + 1].kind != TokenKind::Ident || t_[i + 2].kind != TokenKind::Equals) {
+      diags_.error(kw.pos, "expected 'for NAME = FIRST to LAST { ... }'");
+      return std::string::npos;
+    }
+    const std::string var = t_[i + 1].text;
+    std::size_t to = i + 3, open = std::string::npos;
+    while (to < e && !(t_[to].kind == TokenKind::Ident && t_[to].text == "to") && t_[to].kind != TokenKind::LBrace &&
+           t_[to].kind != TokenKind::Newline)
+      ++to;
+    if (to >= e || t_[to].kind != TokenKind::Ident) {
+      diags_.error(kw.pos, fmt::format("loop over '{}': expected 'for {} = FIRST to LAST {{ ... }}'", var, var));
+      return std::string::npos;
+    }
+    open = to + 1;
+    while (open < e && t_[open].kind != TokenKind::LBrace && t_[open].kind != TokenKind::Newline) ++open;
+    if (open >= e || t_[open].kind != TokenKind::LBrace) {
+      diags_.error(kw.pos, fmt::format("loop over '{}': expected '{{' after the last value", var));
+      return std::string::npos;
+    }
+    const std::size_t close = closing(open, e, TokenKind::LBrace, TokenKind::RBrace);
+    if (close == std::string::npos) {
+      diags_.error(t_[open].pos, fmt::format("loop over '{}': '{{' is not closed with '}}'", var));
+      return std::string::npos;
+    }
+    auto first = evaluate(i + 3, to, env, fmt::format("first value of '{}'", var), t_[i + 2].pos);
+    auto last = first ? evaluate(to + 1, open, env, fmt::format("last value of '{}'", var), t_[to].pos) : std::nullopt;
+    if (!first || !last) return std::string::npos;
+    if (*last - *first >= kMaxIterations) {
+      diags_.error(kw.pos, fmt::format("loop over '{}' runs {} times; at most {} are allowed", var, *last - *first + 1,
+                                       kMaxIterations));
+      return std::string::npos;
+    }
+    for (long v = *first; v <= *last; ++v) {
+      Env inner = env;
+      inner[var] = v;
+      if (!expand(open + 1, close, inner, out)) return std::string::npos;
+    }
+    return close + 1;
+  }
+
+  // ---- integer expressions: + - * / ( ), numbers, loop variables, parameters ----
+
+  std::optional<long> evaluate(std::size_t b, std::size_t e, const Env& env, const std::string& what, const SourcePos& at) {
+    if (b >= e) {
+      diags_.error(at, fmt::format("the {} is missing", what));
+      return std::nullopt;
+    }
+    pos_ = b;
+    end_ = e;
+    env_ = &env;
+    what_ = what;
+    failed_ = false;
+    const long v = sum();
+    if (!failed_ && pos_ != end_) fail(t_[pos_], fmt::format("unexpected {}", describe(t_[pos_])));
+    if (failed_) return std::nullopt;
+    return v;
+  }
+
+  void fail(const Token& at, const std::string& why) {
+    if (!failed_)
+      diags_.error(at.pos, fmt::format("the {} must be a whole number made of numbers, loop variables and parameters "
+                                       "with a number default: {}",
+                                       what_, why));
+    failed_ = true;
+  }
+
+  long sum() {
+    long v = product();
+    while (!failed_ && pos_ < end_ && (t_[pos_].kind == TokenKind::Plus || t_[pos_].kind == TokenKind::Minus)) {
+      const bool plus = t_[pos_++].kind == TokenKind::Plus;
+      const long r = product();
+      v = plus ? v + r : v - r;
+    }
+    return v;
+  }
+
+  long product() {
+    long v = factor();
+    while (!failed_ && pos_ < end_ && (t_[pos_].kind == TokenKind::Star || t_[pos_].kind == TokenKind::Slash)) {
+      const Token& op = t_[pos_++];
+      const long r = factor();
+      if (op.kind == TokenKind::Star) {
+        v *= r;
+      } else if (r == 0 || v % r != 0) {
+        fail(op, fmt::format("{} / {} is not a whole number", v, r));
+      } else {
+        v /= r;
+      }
+    }
+    return v;
+  }
+
+  long factor() {
+    if (pos_ >= end_) {
+      fail(t_[end_ - 1], "it ends early");
+      return 0;
+    }
+    const Token& tok = t_[pos_++];
+    switch (tok.kind) {
+      case TokenKind::Minus:
+        return -factor();
+      case TokenKind::LParen: {
+        const long v = sum();
+        if (pos_ >= end_ || t_[pos_].kind != TokenKind::RParen) fail(tok, "'(' is not closed");
+        else ++pos_;
+        return v;
+      }
+      case TokenKind::Number: {
+        const double d = std::stod(tok.text);
+        if (d != std::floor(d) || std::abs(d) > 1e9) fail(tok, fmt::format("{} is not a whole number", tok.text));
+        return static_cast<long>(d);
+      }
+      case TokenKind::Ident: {
+        if (auto it = env_->find(tok.text); it != env_->end()) return it->second;
+        if (auto it = params_.find(tok.text); it != params_.end()) {
+          if (it->second != std::floor(it->second) || std::abs(it->second) > 1e9) {
+            fail(tok, fmt::format("parameter '{}' is {}", tok.text, it->second));
+            return 0;
+          }
+          structural_[tok.text] = it->second;
+          return static_cast<long>(it->second);
+        }
+        fail(tok, fmt::format("'{}' is not a loop variable or a parameter with a number default", tok.text));
+        return 0;
+      }
+      default:
+        fail(tok, fmt::format("unexpected {}", describe(tok)));
+        return 0;
+    }
+  }
+
+  const std::vector<Token>& t_;
+  Diagnostics& diags_;
+  const std::map<std::string, double>& overrides_;
+  std::map<std::string, double>& structural_;
+  std::map<std::string, double> params_;
+  // State of the expression being evaluated.
+  std::size_t pos_ = 0, end_ = 0;
+  const Env* env_ = nullptr;
+  std::string what_;
+  bool failed_ = false;
+};
+
+}  // namespace
+
+std::vector<Token> expand_loops(const std::vector<Token>& tokens, Diagnostics& diags,
+                                const std::map<std::string, double>& overrides,
+                                std::map<std::string, double>& structural) {
+  return Expander(tokens, diags, overrides, structural).run();
+}
+
+}  // namespace mbsc::parse
