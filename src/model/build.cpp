@@ -18,6 +18,7 @@ const char* to_string(LeafKind kind) {
     case LeafKind::Particle3d: return "particle3d";
     case LeafKind::Rigid2d: return "rigid2d";
     case LeafKind::Custom: return "custom";
+    case LeafKind::Rigid2dNodal: return "rigid2d_nodal";
   }
   return "?";
 }
@@ -36,6 +37,7 @@ bool leaf_kind_from_name(const std::string& s, LeafKind& kind) {
   else if (s == "particle3d") kind = LeafKind::Particle3d;
   else if (s == "rigid2d") kind = LeafKind::Rigid2d;
   else if (s == "custom") kind = LeafKind::Custom;
+  else if (s == "rigid2d_nodal") kind = LeafKind::Rigid2dNodal;
   else return false;
   return true;
 }
@@ -76,6 +78,14 @@ class Builder {
         case Kind::Model:
           if (!m_.name.empty()) diags_.error(s->pos, fmt::format("model name given twice ('{}' and '{}')", m_.name, s->name));
           m_.name = s->name;
+          break;
+        case Kind::Parametrization:
+          if (s->name != "absolute" && s->name != "nodal")
+            diags_.error(s->name_pos, fmt::format("unknown parametrization '{}' (absolute or nodal)", s->name));
+          else if (parametrization_pos_.line != 0)
+            diags_.error(s->pos, "parametrization given twice");
+          nodal_default_ = s->name == "nodal";
+          parametrization_pos_ = s->pos;
           break;
         case Kind::Parameter: {
           if (!declare_global(s->name, s->name_pos, "parameter")) break;
@@ -185,7 +195,8 @@ class Builder {
     if (decl && !decl->kind_name.empty()) {
       LeafKind kind;
       if (leaf_kind_from_name(decl->kind_name, kind)) {
-        node.kind = kind;
+        // `parametrization nodal` makes every plain rigid2d body a nodal one.
+        node.kind = kind == LeafKind::Rigid2d && nodal_default_ ? LeafKind::Rigid2dNodal : kind;
         if (!decl->exprs.empty())
           diags_.error(decl->kind_pos, fmt::format("leaf kind '{}' of subsystem '{}' takes no arguments", decl->kind_name, prefix));
       } else if (components_.count(decl->kind_name)) {
@@ -246,6 +257,24 @@ class Builder {
       case LeafKind::Particle2d: add_kinematic(planar, speeds2, 2); break;
       case LeafKind::Particle3d: add_kinematic(spatial, speeds3, 3); break;
       case LeafKind::Rigid2d: add_kinematic(rigid, speeds3, 3); break;
+      case LeafKind::Rigid2dNodal: {
+        // Nodal coordinates: each point P brings P_x, P_y with rates P_u, P_v; then the
+        // angular speed w (no coordinate of its own).
+        int npoints = 0;
+        for (const auto& s : own_body) {
+          if (s->kind != Kind::Point) continue;
+          ++npoints;
+          const std::string qx = s->name + "_x", qy = s->name + "_y", ux = s->name + "_u", uy = s->name + "_v";
+          const char* const qs[] = {qx.c_str(), qy.c_str()};
+          const char* const us[] = {ux.c_str(), uy.c_str()};
+          add_kinematic(qs, us, 2);
+        }
+        add_variable(id, join(prefix, "w"), pos, /*coordinate=*/false);
+        if (npoints < 2)
+          diags_.error(pos, fmt::format("rigid2d_nodal body '{}' needs at least two points (its nodes); it has {}", prefix,
+                                        npoints));
+        break;
+      }
       default: break;
     }
     // Declared coordinates and speeds.
@@ -409,7 +438,7 @@ class Builder {
                                             s.kind == Kind::Mass ? "mass" : "inertia"));
             break;
           }
-          if (s.kind == Kind::Inertia && node.kind != LeafKind::Rigid2d) {
+          if (s.kind == Kind::Inertia && !is_rigid2d(node.kind)) {
             diags_.error(s.pos, fmt::format("'inertia' is only allowed in rigid2d bodies ('{}' is {})", node.name, to_string(node.kind)));
             break;
           }
@@ -482,8 +511,10 @@ class Builder {
         case Kind::Input:
         case Kind::Component:
         case Kind::Gravity:
+        case Kind::Parametrization:
           if (id != m_.root())
-            diags_.error(s.pos, "model, parameter, input, component and gravity statements belong at the top level");
+            diags_.error(s.pos, "model, parameter, input, component, gravity and parametrization statements belong at the "
+                                "top level");
           break;
         case Kind::Include:
           diags_.error(s.pos, "include is only allowed at the top level of a file");
@@ -525,7 +556,8 @@ class Builder {
           e.option = s.kind == Kind::Joint ? s.level : "";
           e.option_pos = s.path.pos;
           // Actuator values may read the state and inputs; spring and damper data are constants.
-          const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio" && s.level != "radius";
+          const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio" && s.level != "radius" &&
+                                s.level != "ring";
           if (s.value) {
             auto v = convert(id, s.value, actuator, false, false);
             if (!v) break;
@@ -534,7 +566,13 @@ class Builder {
           if (!s.exprs.empty()) {
             auto v = convert(id, s.exprs[0], false, false, false);
             if (!v) break;
-            e.length = *v;
+            if (s.kind == Kind::Joint) {
+              e.option2 = s.option2.text;
+              e.option2_pos = s.option2.pos;
+              e.value2 = *v;
+            } else {
+              e.length = *v;
+            }
           }
           library_.add_element(id, e);
           break;
@@ -542,8 +580,9 @@ class Builder {
       }
     }
     if (body_kind && !has_mass_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
-    if (node.kind == LeafKind::Rigid2d && !inertia_pos_.count(id))
-      diags_.error(node.pos, fmt::format("rigid2d body '{}' has no inertia", node.name));
+    if (is_rigid2d(node.kind) && !inertia_pos_.count(id))
+      diags_.error(node.pos, fmt::format("{} body '{}' has no inertia", to_string(node.kind), node.name));
+    if (node.kind == LeafKind::Rigid2dNodal && has_mass_.count(id) && inertia_pos_.count(id)) library_.finish_nodal(id);
     if (node.kind != LeafKind::Node && !node.children.empty())
       diags_.error(node.pos, fmt::format("leaf '{}' of kind {} cannot contain subsystems", node.name, to_string(node.kind)));
     // Formal parameters of a component instance: bind to the arguments (in the parent's scope).
@@ -731,6 +770,8 @@ class Builder {
   std::map<std::string, Entry> table_;
   std::map<std::string, const Statement*> components_;
   const Statement* gravity_stmt_ = nullptr;
+  bool nodal_default_ = false;      // `parametrization nodal`
+  SourcePos parametrization_pos_;
   std::vector<Pending> pending_;
   std::vector<GiNaC::symbol> coord_dot_;
   std::map<int, GiNaC::ex> builtin_rates_;

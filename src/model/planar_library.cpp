@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <tuple>
+
 namespace mbsc::model {
 
 namespace {
@@ -21,7 +23,7 @@ PlanarLibrary::PlanarLibrary(Model& m, Diagnostics& diags) : m_(m), diags_(diags
 void PlanarLibrary::add_point(int node, const std::string& name, const GiNaC::ex& ex, const GiNaC::ex& ey,
                               const SourcePos& pos) {
   const std::string full = join(node == kGround ? "ground" : m_.nodes[node].name, name);
-  if (node != kGround && m_.nodes[node].kind != LeafKind::Rigid2d) {
+  if (node != kGround && !is_rigid2d(m_.nodes[node].kind)) {
     diags_.error(pos, fmt::format("point '{}': points belong to rigid2d bodies and the ground (a particle2d body is "
                                   "itself a point: name the body)",
                                   full));
@@ -35,7 +37,7 @@ void PlanarLibrary::add_point(int node, const std::string& name, const GiNaC::ex
 }
 
 void PlanarLibrary::set_com(int node, const GiNaC::ex& ex, const GiNaC::ex& ey, const SourcePos& pos) {
-  if (m_.nodes[node].kind != LeafKind::Rigid2d) {
+  if (!is_rigid2d(m_.nodes[node].kind)) {
     diags_.error(pos, fmt::format("'com' is only allowed in rigid2d bodies ('{}' is not one)", m_.label(node)));
     return;
   }
@@ -49,7 +51,7 @@ void PlanarLibrary::set_com(int node, const GiNaC::ex& ex, const GiNaC::ex& ey, 
 void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex& px, const GiNaC::ex& py,
                              const GiNaC::ex& dx, const GiNaC::ex& dy, const SourcePos& pos) {
   const std::string full = join(node == kGround ? "ground" : m_.nodes[node].name, name);
-  if (node != kGround && m_.nodes[node].kind != LeafKind::Rigid2d) {
+  if (node != kGround && !is_rigid2d(m_.nodes[node].kind)) {
     diags_.error(pos, fmt::format("axis '{}': axes belong to rigid2d bodies and the ground", full));
     return;
   }
@@ -81,21 +83,75 @@ std::optional<int> PlanarLibrary::body(int owner, const std::string& path) const
   return std::nullopt;
 }
 
+std::vector<PlanarLibrary::Node2> PlanarLibrary::nodes_of(int node) const {
+  // Coordinates come in pairs P_x, P_y (declaration order), speeds P_u, P_v, then w.
+  const Node& b = m_.nodes[node];
+  std::vector<Node2> out;
+  for (std::size_t k = 0; k + 1 < b.coords.size(); k += 2) {
+    const std::string& qx = m_.coords[b.coords[k]].name;  // "body.P_x"
+    const std::string point = qx.substr(0, qx.size() - 2);
+    const Point& p = points_.at(point);
+    out.push_back(Node2{p.ex, p.ey, m_.coords[b.coords[k]].sym, m_.coords[b.coords[k + 1]].sym, m_.speeds[b.speeds[k]].sym,
+                        m_.speeds[b.speeds[k + 1]].sym});
+  }
+  return out;
+}
+
+std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::rotate(int node, const GiNaC::ex& dx, const GiNaC::ex& dy) const {
+  if (node == kGround) return {dx, dy};
+  const Node& b = m_.nodes[node];
+  if (b.kind == LeafKind::Rigid2d) {
+    const GiNaC::ex th = m_.coords[b.coords[2]].sym;
+    return {GiNaC::cos(th) * dx - GiNaC::sin(th) * dy, GiNaC::sin(th) * dx + GiNaC::cos(th) * dy};
+  }
+  if (b.kind == LeafKind::Rigid2dNodal) {
+    // The rotation taking the body-frame delta = b2 - b1 to the world Delta = p2 - p1
+    // (equal lengths on the rigidity invariant): d = a delta + c z x delta maps to
+    // a Delta + c z x Delta. Polynomial in the nodal coordinates: no angle needed.
+    const auto n = nodes_of(node);
+    const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
+    const GiNaC::ex Dx = n[1].x - n[0].x, Dy = n[1].y - n[0].y;
+    const GiNaC::ex a = (ddx * dx + ddy * dy) / l2, c = (ddx * dy - ddy * dx) / l2;
+    return {a * Dx - c * Dy, a * Dy + c * Dx};
+  }
+  return {dx, dy};
+}
+
+std::optional<int> PlanarLibrary::omega_speed(int node) const {
+  if (node == kGround) return std::nullopt;
+  const Node& b = m_.nodes[node];
+  if (b.kind == LeafKind::Rigid2d) return b.speeds[2];
+  if (b.kind == LeafKind::Rigid2dNodal) return b.speeds.back();
+  return std::nullopt;
+}
+
 std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::world(int node, const GiNaC::ex& px, const GiNaC::ex& py) const {
   if (node == kGround) return {px, py};
   const Node& b = m_.nodes[node];
+  if (b.kind == LeafKind::Rigid2dNodal) {
+    // A node is where its coordinates say; any other point follows the first node.
+    const auto n = nodes_of(node);
+    for (const auto& k : n)
+      if ((k.bx - px).expand().is_zero() && (k.by - py).expand().is_zero()) return {k.x, k.y};
+    const auto d = rotate(node, px - n[0].bx, py - n[0].by);
+    return {n[0].x + d.first, n[0].y + d.second};
+  }
   const GiNaC::ex x = m_.coords[b.coords[0]].sym, y = m_.coords[b.coords[1]].sym;
   if (b.kind != LeafKind::Rigid2d) return {x + px, y + py};
-  const GiNaC::ex th = m_.coords[b.coords[2]].sym;
   auto c = com_.find(node);
-  const GiNaC::ex ax = px - (c == com_.end() ? GiNaC::ex(0) : c->second.first);
-  const GiNaC::ex ay = py - (c == com_.end() ? GiNaC::ex(0) : c->second.second);
-  return {x + GiNaC::cos(th) * ax - GiNaC::sin(th) * ay, y + GiNaC::sin(th) * ax + GiNaC::cos(th) * ay};
+  const auto d = rotate(node, px - (c == com_.end() ? GiNaC::ex(0) : c->second.first),
+                        py - (c == com_.end() ? GiNaC::ex(0) : c->second.second));
+  return {x + d.first, y + d.second};
 }
 
 std::optional<GiNaC::ex> PlanarLibrary::angle(int node) const {
   if (node == kGround) return GiNaC::ex(0);
   const Node& b = m_.nodes[node];
+  if (b.kind == LeafKind::Rigid2dNodal) {
+    // The turn of the first two nodes' line from its body-frame direction.
+    const auto n = nodes_of(node);
+    return GiNaC::atan2(n[1].y - n[0].y, n[1].x - n[0].x) - GiNaC::atan2(n[1].by - n[0].by, n[1].bx - n[0].bx);
+  }
   if (b.kind != LeafKind::Rigid2d) return std::nullopt;
   return GiNaC::ex(m_.coords[b.coords[2]].sym);
 }
@@ -103,6 +159,12 @@ std::optional<GiNaC::ex> PlanarLibrary::angle(int node) const {
 std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::velocity(int node, const GiNaC::ex& x, const GiNaC::ex& y) const {
   if (node == kGround) return {0, 0};
   const Node& b = m_.nodes[node];
+  if (b.kind == LeafKind::Rigid2dNodal) {
+    // v_P = v_1 + w z x (r_P - p_1), from the first node.
+    const auto n = nodes_of(node);
+    const GiNaC::ex w = m_.speeds[b.speeds.back()].sym;
+    return {n[0].u - w * (y - n[0].y), n[0].v + w * (x - n[0].x)};
+  }
   const GiNaC::ex u = m_.speeds[b.speeds[0]].sym, v = m_.speeds[b.speeds[1]].sym;
   if (b.kind != LeafKind::Rigid2d) return {u, v};
   // v_P = v_c + w x (r_P - r_c)
@@ -146,10 +208,8 @@ std::optional<std::pair<PlanarLibrary::Located, std::pair<GiNaC::ex, GiNaC::ex>>
   int node = kGround;
   if (const Axis* a = element_of(owner, path, axes_, node)) {
     auto base = world(node, a->px, a->py);
-    // The direction turns with the body: R(theta) d.
-    const auto th = angle(node);
-    const GiNaC::ex c = th ? GiNaC::cos(*th) : GiNaC::ex(1), s = th ? GiNaC::sin(*th) : GiNaC::ex(0);
-    return std::make_pair(Located{node, base.first, base.second}, std::make_pair(c * a->dx - s * a->dy, s * a->dx + c * a->dy));
+    // The direction turns with the body.
+    return std::make_pair(Located{node, base.first, base.second}, rotate(node, a->dx, a->dy));
   }
   diags_.error(pos, fmt::format("unknown axis '{}' (an axis of a rigid2d body or the ground)", path));
   return std::nullopt;
@@ -169,8 +229,7 @@ void PlanarLibrary::apply_force(int node, const GiNaC::ex& x, const GiNaC::ex& y
 }
 
 void PlanarLibrary::apply_torque(int node, const GiNaC::ex& tau, const SourcePos& pos) {
-  if (node == kGround || m_.nodes[node].kind != LeafKind::Rigid2d) return;
-  m_.forces.push_back(Force{m_.nodes[node].speeds[2], tau, pos});
+  if (const auto w = omega_speed(node)) m_.forces.push_back(Force{*w, tau, pos});
 }
 
 void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos) {
@@ -182,6 +241,76 @@ void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiN
   c.pos = pos;
   m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
   m_.constraints.push_back(c);
+}
+
+void PlanarLibrary::add_velocity_constraint(int owner, const std::string& name, const GiNaC::ex& residual,
+                                            const SourcePos& pos) {
+  Constraint c;
+  c.name = join(m_.nodes[owner].name, name);
+  c.node = owner;
+  c.level = Constraint::Level::Velocity;
+  c.residual = residual;
+  c.pos = pos;
+  m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
+  m_.constraints.push_back(c);
+}
+
+// ---- bodies in nodal coordinates (thesis Ex 2.6, Mo2DPack RigidBody) ----
+
+void PlanarLibrary::finish_nodal(int node) {
+  Node& b = m_.nodes[node];
+  const auto n = nodes_of(node);
+  const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
+  GiNaC::exmap defaults;
+  for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
+  const GiNaC::ex l2_value = GiNaC::evalf(l2.subs(defaults));
+  if (GiNaC::is_a<GiNaC::numeric>(l2_value) && GiNaC::ex_to<GiNaC::numeric>(l2_value).to_double() == 0.0) {
+    diags_.error(b.pos, fmt::format("rigid2d_nodal body '{}': its first two points coincide (they set its frame)", b.name));
+    return;
+  }
+  const std::string owner_name = "rigid";
+  // Rigidity: the first two nodes keep their distance; every further node sits where the
+  // body frame of the first two puts it (two linear rows, never degenerate).
+  const GiNaC::ex Dx = n[1].x - n[0].x, Dy = n[1].y - n[0].y;
+  add_constraint(node, owner_name + ".length", Dx * Dx + Dy * Dy - l2, b.pos);
+  for (std::size_t k = 2; k < n.size(); ++k) {
+    const auto d = rotate(node, n[k].bx - n[0].bx, n[k].by - n[0].by);
+    const std::string& qx = m_.coords[b.coords[2 * k]].name;
+    const std::string tag = qx.substr(b.name.size() + 1, qx.size() - b.name.size() - 3);
+    add_constraint(node, owner_name + "." + tag + ".x", n[k].x - n[0].x - d.first, b.pos);
+    add_constraint(node, owner_name + "." + tag + ".y", n[k].y - n[0].y - d.second, b.pos);
+  }
+  // The angular speed: w |delta|^2 = Delta x Delta'.
+  const GiNaC::ex w = m_.speeds[b.speeds.back()].sym, wdot = m_.speed_dots[b.speeds.back()];
+  add_velocity_constraint(node, owner_name + ".w", w * l2 - (Dx * (n[1].v - n[0].v) - Dy * (n[1].u - n[0].u)), b.pos);
+
+  // Mass centre r* = p1 + g Delta + h z x Delta (g, h from the body frame), and its
+  // velocity from the first two nodes' speeds with constant coefficients, so the nodal
+  // mass matrix is constant: v* = (1 - g) v1 + g v2 + h z x (v2 - v1).
+  auto c = com_.find(node);
+  const GiNaC::ex cx = (c == com_.end() ? GiNaC::ex(0) : c->second.first) - n[0].bx;
+  const GiNaC::ex cy = (c == com_.end() ? GiNaC::ex(0) : c->second.second) - n[0].by;
+  const GiNaC::ex g = (cx * ddx + cy * ddy) / l2, h = (ddx * cy - ddy * cx) / l2;
+  const GiNaC::ex rx = n[0].x + g * Dx - h * Dy, ry = n[0].y + g * Dy + h * Dx;
+  auto cm_velocity = [&](const GiNaC::ex& u1, const GiNaC::ex& v1, const GiNaC::ex& u2, const GiNaC::ex& v2) {
+    return std::make_pair((1 - g) * u1 + g * u2 - h * (v2 - v1), (1 - g) * v1 + g * v2 + h * (u2 - u1));
+  };
+  const auto vs = cm_velocity(n[0].u, n[0].v, n[1].u, n[1].v);
+  const std::size_t s1 = static_cast<std::size_t>(b.speeds[0]), s2 = static_cast<std::size_t>(b.speeds[2]);
+  const auto as = cm_velocity(m_.speed_dots[s1], m_.speed_dots[s1 + 1], m_.speed_dots[s2], m_.speed_dots[s2 + 1]);
+  const GiNaC::ex gx = m_.gravity.size() > 0 ? m_.gravity[0] : GiNaC::ex(0);
+  const GiNaC::ex gy = m_.gravity.size() > 1 ? m_.gravity[1] : GiNaC::ex(0);
+  // Effective forces (m g - m a*) . d v*/d q1 over the first two nodes' speeds, -J w' on w.
+  const GiNaC::ex fx = b.mass * (gx - as.first), fy = b.mass * (gy - as.second);
+  for (int k : {b.speeds[0], b.speeds[1], b.speeds[2], b.speeds[3]}) {
+    const GiNaC::ex q = vs.first.diff(m_.speeds[k].sym) * fx + vs.second.diff(m_.speeds[k].sym) * fy;
+    if (!q.is_zero()) m_.forces.push_back(Force{k, q, b.pos});
+  }
+  m_.forces.push_back(Force{b.speeds.back(), -b.inertia * wdot, b.pos});
+  b.kinetic = GiNaC::numeric(1, 2) * b.mass * (vs.first * vs.first + vs.second * vs.second) +
+              GiNaC::numeric(1, 2) * b.inertia * w * w;
+  b.has_kinetic = true;
+  b.potential += -b.mass * (gx * rx + gy * ry);
 }
 
 // ---- between two bodies' angles: gear pairs, rotational springs and dampers ----
@@ -199,7 +328,8 @@ void PlanarLibrary::add_rotational(int owner, const Element& e, const std::strin
     return;
   }
   auto rate = [&](int n) {
-    return n == kGround ? GiNaC::ex(0) : GiNaC::ex(m_.speeds[m_.nodes[n].speeds[2]].sym);
+    const auto w = omega_speed(n);
+    return w ? GiNaC::ex(m_.speeds[*w].sym) : GiNaC::ex(0);
   };
   if (e.kind == "gear") {
     // w_b = -ratio w_a (external mesh), as a velocity constraint between the bodies.
@@ -207,14 +337,7 @@ void PlanarLibrary::add_rotational(int owner, const Element& e, const std::strin
       diags_.error(e.kind_pos, fmt::format("{} needs 'ratio r' (w_{} = -r w_{})", what, e.end2, e.end1));
       return;
     }
-    Constraint c;
-    c.name = join(m_.nodes[owner].name, name + ".ratio");
-    c.node = owner;
-    c.level = Constraint::Level::Velocity;
-    c.residual = rate(*b) + *e.value * rate(*a);
-    c.pos = e.pos;
-    m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
-    m_.constraints.push_back(c);
+    add_velocity_constraint(owner, name + ".ratio", rate(*b) + *e.value * rate(*a), e.pos);
     return;
   }
   if (e.kind == "rotational_spring") {
@@ -229,18 +352,21 @@ void PlanarLibrary::add_rotational(int owner, const Element& e, const std::strin
   }
 }
 
-// ---- a disc rolling without slipping on a fixed line ----
+// ---- discs rolling without slipping: on a line, inside a ring ----
 
+// A disc (a rigid2d body whose mass centre is its centre) on a line of the ground or of
+// another body. Vector form: n . (c - p0) = r (contact) and (v_disc(P) - v_line(P)) . t = 0
+// at the contact point P = c - r n (no slip); t the unit line direction, n its left normal.
 void PlanarLibrary::add_rolling(int owner, const Element& e, const std::string& name, const std::string& what) {
   auto a = axis(owner, e.end1, e.end1_pos);
   if (!a) return;
-  if (a->first.node != kGround) {
-    diags_.error(e.end1_pos, fmt::format("{}: rolling on a moving body's line is not supported yet; use a ground axis", what));
-    return;
-  }
   const auto disc = body(owner, e.end2);
   if (!disc || *disc == kGround || m_.nodes[*disc].kind != LeafKind::Rigid2d) {
     diags_.error(e.end2_pos, fmt::format("{}: '{}' is not a rigid2d body (the disc; its mass centre is its centre)", what, e.end2));
+    return;
+  }
+  if (*disc == a->first.node) {
+    diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what, m_.label(*disc)));
     return;
   }
   if (e.option != "radius") {
@@ -249,30 +375,61 @@ void PlanarLibrary::add_rolling(int owner, const Element& e, const std::string& 
   }
   const Node& b = m_.nodes[*disc];
   const GiNaC::ex cx = m_.coords[b.coords[0]].sym, cy = m_.coords[b.coords[1]].sym, r = *e.value;
-  // Unit tangent t along the axis, the disc on its left (normal n = (-t_y, t_x)).
   const GiNaC::ex len = GiNaC::sqrt(a->second.first * a->second.first + a->second.second * a->second.second);
-  const GiNaC::ex tx = a->second.first / len, ty = a->second.second / len;
-  // Contact: the centre is r from the line. No slip: the contact point is at rest,
-  // v_c . t + r w = 0.
-  add_constraint(owner, name + ".contact", -ty * (cx - a->first.x) + tx * (cy - a->first.y) - r, e.pos);
-  Constraint c;
-  c.name = join(m_.nodes[owner].name, name + ".no_slip");
-  c.node = owner;
-  c.level = Constraint::Level::Velocity;
-  c.residual = tx * m_.speeds[b.speeds[0]].sym + ty * m_.speeds[b.speeds[1]].sym + r * m_.speeds[b.speeds[2]].sym;
-  c.pos = e.pos;
-  m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
-  m_.constraints.push_back(c);
+  const GiNaC::ex tx = a->second.first / len, ty = a->second.second / len;  // world direction of the line
+  const GiNaC::ex nx = -ty, ny = tx;
+  add_constraint(owner, name + ".contact", nx * (cx - a->first.x) + ny * (cy - a->first.y) - r, e.pos);
+  const GiNaC::ex px = cx - r * nx, py = cy - r * ny;
+  const auto vd = velocity(*disc, px, py), vl = velocity(a->first.node, px, py);
+  add_velocity_constraint(owner, name + ".no_slip", tx * (vd.first - vl.first) + ty * (vd.second - vl.second), e.pos);
+}
+
+// A disc inside a ring (both rigid2d, mass centre = centre), touching at one point.
+// Vector form: |c_disc - c_ring| = R - r (contact), and the contact point P = c_ring + R n
+// (n the unit vector from the ring's centre to the disc's) has the same velocity along
+// the tangent t = n rotated by +90 degrees on both bodies (no slip).
+void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what) {
+  const auto ring = body(owner, e.end1), disc = body(owner, e.end2);
+  for (auto [b, path, pos] : {std::tuple{ring, e.end1, e.end1_pos}, std::tuple{disc, e.end2, e.end2_pos}})
+    if (!b || *b == kGround || m_.nodes[*b].kind != LeafKind::Rigid2d) {
+      diags_.error(pos, fmt::format("{}: '{}' is not a rigid2d body (ring and disc are rigid2d bodies centred on their "
+                                    "mass centres)",
+                                    what, path));
+      return;
+    }
+  if (*ring == *disc) {
+    diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what, m_.label(*disc)));
+    return;
+  }
+  if (e.option != "radius" || e.option2 != "ring") {
+    diags_.error(e.kind_pos, fmt::format("{} needs 'radius r ring R' (the disc's radius, then the ring's)", what));
+    return;
+  }
+  const Node& R = m_.nodes[*ring];
+  const Node& D = m_.nodes[*disc];
+  const GiNaC::ex rx = m_.coords[R.coords[0]].sym, ry = m_.coords[R.coords[1]].sym;
+  const GiNaC::ex dx = m_.coords[D.coords[0]].sym - rx, dy = m_.coords[D.coords[1]].sym - ry;
+  const GiNaC::ex r = *e.value, big_r = *e.value2;
+  add_constraint(owner, name + ".contact", dx * dx + dy * dy - (big_r - r) * (big_r - r), e.pos);
+  // n = (dx, dy) / (R - r) on the constraint, t = (-n_y, n_x). At P the disc's point moves
+  // with v_disc + r w_disc t and the ring's with v_ring + R w_ring t.
+  const GiNaC::ex tx = -dy / (big_r - r), ty = dx / (big_r - r);
+  const GiNaC::ex du = m_.speeds[D.speeds[0]].sym - m_.speeds[R.speeds[0]].sym;
+  const GiNaC::ex dv = m_.speeds[D.speeds[1]].sym - m_.speeds[R.speeds[1]].sym;
+  const GiNaC::ex wr = m_.speeds[R.speeds[2]].sym, wd = m_.speeds[D.speeds[2]].sym;
+  add_velocity_constraint(owner, name + ".no_slip", tx * du + ty * dv + r * wd - big_r * wr, e.pos);
 }
 
 // ---- joints, springs, dampers ----
 
 void PlanarLibrary::add_element(int owner, const Element& e) {
   const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld" || e.kind == "pin_in_slot" ||
-                     e.kind == "gear" || e.kind == "rolling";
+                     e.kind == "gear" || e.kind == "rolling" || e.kind == "rolling_inside";
   if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
     diags_.error(e.kind_pos,
-                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear, rolling)", e.kind));
+                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear, rolling, "
+                             "rolling_inside)",
+                             e.kind));
     return;
   }
   const std::string name = e.name.empty() ? fmt::format("{}{}", e.kind, ++unnamed_) : e.name;
@@ -284,8 +441,16 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     add_rotational(owner, e, name, what);
     return;
   }
+  if (!e.option2.empty() && e.kind != "rolling_inside") {
+    diags_.error(e.option2_pos, fmt::format("{} takes one option ('{}' is a second one)", what, e.option2));
+    return;
+  }
   if (e.kind == "rolling") {
     add_rolling(owner, e, name, what);
+    return;
+  }
+  if (e.kind == "rolling_inside") {
+    add_rolling_inside(owner, e, name, what);
     return;
   }
   // Ends: two points, or (prismatic) an axis and a point.

@@ -38,7 +38,7 @@ class PlanarLibrary {
   /// A joint, spring or damper stated at node `owner` (its constraints belong there).
   struct Element {
     std::string name;        // "" for an unnamed joint: one is made up
-    std::string kind;        // revolute | prismatic | pin_in_slot | weld | gear | rolling | spring | damper |
+    std::string kind;        // revolute | prismatic | pin_in_slot | weld | gear | rolling | rolling_inside | spring | damper |
                              // rotational_spring | rotational_damper
     SourcePos pos, kind_pos;
     std::string end1, end2;  // paths as written
@@ -47,8 +47,14 @@ class PlanarLibrary {
     SourcePos option_pos;
     std::optional<GiNaC::ex> value;   // the option's value; spring stiffness; damper coefficient
     std::optional<GiNaC::ex> length;  // spring rest length (rotational: rest angle)
+    std::string option2;              // joints: a second option (rolling_inside: ring) or ""
+    SourcePos option2_pos;
+    std::optional<GiNaC::ex> value2;
   };
   void add_element(int owner, const Element& e);
+  /// A rigid2d_nodal body, once its points, mass centre, mass and inertia are known: its
+  /// rigidity invariants, inertia and gravity forces, and energy (thesis Ex 2.6).
+  void finish_nodal(int node);
 
  private:
   struct Frame;  // a body's pose: origin of its mass centre, angle, speeds
@@ -74,6 +80,16 @@ class PlanarLibrary {
   const Decl* element_of(int owner, const std::string& path, const std::map<std::string, Decl>& table, int& node) const;
   std::pair<GiNaC::ex, GiNaC::ex> world(int node, const GiNaC::ex& px, const GiNaC::ex& py) const;
   std::optional<GiNaC::ex> angle(int node) const;
+  /// A body-frame vector turned into the world frame (identity for the ground and particles).
+  std::pair<GiNaC::ex, GiNaC::ex> rotate(int node, const GiNaC::ex& dx, const GiNaC::ex& dy) const;
+  /// The speed that is the body's angular velocity (rigid bodies only).
+  std::optional<int> omega_speed(int node) const;
+  /// A nodal body's nodes: body coordinates, world coordinates and speeds (declaration order).
+  struct Node2 {
+    GiNaC::ex bx, by;
+    GiNaC::ex x, y, u, v;
+  };
+  std::vector<Node2> nodes_of(int node) const;
   /// World velocity of the material point of `node` at world position (x, y).
   std::pair<GiNaC::ex, GiNaC::ex> velocity(int node, const GiNaC::ex& x, const GiNaC::ex& y) const;
   /// Generalized forces of a world force (fx, fy) acting at world (x, y) on `node`.
@@ -83,6 +99,8 @@ class PlanarLibrary {
   void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
   void add_rotational(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling(int owner, const Element& e, const std::string& name, const std::string& what);
+  void add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what);
+  void add_velocity_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
 
   Model& m_;
   Diagnostics& diags_;

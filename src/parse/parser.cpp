@@ -236,6 +236,7 @@ class Parser {
     const Token kw = take();
     const std::string& k = kw.text;
     if (k == "model") return parse_model(out, kw);
+    if (k == "parametrization") return parse_parametrization(out, kw);
     if (k == "parameter") return parse_valued_names(out, kw, Statement::Kind::Parameter);
     if (k == "speed") return parse_valued_names(out, kw, Statement::Kind::Speed);
     if (k == "input") return parse_names(out, kw, Statement::Kind::Input);
@@ -269,6 +270,16 @@ class Parser {
     st.name = name.text;
     st.name_pos = name.pos;
     end_statement("model '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'parametrization' ('absolute' | 'nodal')
+  void parse_parametrization(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Parametrization, kw);
+    const Token name = expect_name("'absolute' or 'nodal' after 'parametrization'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    end_statement("parametrization '" + name.text + "'");
     push(out, std::move(st));
   }
 
@@ -566,6 +577,12 @@ class Parser {
       st.path = ast::Path{opt.text, opt.pos};  // the option keyword and where it is
       st.level = take().text;
       st.value = parse_expr();
+      // A second option (rolling_inside: 'radius r ring R').
+      if (peek().kind == TK::Ident) {
+        st.option2 = ast::Path{peek().text, peek().pos};
+        take();
+        st.exprs.push_back(parse_expr());
+      }
     }
     end_statement(what);
     push(out, std::move(st));

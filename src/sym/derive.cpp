@@ -589,7 +589,7 @@ class Deriver {
     GiNaC::ex T = 0, V = 0;
     bool ok = true;
     for (const auto& node : m_.nodes) {
-      const bool body = model::is_body(node.kind);
+      const bool body = model::is_body(node.kind) && node.kind != LeafKind::Rigid2dNodal;  // nodal: node.kinetic
       if (body) {
         for (size_t k = 0; k < node.speeds.size(); ++k) {
           const GiNaC::ex u = m_.speeds[node.speeds[k]].sym;

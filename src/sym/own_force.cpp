@@ -10,7 +10,8 @@ GiNaC::ex own_force(const model::Model& m, int speed) {
   const auto at = std::find(node.speeds.begin(), node.speeds.end(), speed);
   const std::size_t k = static_cast<std::size_t>(at - node.speeds.begin());
   GiNaC::ex f = 0;
-  if (model::is_body(node.kind)) {
+  // (A nodal body's inertia and gravity are explicit Force terms, added below.)
+  if (model::is_body(node.kind) && node.kind != model::LeafKind::Rigid2dNodal) {
     // Body speeds are (u, v[, w]) = rates of (x, y[, z | theta]).
     const GiNaC::ex rate = m.speed_dots[static_cast<std::size_t>(speed)];
     if (node.kind == model::LeafKind::Rigid2d && k == 2) {

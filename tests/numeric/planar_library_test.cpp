@@ -3,7 +3,8 @@
 //  - the slider-crank written with joints equals the same mechanism written by hand at
 //    the invariant level (full state derivative at assembled random states, inputs on);
 //  - its DOF is Gruebler's count;
-//  - a spring pendulum conserves energy without its damper and loses it with it.
+//  - a spring pendulum conserves energy without its damper and loses it with it;
+//  - a disc rolling on a moving line (a seesaw's plank) equals its hand-written twin.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -11,6 +12,8 @@
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/rk4.hpp"
 #include "rolling_disc/rolling_disc.hpp"
+#include "seesaw_disc/seesaw_disc.hpp"
+#include "seesaw_disc_invariants/seesaw_disc_invariants.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "slider_crank_invariants/slider_crank_invariants.hpp"
 #include "slot_gear/slot_gear.hpp"
@@ -163,5 +166,40 @@ TEST_CASE("planar library: a disc rolling down an incline accelerates at 2/3 g s
     CHECK(xd[ix("disc.u")] == Approx(a * tx).margin(1e-12));
     CHECK(xd[ix("disc.v")] == Approx(a * ty).margin(1e-12));
     CHECK(xd[ix("disc.w")] == Approx(-a / r).margin(1e-11));
+  }
+}
+
+TEST_CASE("planar library: a disc rolling on a seesaw (a moving body's line) equals its hand-written form",
+          "[numeric][planar]") {
+  namespace L = mbsc_gen::seesaw_disc;
+  namespace H = mbsc_gen::seesaw_disc_invariants;
+  REQUIRE(L::kNdof == 2);
+  REQUIRE(H::kNdof == 2);
+  const auto model = MBSC_TEST_ASSEMBLY_MODEL(L);
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(L::kStateNames, L::kNx, n)); };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> tilt(-0.6, 0.6), along(-0.9, 0.9), rate(-3.0, 3.0);
+  for (int k = 0; k < 20; ++k) {
+    std::vector<double> x(L::kNx, 0.0);
+    const double phi = tilt(rng), s = along(rng);
+    x[ix("plank.theta")] = phi;
+    x[ix("disc.x")] = s * std::cos(phi);
+    x[ix("disc.y")] = s * std::sin(phi) + 0.2;  // near the contact height: assembly puts it there
+    x[ix("plank.w")] = rate(rng);
+    x[ix("disc.w")] = rate(rng);
+    std::vector<bool> gq(L::kNq, false), gu(L::kNu, false);
+    gq[ix("plank.theta")] = gq[ix("disc.x")] = true;
+    gu[ix("plank.w") - L::kNq] = gu[ix("disc.w") - L::kNq] = true;
+    const auto r = mbsc::runtime::assemble(model, 0.0, x, gq, gu, nullptr, L::kParamDefaults);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    std::vector<double> y(H::kNx);
+    for (int i = 0; i < H::kNx; ++i) y[static_cast<std::size_t>(i)] = x[ix(H::kStateNames[i])];
+    std::vector<double> xd(L::kNx), yd(H::kNx);
+    REQUIRE(L::rhs(0.0, x.data(), nullptr, L::kParamDefaults, xd.data()) == 0);
+    REQUIRE(H::rhs(0.0, y.data(), nullptr, H::kParamDefaults, yd.data()) == 0);
+    double scale = 1.0;
+    for (double e : yd) scale = std::max(scale, std::abs(e));
+    for (int i = 0; i < H::kNx; ++i) CHECK(std::abs(xd[ix(H::kStateNames[i])] - yd[static_cast<std::size_t>(i)]) < 1e-10 * scale);
   }
 }

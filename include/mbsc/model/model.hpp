@@ -13,12 +13,19 @@
 
 namespace mbsc::model {
 
-enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom };
+/// Rigid2dNodal: a planar rigid body in nodal (natural) coordinates, thesis Ex 2.6 and
+/// Mo2DPack: its points are its nodes, their world positions its coordinates
+/// (planar_library.cpp builds its invariants, forces and energy).
+enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom, Rigid2dNodal };
 const char* to_string(LeafKind kind);
-/// Bodies (particle2d, particle3d, rigid2d) get mass, inertia and gravity automatically.
+/// Bodies (particle2d, particle3d, rigid2d, rigid2d_nodal) have a mass; all but the nodal
+/// one get their inertia forces, gravity and energy from their absolute coordinates
+/// automatically (the nodal one gets them from the library as explicit terms).
 inline bool is_body(LeafKind kind) {
-  return kind == LeafKind::Particle2d || kind == LeafKind::Particle3d || kind == LeafKind::Rigid2d;
+  return kind == LeafKind::Particle2d || kind == LeafKind::Particle3d || kind == LeafKind::Rigid2d ||
+         kind == LeafKind::Rigid2dNodal;
 }
+inline bool is_rigid2d(LeafKind kind) { return kind == LeafKind::Rigid2d || kind == LeafKind::Rigid2dNodal; }
 
 /// A generalized coordinate (q0) or quasi-velocity (q1).
 struct Variable {

@@ -50,6 +50,7 @@ using StatementPtr = std::shared_ptr<const Statement>;
 struct Statement {
   enum class Kind {
     Model,        // model NAME                         name
+    Parametrization,  // parametrization absolute|nodal name (how `rigid2d` bodies are parametrized)
     Parameter,    // parameter NAME [= expr]            name, value (may be null)
     Input,        // input NAME                         name
     Gravity,      // gravity (gx, gy [, gz])            exprs
@@ -74,9 +75,9 @@ struct Statement {
     Com,          // com (ex, ey)                       exprs = {ex, ey}
     Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy}
     Ground,       // ground { point/axis ... }          body
-    Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr]
+    Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr [OPTION2 expr2]]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,
-                  //                                    path.pos = OPTION's position, value
+                  //                                    path.pos = OPTION's position, value; option2, exprs = {expr2}
     Spring,       // spring NAME [rotational] PATH PATH stiffness expr [length|angle expr]
                   //                                    name, kind_name = "rotational" or "", paths, value = stiffness,
                   //                                    exprs = {rest length or angle} (may be empty)
@@ -97,6 +98,7 @@ struct Statement {
   bool nonlinear = false;          // Constraint: "nonlinear" given
   std::vector<Equation> equations; // Constraint rows
   Path path;                       // Force target
+  Path option2;                    // Joint: the second option word (text empty when absent)
   std::vector<Path> paths;         // Independent list; Joint / Spring / Damper ends
   std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
   bool has_body = false;
