@@ -3,19 +3,23 @@
 // multipliers build (M), and optionally its peers, compiled together by bench/run_planar.sh:
 //   g++ -O2 -DMODEL=four_bar -DGUESS=... -DDRIVERS=... -I GEN bench/planar_driver.cpp
 //       GEN/four_bar/four_bar.cpp GEN/four_bar_mult/four_bar_mult.cpp
+//   [-DWITH_MINIMAL GEN/four_bar_min/four_bar_min.cpp]   the complement with --state minimal
 //   [-DWITH_SYMPY -DSYMPY_NQ=3 sympy_four_bar.o]        sympy.physics.mechanics' M u' = F
+//   [-DSYMPY_NAME=four_bar_abs]                         another sympy variant of the model
 //   [-DWITH_MUJOCO -DMJ_XML='"bench/mujoco/four_bar.xml"' -DMJ_MAP=... -DMJ_INPUTS=... -lmujoco]
 // It assembles a consistent state from the model's driving coordinate (DRIVERS, state
 // names), integrates 0.5 s with RK4 (complement rhs) collecting 50 states, and prints
 // key=value lines:
-//   complement_ns, multipliers_ns, sympy_ns, mujoco_ns   ns per call at those 50 states,
+//   complement_ns, multipliers_ns, minimal_ns, sympy_ns, mujoco_ns   ns per call at those 50 states,
 //       median of 5 loops of >= 0.3 s each (the tools' loops alternate, after a warm-up);
 //       mujoco: copy qpos/qvel in, mj_forward, copy qacc out;
 //   max_rel_diff     speed rates, multipliers vs complement, max over the states of
 //                    max_i |a_i - b_i| / max_i |a_i|;
+//   minimal_rel_diff the same, the --state minimal build's independent speed rates;
 //   sympy_rel_diff   the same, sympy's u' vs the complement's rates of the same speeds;
 //   mujoco_rel_diff  the same, MuJoCo's qacc vs the complement's rates mapped to its joints
 //                    (relative angles for child hinges);
+//   mujoco_hard_rel_diff(_rest)  the same with near-hard constraints (checks the mapping);
 //   mujoco_eq_start, mujoco_eq_states   max |efc_pos| of the equality rows at the assembled
 //                    state and at the 50 states (checks the state mapping: ~0);
 //   mujoco_eq_1s, mujoco_eq_end  max |efc_pos| of the equality rows (m) over 1 s of
@@ -50,8 +54,16 @@
 namespace C = mbsc_gen::MODEL;
 namespace M = mbsc_gen::CAT(MODEL, _mult);
 
+#ifdef WITH_MINIMAL
+#include HDR(CAT(MODEL, _min))
+namespace Mn = mbsc_gen::CAT(MODEL, _min);
+#endif
+
 #ifdef WITH_SYMPY
-#define SYM(s) CAT(CAT(sympy_, MODEL), s)
+#ifndef SYMPY_NAME  // the sympy variant: sympy_SYMPY_NAME_* (default: the model's name)
+#define SYMPY_NAME MODEL
+#endif
+#define SYM(s) CAT(CAT(sympy_, SYMPY_NAME), s)
 extern "C" {
 extern const int SYM(_nq), SYM(_np), SYM(_nin);
 extern const char* const SYM(_qnames)[];
@@ -98,6 +110,20 @@ std::vector<double> g_pm;  // multipliers build: defaults + Baumgarte alpha, bet
 
 int rhs_c(const double* x, double* xdot) { return C::rhs(0.0, x, g_u.data(), C::kParamDefaults, xdot); }
 int rhs_m(const double* x, double* xdot) { return M::rhs(0.0, x, g_u.data(), g_pm.data(), xdot); }
+
+#ifdef WITH_MINIMAL
+// The complement build with --state minimal: its x holds a subset of the full state.
+int rhs_min(const double* x, double* xdot) { return Mn::rhs(0.0, x, g_u.data(), Mn::kParamDefaults, xdot); }
+std::vector<int> g_min;  // minimal state entry -> full state index
+
+std::vector<double> minimal_state(const std::vector<double>& x) {
+  if (g_min.empty())
+    for (int i = 0; i < Mn::kNx; ++i) g_min.push_back(index_of(Mn::kStateNames[i]));
+  std::vector<double> y;
+  for (int i : g_min) y.push_back(x[static_cast<std::size_t>(i)]);
+  return y;
+}
+#endif
 
 // Largest |a_i - b_i| over the largest |a_i|, i over the listed pairs (a = reference).
 double rel_diff(const std::vector<std::pair<double, double>>& ab) {
@@ -371,6 +397,7 @@ int main() {
   auto f = [&](double t, const double* s, double* d) { return C::rhs(t, s, g_u.data(), C::kParamDefaults, d); };
   double worst = 0.0, worst_s = 0.0, worst_mj = 0.0, worst_mj0 = 0.0, eq_states = 0.0;
   std::vector<double> mj_diffs, mj_diffs0;  // per state
+  double worst_min = 0.0;
   for (int k = 0; k < 50; ++k) {
     if (mbsc::runtime::rk4_integrate(f, 0.0, 0.01, 20, x, [](double, const std::vector<double>&) {}) != 0) return 1;
     xs.push_back(x);
@@ -379,6 +406,17 @@ int main() {
     std::vector<std::pair<double, double>> ab;
     for (int i = C::kNq; i < C::kNx; ++i) ab.emplace_back(a[static_cast<std::size_t>(i)], b[static_cast<std::size_t>(i)]);
     worst = std::max(worst, rel_diff(ab));
+#ifdef WITH_MINIMAL
+    {
+      const auto y = minimal_state(x);
+      std::vector<double> yd(y.size());
+      if (rhs_min(y.data(), yd.data()) != 0) die("minimal rhs failed");
+      std::vector<std::pair<double, double>> pairs;
+      for (int i = Mn::kNq; i < Mn::kNx; ++i)
+        pairs.emplace_back(a[static_cast<std::size_t>(g_min[static_cast<std::size_t>(i)])], yd[static_cast<std::size_t>(i)]);
+      worst_min = std::max(worst_min, rel_diff(pairs));
+    }
+#endif
 #ifdef WITH_SYMPY
     {
       const auto y = sympy_state(x);
@@ -405,6 +443,7 @@ int main() {
 #endif
   }
   (void)worst_s;
+  (void)worst_min;
   (void)worst_mj;
   (void)worst_mj0;
   (void)eq_states;
@@ -434,12 +473,22 @@ int main() {
 #ifdef WITH_SYMPY
   std::printf("sympy_rel_diff=%.3e\n", worst_s);
 #endif
+#ifdef WITH_MINIMAL
+  std::printf("minimal_rel_diff=%.3e\n", worst_min);
+#endif
   std::printf("max_rel_diff=%.3e\n", worst);
   std::fflush(stdout);
 
   std::vector<Timed> runs;
   runs.push_back(Timed{"complement", rhs_c, xs, C::kNx, 1000, {}});
   runs.push_back(Timed{"multipliers", rhs_m, xs, C::kNx, 1000, {}});
+#ifdef WITH_MINIMAL
+  {
+    std::vector<std::vector<double>> ys;
+    for (const auto& s : xs) ys.push_back(minimal_state(s));
+    runs.push_back(Timed{"minimal", rhs_min, ys, Mn::kNx, 1000, {}});
+  }
+#endif
 #ifdef WITH_SYMPY
   {
     std::vector<std::vector<double>> ys;
@@ -464,6 +513,25 @@ int main() {
   }
   if (sink == 42.0) std::printf("#\n");
 #ifdef WITH_MUJOCO
+  {
+    // A check of the state mapping, not a benchmark setting: near-hard equality
+    // constraints (solimp 0.99999, solref 2 ms); at rest MuJoCo then meets the rigid loop.
+    for (int i = 0; i < g_mj->neq; ++i) {
+      g_mj->eq_solref[i * mjNREF] = 0.002;
+      g_mj->eq_solref[i * mjNREF + 1] = 1.0;
+      g_mj->eq_solimp[i * mjNIMP] = 0.99999;
+      g_mj->eq_solimp[i * mjNIMP + 1] = 0.99999;
+    }
+    double hard = 0.0, hard0 = 0.0;
+    for (const auto& s : xs) {
+      std::vector<double> a(C::kNx), s0 = s, a0(C::kNx);
+      for (int i = C::kNq; i < C::kNx; ++i) s0[static_cast<std::size_t>(i)] = 0.0;
+      if (rhs_c(s.data(), a.data()) != 0 || rhs_c(s0.data(), a0.data()) != 0) die("mbsc rhs failed");
+      hard = std::max(hard, mujoco_diff(s, a));
+      hard0 = std::max(hard0, mujoco_diff(s0, a0));
+    }
+    std::printf("mujoco_hard_rel_diff=%.3e\nmujoco_hard_rel_diff_rest=%.3e\n", hard, hard0);
+  }
   mj_deleteData(g_md);
   mj_deleteModel(g_mj);
 #endif

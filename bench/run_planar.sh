@@ -54,31 +54,34 @@ out=bench/results/planar.md
 speed=$WORK/speed.md
 acc=$WORK/accuracy.md
 {
-  echo "| model | dof | complement ops | complement ns | multipliers ops | multipliers ns | sympy ops | sympy ns | MuJoCo ns | MuJoCo / complement | sympy / complement |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| model | dof | complement ops | complement ns | multipliers ops | multipliers ns | complement --state minimal ops | minimal ns | sympy ops | sympy ns | MuJoCo ns | MuJoCo / complement | sympy / complement |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } > "$speed"
 {
-  echo "| model | multipliers vs complement | sympy vs complement | MuJoCo qacc vs complement, median / max | same at rest, median / max | MuJoCo loop error at the states (m) | MuJoCo loop error, 1 s of mj_step (m) | sympy derive + codegen (s) |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| model | multipliers vs complement | minimal vs complement | sympy vs complement | MuJoCo qacc vs complement, median / max | same at rest, median / max | near-hard: moving / at rest | MuJoCo loop error at the states (m) | MuJoCo loop error, 1 s of mj_step (m) | sympy derive + codegen (s) |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } > "$acc"
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "") print "n/a"; else printf "%.2f", a / b }'; }
 pair() { if [ -n "$1" ]; then echo "$1 / $2"; else echo "n/a"; fi; }
 or_na() { if [ -n "$1" ]; then echo "$1"; else echo "n/a"; fi; }
 
-run() {  # model, guesses, drivers, MuJoCo joint map, MuJoCo inputs
-  local m=$1 guess=$2 drivers=$3 mjmap=$4 mjin=$5
+run() {  # model, guesses, drivers, MuJoCo joint map, MuJoCo inputs[, sympy variant]
+  local m=$1 guess=$2 drivers=$3 mjmap=$4 mjin=$5 sv=${6:-$1} label=$1
+  if [ "$sv" != "$m" ]; then label="$m (sympy: $sv)"; fi
   log "$m: mbsc generate (complement, multipliers)"
   "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" >/dev/null
   "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" --name "${m}_mult" --formulation multipliers >/dev/null
-  local oc om dof
+  "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" --name "${m}_min" --state minimal >/dev/null
+  local oc om on dof
   oc=$(sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/$m/$m.cpp")
   om=$(sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/${m}_mult/${m}_mult.cpp")
+  on=$(sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/${m}_min/${m}_min.cpp")
   dof=$(sed -n 's|^inline constexpr int kNdof = \([0-9]*\);|\1|p' "$WORK/$m/$m.hpp")
   local defs=() objs=() libs=() sops="" sgen="" sstatus=""
   if [ -n "$HAVE_SYMPY" ]; then
     log "$m: sympy derive + codegen (timeout $SYMPY_TIMEOUT s)"
     set +e
-    timeout "$SYMPY_TIMEOUT" $PY bench/sympy_planar.py "$m" "$WORK/sympy" > "$WORK/sympy_$m.log" 2>&1
+    timeout "$SYMPY_TIMEOUT" $PY bench/sympy_planar.py "$sv" "$WORK/sympy" > "$WORK/sympy_$sv.log" 2>&1
     local rc=$?
     set -e
     if [ $rc -eq 0 ]; then
@@ -86,17 +89,17 @@ run() {  # model, guesses, drivers, MuJoCo joint map, MuJoCo inputs
       read -r o conv sgen < <($PY -c '
 import json, sys
 d = json.load(open(sys.argv[1]))
-print(d["speeds"], d["ops_mbsc_conv"], round(d["derive_s"] + d["codegen_s"], 2))' "$WORK/sympy/sympy_$m.json")
+print(d["speeds"], d["ops_mbsc_conv"], round(d["derive_s"] + d["codegen_s"], 2))' "$WORK/sympy/sympy_$sv.json")
       # + the driver's LU solve of the o x o system, mbsc's formula o^3/3 + o^2
       sops=$((conv + $(awk -v n="$o" 'BEGIN { printf "%d", n * n * n / 3.0 + n * n + 0.5 }')))
-      g++ $FLAGS -x c++ -c "$WORK/sympy/sympy_$m.c" -o "$WORK/sympy_$m.o"
-      defs+=(-DWITH_SYMPY -DSYMPY_NQ="$o")
-      objs+=("$WORK/sympy_$m.o")
+      g++ $FLAGS -x c++ -c "$WORK/sympy/sympy_$sv.c" -o "$WORK/sympy_$sv.o"
+      defs+=(-DWITH_SYMPY -DSYMPY_NQ="$o" -DSYMPY_NAME="$sv")
+      objs+=("$WORK/sympy_$sv.o")
     elif [ $rc -eq 124 ]; then
       sstatus="did not finish in $SYMPY_TIMEOUT s"
       sgen="> $SYMPY_TIMEOUT"
     else
-      sstatus="failed (rc $rc, $WORK/sympy_$m.log)"
+      sstatus="failed (rc $rc, $WORK/sympy_$sv.log)"
     fi
     [ -n "$sstatus" ] && log "$m: sympy $sstatus"
   fi
@@ -105,19 +108,21 @@ print(d["speeds"], d["ops_mbsc_conv"], round(d["derive_s"] + d["codegen_s"], 2))
     libs+=(-lmujoco)
   fi
   log "$m: driver"
-  g++ $FLAGS -I include -I "$WORK" -DMODEL="$m" -DGUESS="$guess" -DDRIVERS="$drivers" "${defs[@]}" bench/planar_driver.cpp \
-    "$WORK/$m/$m.cpp" "$WORK/${m}_mult/${m}_mult.cpp" "${objs[@]}" "${libs[@]}" -o "$WORK/driver_$m"
-  "$WORK/driver_$m" > "$WORK/$m.txt"
-  val() { sed -n "s/^$1=//p" "$WORK/$m.txt"; }
-  local c mu s mj
-  c=$(val complement_ns); mu=$(val multipliers_ns); s=$(val sympy_ns); mj=$(val mujoco_ns)
+  g++ $FLAGS -I include -I "$WORK" -DMODEL="$m" -DGUESS="$guess" -DDRIVERS="$drivers" -DWITH_MINIMAL "${defs[@]}" \
+    bench/planar_driver.cpp "$WORK/$m/$m.cpp" "$WORK/${m}_mult/${m}_mult.cpp" "$WORK/${m}_min/${m}_min.cpp" "${objs[@]}" \
+    "${libs[@]}" -o "$WORK/driver_$sv"
+  "$WORK/driver_$sv" > "$WORK/$sv.txt"
+  val() { sed -n "s/^$1=//p" "$WORK/$sv.txt"; }
+  local c mu mn s mj
+  c=$(val complement_ns); mu=$(val multipliers_ns); mn=$(val minimal_ns); s=$(val sympy_ns); mj=$(val mujoco_ns)
   local sns; sns=$(or_na "$s"); [ -n "$sstatus" ] && sns=$sstatus
-  echo "| $m | $dof | $oc | $c | $om | $mu | $(or_na "$sops") | $sns | $(or_na "$mj") | $(ratio "$mj" "$c") | $(ratio "$s" "$c") |" >> "$speed"
-  echo "| $m | $(val max_rel_diff) | $(or_na "$(val sympy_rel_diff)") | $(pair "$(val mujoco_rel_diff_median)" "$(val mujoco_rel_diff)") | $(pair "$(val mujoco_rel_diff_rest_median)" "$(val mujoco_rel_diff_rest)") | $(or_na "$(val mujoco_eq_states)") | $(or_na "$(val mujoco_eq_1s)") | $(or_na "$sgen") |" >> "$acc"
+  echo "| $label | $dof | $oc | $c | $om | $mu | $on | $mn | $(or_na "$sops") | $sns | $(or_na "$mj") | $(ratio "$mj" "$c") | $(ratio "$s" "$c") |" >> "$speed"
+  echo "| $label | $(val max_rel_diff) | $(val minimal_rel_diff) | $(or_na "$(val sympy_rel_diff)") | $(pair "$(val mujoco_rel_diff_median)" "$(val mujoco_rel_diff)") | $(pair "$(val mujoco_rel_diff_rest_median)" "$(val mujoco_rel_diff_rest)") | $(pair "$(val mujoco_hard_rel_diff)" "$(val mujoco_hard_rel_diff_rest)") | $(or_na "$(val mujoco_eq_states)") | $(or_na "$(val mujoco_eq_1s)") | $(or_na "$sgen") |" >> "$acc"
 }
-run four_bar '{"crank.theta", 1.2}, {"coupler.theta", 0.4}, {"rocker.theta", 1.9}, {"crank.w", 2.0}' '"crank.theta", "crank.w"' \
-  '{"crank", "crank.theta", ""}, {"coupler", "coupler.theta", "crank.theta"}, {"rocker", "rocker.theta", ""}' \
-  '{"crank", "tau0"}'
+FOUR_BAR=('{"crank.theta", 1.2}, {"coupler.theta", 0.4}, {"rocker.theta", 1.9}, {"crank.w", 2.0}' '"crank.theta", "crank.w"'
+  '{"crank", "crank.theta", ""}, {"coupler", "coupler.theta", "crank.theta"}, {"rocker", "rocker.theta", ""}'
+  '{"crank", "tau0"}')
+run four_bar "${FOUR_BAR[@]}"
 run slider_crank '{"crank.theta", 0.7}, {"rod.theta", -0.1}, {"slider.x", 0.4}, {"crank.w", 5.0}' '"crank.theta", "crank.w"' \
   '{"crank", "crank.theta", ""}, {"slider", "slider.x", ""}, {"rod", "rod.theta", ""}' \
   '{"crank", "tau"}, {"slider", "F_load"}'
@@ -127,6 +132,9 @@ run whitworth '{"crank.theta", 0.785398}, {"crank.w", 1.5708}, {"slider.x", 0.7}
 run three_rrr '{"HA.proximal.theta", 2.0}, {"HA.proximal.x", 3.0}, {"HB.proximal.theta", 3.8}, {"HB.proximal.x", -1.5}, {"HB.proximal.y", 2.598}, {"HC.proximal.theta", 6.0}, {"HC.proximal.x", -1.5}, {"HC.proximal.y", -2.598}, {"HA.distal.theta", 1.0}, {"HB.distal.theta", 3.1}, {"HC.distal.theta", 5.2}, {"platform.u", -1.5708}, {"platform.v", 0.7854}' '"platform.x", "platform.y", "platform.theta", "platform.u", "platform.v", "platform.w"' \
   '{"HA_proximal", "HA.proximal.theta", ""}, {"HA_distal", "HA.distal.theta", "HA.proximal.theta"}, {"platform", "platform.theta", "HA.distal.theta"}, {"HB_proximal", "HB.proximal.theta", ""}, {"HB_distal", "HB.distal.theta", "HB.proximal.theta"}, {"HC_proximal", "HC.proximal.theta", ""}, {"HC_distal", "HC.distal.theta", "HC.proximal.theta"}' \
   '{"HA_proximal", "u1"}, {"HB_proximal", "u2"}, {"HC_proximal", "u3"}'
+# The four-bar again, sympy in mbsc's absolute coordinates (x, y, theta of every bar):
+# the coordinates, not only the formulation, set sympy's cost.
+run four_bar "${FOUR_BAR[@]}" four_bar_abs
 {
   echo "Time per rhs call (ns, median of 5 alternating loops of >= 0.3 s over 50 states) and operation count:"
   echo

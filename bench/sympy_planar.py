@@ -6,6 +6,7 @@ C code for its mass matrix and forcing.
 
 Usage: /usr/bin/python3 bench/sympy_planar.py MODEL OUTDIR
        MODEL = four_bar | slider_crank | whitworth | three_rrr
+               | four_bar_abs (the four-bar in mbsc's absolute coordinates, a variant)
 
 Same data as models/MODEL.mbs. Formulation, as a sympy user writes a closed loop: the
 generalized coordinates are the link angles (absolute, from the ground x axis) and the
@@ -161,6 +162,29 @@ def four_bar():
     return s, ["crank.w"]
 
 
+def four_bar_abs():
+    """The four-bar in mbsc's own coordinates (x, y, theta of every bar, 8 joint
+    equations as in models/four_bar.mbs): a variant that separates the choice of
+    coordinates from the formulation."""
+    s = Planar("four_bar_abs")
+    a, b, c, d, g = (s.param(n) for n in ("a", "b", "c", "d", "g"))
+    m1, m2, m3, tau0 = (s.param(n) for n in ("m1", "m2", "m3", "tau0"))
+    grav = (0, -g)
+    X = {}
+    for name, length, mass in (("crank", a, m1), ("coupler", b, m2), ("rocker", c, m3)):
+        X[name] = [s.coord(f"{name}.{k}", f"{name}.{v}") for k, v in (("x", "u"), ("y", "v"), ("theta", "w"))]
+        _, frame, _ = s.rigid(name, sm.Matrix(X[name][:2]), X[name][2], mass, mass * length**2 / 12, grav)
+        if name == "crank":
+            s.loads.append((frame, tau0 * s.N.z))
+
+    def end(name, length, sign):
+        return sm.Matrix(X[name][:2]) + sign * length / 2 * e(X[name][2])
+
+    s.close(*end("crank", a, -1), *(end("coupler", b, -1) - end("crank", a, 1)),
+            *(end("coupler", b, 1) - end("rocker", c, 1)), *(end("rocker", c, -1) - sm.Matrix([d, 0])))
+    return s, ["crank.w"]
+
+
 def slider_crank():
     s = Planar("slider_crank")
     r, l, m1, J1, m2, J2, m3, g = (s.param(n) for n in ("r", "l", "m1", "J1", "m2", "J2", "m3", "g"))
@@ -228,7 +252,7 @@ def three_rrr():
     return s, ["platform.u", "platform.v", "platform.w"]
 
 
-MODELS = {"four_bar": four_bar, "slider_crank": slider_crank, "whitworth": whitworth, "three_rrr": three_rrr}
+MODELS = {"four_bar": four_bar, "four_bar_abs": four_bar_abs, "slider_crank": slider_crank, "whitworth": whitworth, "three_rrr": three_rrr}
 
 
 def codegen(s, M, F, outdir):
