@@ -17,6 +17,7 @@
 //                    max_i |a_i - b_i| / max_i |a_i|;
 //   minimal_rel_diff the same, the --state minimal build's independent speed rates;
 //   sympy_rel_diff   the same, sympy's u' vs the complement's rates of the same speeds;
+//   sympy_rel_diff_start  the same at the assembled start state (before the RK4 run);
 //   mujoco_rel_diff  the same, MuJoCo's qacc vs the complement's rates mapped to its joints
 //                    (relative angles for child hinges);
 //   mujoco_hard_rel_diff(_rest)  the same with near-hard constraints (checks the mapping);
@@ -391,6 +392,20 @@ int main() {
 #endif
 #ifdef WITH_MUJOCO
   mujoco_setup();
+#endif
+#ifdef WITH_SYMPY
+  {
+    // sympy at the assembled start state too (not among the 50: its pivots can vanish there)
+    const auto y = sympy_state(x0);
+    std::vector<double> ys(y.size()), a0(C::kNx);
+    const int st = rhs_s(y.data(), ys.data());
+    if (rhs_c(x0.data(), a0.data()) != 0) die("mbsc rhs failed");
+    std::vector<std::pair<double, double>> pairs;
+    for (int k = 0; k < kS; ++k)
+      pairs.emplace_back(a0[static_cast<std::size_t>(g_su[static_cast<std::size_t>(k)])], ys[static_cast<std::size_t>(kS + k)]);
+    if (st == 0) std::printf("sympy_rel_diff_start=%.3e\n", rel_diff(pairs));
+    else std::printf("sympy_rel_diff_start=status %d\n", st);
+  }
 #endif
   // 50 states along 0.5 s of motion (complement rhs, RK4), and the agreement there.
   std::vector<std::vector<double>> xs;

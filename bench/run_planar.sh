@@ -6,7 +6,7 @@
 # of issue 3 -- sympy.physics.mechanics generated code (bench/sympy_planar.py) and MuJoCo
 # (bench/mujoco/*.xml, written by bench/mujoco_planar.py) -- all timed in one driver
 # process per mechanism (bench/planar_driver.cpp), in the same run:
-#   bash bench/run_planar.sh        (from the repository root; ~3 min on 2 cores)
+#   bash bench/run_planar.sh        (from the repository root; ~2 min on 2 cores)
 # Writes bench/results/planar.md (and prints it). Scratch in bench/work/planar (ignored).
 #
 # The peers are for comparison only, not dependencies of mbsc: /usr/bin/python3 with
@@ -58,8 +58,8 @@ acc=$WORK/accuracy.md
   echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } > "$speed"
 {
-  echo "| model | multipliers vs complement | minimal vs complement | sympy vs complement | MuJoCo qacc vs complement, median / max | same at rest, median / max | near-hard: moving / at rest | MuJoCo loop error at the states (m) | MuJoCo loop error, 1 s of mj_step (m) | sympy derive + codegen (s) |"
-  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  echo "| model | multipliers vs complement | minimal vs complement | sympy vs complement | same at the start state | MuJoCo qacc vs complement, median / max | same at rest, median / max | near-hard: moving / at rest | MuJoCo loop error at the states (m) | MuJoCo loop error, 1 s of mj_step (m) | sympy derive + codegen (s) |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } > "$acc"
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "") print "n/a"; else printf "%.2f", a / b }'; }
 pair() { if [ -n "$1" ]; then echo "$1 / $2"; else echo "n/a"; fi; }
@@ -117,7 +117,7 @@ print(d["speeds"], d["ops_mbsc_conv"], round(d["derive_s"] + d["codegen_s"], 2))
   c=$(val complement_ns); mu=$(val multipliers_ns); mn=$(val minimal_ns); s=$(val sympy_ns); mj=$(val mujoco_ns)
   local sns; sns=$(or_na "$s"); [ -n "$sstatus" ] && sns=$sstatus
   echo "| $label | $dof | $oc | $c | $om | $mu | $on | $mn | $(or_na "$sops") | $sns | $(or_na "$mj") | $(ratio "$mj" "$c") | $(ratio "$s" "$c") |" >> "$speed"
-  echo "| $label | $(val max_rel_diff) | $(val minimal_rel_diff) | $(or_na "$(val sympy_rel_diff)") | $(pair "$(val mujoco_rel_diff_median)" "$(val mujoco_rel_diff)") | $(pair "$(val mujoco_rel_diff_rest_median)" "$(val mujoco_rel_diff_rest)") | $(pair "$(val mujoco_hard_rel_diff)" "$(val mujoco_hard_rel_diff_rest)") | $(or_na "$(val mujoco_eq_states)") | $(or_na "$(val mujoco_eq_1s)") | $(or_na "$sgen") |" >> "$acc"
+  echo "| $label | $(val max_rel_diff) | $(val minimal_rel_diff) | $(or_na "$(val sympy_rel_diff)") | $(or_na "$(val sympy_rel_diff_start)") | $(pair "$(val mujoco_rel_diff_median)" "$(val mujoco_rel_diff)") | $(pair "$(val mujoco_rel_diff_rest_median)" "$(val mujoco_rel_diff_rest)") | $(pair "$(val mujoco_hard_rel_diff)" "$(val mujoco_hard_rel_diff_rest)") | $(or_na "$(val mujoco_eq_states)") | $(or_na "$(val mujoco_eq_1s)") | $(or_na "$sgen") |" >> "$acc"
 }
 FOUR_BAR=('{"crank.theta", 1.2}, {"coupler.theta", 0.4}, {"rocker.theta", 1.9}, {"crank.w", 2.0}' '"crank.theta", "crank.w"'
   '{"crank", "crank.theta", ""}, {"coupler", "coupler.theta", "crank.theta"}, {"rocker", "rocker.theta", ""}'
