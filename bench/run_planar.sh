@@ -134,7 +134,7 @@ run three_rrr '{"HA.proximal.theta", 2.0}, {"HA.proximal.x", 3.0}, {"HB.proximal
   '{"HA_proximal", "u1"}, {"HB_proximal", "u2"}, {"HC_proximal", "u3"}'
 # The four-bar again, sympy in mbsc's absolute coordinates (x, y, theta of every bar):
 # the coordinates, not only the formulation, set sympy's cost.
-run four_bar "${FOUR_BAR[@]}" four_bar_abs
+if [ -n "$HAVE_SYMPY" ]; then run four_bar "${FOUR_BAR[@]}" four_bar_abs; fi
 {
   echo "Time per rhs call (ns, median of 5 alternating loops of >= 0.3 s over 50 states) and operation count:"
   echo
