@@ -84,7 +84,11 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
                        m->label(static_cast<int>(n)), kind, r.y.size(), r.rows.size(), r.rank, r.independent.size());
     if (!r.rows.empty())
       out << fmt::format("; independent: {}; complement: {}", speed_names(*m, r.independent),
-                         r.symbolic_complement ? "symbolic" : "numeric (LU in generated code)");
+                         r.symbolic_complement ? "symbolic"
+                         : r.numeric_core < static_cast<int>(r.dependent.size())
+                             ? fmt::format("{} rates by state-free pivots, the other {} by LU in generated code",
+                                           r.dependent.size() - static_cast<std::size_t>(r.numeric_core), r.numeric_core)
+                             : std::string("numeric (LU in generated code)"));
     if (r.from_component_cache) out << "; reused from the first instance of its component";
     out << "\n";
   }

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "mbsc/sym/complement.hpp"
+#include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
@@ -415,6 +416,7 @@ class Deriver {
     r.dependent = speeds(src.dependent);
     r.rank = src.rank;
     r.symbolic_complement = src.symbolic_complement;
+    r.numeric_core = src.numeric_core;
     r.from_component_cache = true;
     // Opaque solve results get instance names, bound at the probe point like the originals.
     for (const auto& s : src.solves) {
@@ -517,34 +519,64 @@ class Deriver {
     return sol;
   }
 
-  /// X = B*^-1 [B# | b] solved in the generated code; y* = -X [y#; 1].
+  /// The dependent rates of a block that is neither triangular nor small: Gaussian
+  /// elimination on the pivots that are state-free (numbers and parameters: the unit
+  /// entries of joint rows in absolute coordinates), done symbolically, leaves a core
+  /// whose pivots all depend on the state (a four-bar's 8x8 block leaves its 2x2 loop
+  /// closure). The core is solved numerically in the generated code,
+  /// X = A_core^-1 [B#_core | b_core], y*_core = -X [y#; 1], and the eliminated rates
+  /// follow by back substitution. Without any state-free pivot the core is the block.
   std::map<int, GiNaC::ex> solve_numeric(NodeResult& r, const std::map<int, int>& col, int n) {
     const int nd = static_cast<int>(r.dependent.size());
     const int ni = static_cast<int>(r.independent.size());
-    ir::Solve solve;
-    solve.label = fmt::format("subsystem '{}': dependent block B*", m_.label(n));
-    solve.n = nd;
-    solve.k = ni + 1;
-    const std::string tag = sanitize(m_.nodes[n].name.empty() ? "top" : m_.nodes[n].name);
+    // Row i: sum_j c_ij y*_j + rest_i = 0, rest_i = sum_l B(i, #l) y#_l + b_i.
+    std::vector<LinearRow> rows(static_cast<std::size_t>(nd));
     for (int i = 0; i < nd; ++i) {
-      for (int k = 0; k < nd; ++k) solve.A.push_back(r.B(i, col.at(r.dependent[k])));
-      for (int j = 0; j < ni; ++j) solve.B.push_back(r.B(i, col.at(r.independent[j])));
-      solve.B.push_back(r.b(i, 0));
+      auto& row = rows[static_cast<std::size_t>(i)];
+      for (int k = 0; k < nd; ++k) row.c.push_back(r.B(i, col.at(r.dependent[k])));
+      row.rest = r.b(i, 0);
+      for (int j = 0; j < ni; ++j) row.rest += r.B(i, col.at(r.independent[j])) * m_.speed_dots[r.independent[j]];
     }
-    std::map<int, GiNaC::ex> sol;
-    for (int i = 0; i < nd; ++i) {
-      GiNaC::ex acc = 0;
-      for (int j = 0; j <= ni; ++j) {
-        GiNaC::symbol x(fmt::format("X_{}_{}_{}", tag, i, j));
-        solve.X.push_back(x);
-        acc -= x * (j < ni ? GiNaC::ex(m_.speed_dots[r.independent[j]]) : GiNaC::ex(1));
+    const Elimination elim = eliminate_state_free_pivots(std::move(rows), m_, probe_);
+    const std::vector<int>& core_rows = elim.core_rows;
+    const std::vector<int>& core_vars = elim.core_vars;
+    std::map<int, GiNaC::ex> value;  // dependent index -> rate
+    if (!core_vars.empty()) {
+      const int nc = static_cast<int>(core_vars.size());
+      ir::Solve solve;
+      solve.label = nc == nd ? fmt::format("subsystem '{}': dependent block B*", m_.label(n))
+                             : fmt::format("subsystem '{}': dependent block B*, core left by {} state-free pivots", m_.label(n),
+                                           nd - nc);
+      solve.n = nc;
+      solve.k = ni + 1;
+      GiNaC::exmap zero_indep;
+      for (int s : r.independent) zero_indep[m_.speed_dots[s]] = 0;
+      for (int i : core_rows) {
+        const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
+        for (int j : core_vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
+        for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));
+        solve.B.push_back(row.rest.subs(zero_indep));
       }
-      sol[r.dependent[i]] = acc;
+      const std::string tag = sanitize(m_.nodes[n].name.empty() ? "top" : m_.nodes[n].name);
+      for (int k = 0; k < nc; ++k) {
+        GiNaC::ex acc = 0;
+        for (int l = 0; l <= ni; ++l) {
+          GiNaC::symbol x(fmt::format("X_{}_{}_{}", tag, k, l));
+          solve.X.push_back(x);
+          acc -= x * (l < ni ? GiNaC::ex(m_.speed_dots[r.independent[l]]) : GiNaC::ex(1));
+        }
+        value[core_vars[static_cast<std::size_t>(k)]] = acc;
+      }
+      bind_probe(solve);
+      r.solves.push_back(solve);
+      eom_.solves.push_back(solve);
+      eom_.pre_steps.push_back(solve);
     }
-    bind_probe(solve);
-    r.solves.push_back(solve);
-    eom_.solves.push_back(solve);
-    eom_.pre_steps.push_back(solve);
+    r.symbolic_complement = core_vars.empty();
+    r.numeric_core = static_cast<int>(core_vars.size());
+    back_substitute(elim, value);
+    std::map<int, GiNaC::ex> sol;
+    for (int j = 0; j < nd; ++j) sol[r.dependent[static_cast<std::size_t>(j)]] = value.at(j);
     return sol;
   }
 

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/minimal_state.hpp"
 
+#include "mbsc/sym/pivot_elimination.hpp"
+#include "mbsc/sym/probe.hpp"
+
 #include <fmt/format.h>
 
 #include <functional>
@@ -14,7 +17,12 @@ namespace {
 class MinimalStateBuilder {
  public:
   MinimalStateBuilder(const model::Model& m, const Eom& eom, Diagnostics& diags)
-      : m_(m), eom_(eom), diags_(diags), eliminated_at_(m.speeds.size(), -1), order1_(velocity_residuals(m)) {
+      : m_(m),
+        eom_(eom),
+        diags_(diags),
+        eliminated_at_(m.speeds.size(), -1),
+        order1_(velocity_residuals(m)),
+        probe_(m, eom.param_values) {
     for (const auto& r : eom.nodes)
       for (int s : r.dependent) eliminated_at_[static_cast<std::size_t>(s)] = r.node;
   }
@@ -146,19 +154,37 @@ class MinimalStateBuilder {
         return false;
       }
     if (!r.symbolic_complement) {
-      // X = the dependent speeds: A X = -(rows at X = 0), A = d rows / d X.
-      ir::Solve solve;
-      solve.label = fmt::format("subsystem '{}': dependent speeds", m_.label(n));
-      solve.n = static_cast<int>(r.dependent.size());
-      solve.k = 1;
+      // The state-free pivots symbolically (as for the rates), then X = the core's
+      // speeds: A X = -(rows at X = 0), A = d rows / d X; the pivots' speeds follow.
       GiNaC::exmap zero;
       for (int s : r.dependent) zero[m_.speeds[static_cast<std::size_t>(s)].sym] = 0;
+      std::vector<LinearRow> linear;
       for (const auto& g : rows) {
-        for (int s : r.dependent) solve.A.push_back(g.diff(m_.speeds[static_cast<std::size_t>(s)].sym));
-        solve.B.push_back(-g.subs(zero));
+        LinearRow row;
+        for (int s : r.dependent) row.c.push_back(g.diff(m_.speeds[static_cast<std::size_t>(s)].sym));
+        row.rest = g.subs(zero);
+        linear.push_back(row);
       }
-      for (int s : r.dependent) solve.X.push_back(m_.speeds[static_cast<std::size_t>(s)].sym);
-      steps.push_back(solve);
+      const Elimination elim = eliminate_state_free_pivots(std::move(linear), m_, probe_);
+      auto speed_of = [&](int j) { return m_.speeds[static_cast<std::size_t>(r.dependent[static_cast<std::size_t>(j)])].sym; };
+      if (!elim.core_vars.empty()) {
+        ir::Solve solve;
+        solve.label = fmt::format("subsystem '{}': dependent speeds", m_.label(n));
+        solve.n = static_cast<int>(elim.core_vars.size());
+        solve.k = 1;
+        for (int i : elim.core_rows) {
+          const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
+          for (int j : elim.core_vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
+          solve.B.push_back(-row.rest);
+        }
+        for (int j : elim.core_vars) solve.X.push_back(speed_of(j));
+        steps.push_back(solve);
+      }
+      std::map<int, GiNaC::ex> value;
+      for (int j : elim.core_vars) value[j] = speed_of(j);
+      for (const auto& p : elim.pivots) value[p.var] = speed_of(p.var);  // read as variables once defined
+      for (auto it = elim.pivots.rbegin(); it != elim.pivots.rend(); ++it)
+        steps.push_back(ir::Define{speed_of(it->var), pivot_value(*it, value), true});
       return true;
     }
     GiNaC::exmap solved;  // in y# only, for the ancestors
@@ -202,6 +228,7 @@ class MinimalStateBuilder {
   Diagnostics& diags_;
   std::vector<int> eliminated_at_;    // speed -> node where it is dependent (-1: root independent)
   std::vector<GiNaC::ex> order1_;     // order-1 residual of every constraint, model order
+  Probe probe_;                       // decides which pivots are nonzero (parameter defaults)
   std::map<int, GiNaC::ex> relation_;  // dependent speed -> value in its node's y#
 };
 

@@ -35,6 +35,7 @@ struct NodeResult {
   std::vector<int> dependent;    // speeds eliminated here (⋆)
   int rank = 0;
   bool symbolic_complement = true;   // false: B* is solved numerically (see `solve`)
+  int numeric_core = 0;              // size of the block left to the numeric solve (0: none)
   GiNaC::matrix C;               // ny x ndof, B*C == 0
   GiNaC::matrix e;               // ny x 1: y' = C z' + e (e is zero on the independent rows)
   GiNaC::matrix My, hy;          // f over y: f = -My y' + hy (My block-diagonal: own block, children's M)

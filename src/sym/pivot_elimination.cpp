@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Symbolic elimination on state-free pivots (see pivot_elimination.hpp).
+#include "mbsc/sym/pivot_elimination.hpp"
+
+#include <cmath>
+
+namespace mbsc::sym {
+
+Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model::Model& model, const Probe& probe) {
+  const std::size_t n_rows = rows.size();
+  const std::size_t n_vars = n_rows == 0 ? 0 : rows.front().c.size();
+  std::vector<bool> row_done(n_rows, false), var_done(n_vars, false);
+  Elimination out;
+  for (;;) {
+    // Markowitz: (row count - 1) (column count - 1) among the live entries, numbers first.
+    std::size_t best_i = n_rows, best_j = n_vars;
+    long best_score = 0;
+    for (std::size_t i = 0; i < n_rows; ++i) {
+      if (row_done[i]) continue;
+      long row_count = 0;
+      for (std::size_t j = 0; j < n_vars; ++j) row_count += !var_done[j] && !rows[i].c[j].is_zero();
+      for (std::size_t j = 0; j < n_vars; ++j) {
+        const GiNaC::ex& p = rows[i].c[j];
+        if (var_done[j] || p.is_zero() || !is_state_free(p, model) || !(std::abs(probe.eval(p)) > 1e-12)) continue;
+        long col_count = 0;
+        for (std::size_t k = 0; k < n_rows; ++k) col_count += !row_done[k] && !rows[k].c[j].is_zero();
+        const long score = (row_count - 1) * (col_count - 1) * 2 + (GiNaC::is_a<GiNaC::numeric>(p) ? 0 : 1);
+        if (best_i == n_rows || score < best_score) {
+          best_i = i;
+          best_j = j;
+          best_score = score;
+        }
+      }
+    }
+    if (best_i == n_rows) break;
+    const LinearRow pivot_row = rows[best_i];
+    const GiNaC::ex& p = pivot_row.c[best_j];
+    for (std::size_t k = 0; k < n_rows; ++k) {
+      LinearRow& row = rows[k];
+      if (k == best_i || row_done[k] || row.c[best_j].is_zero()) continue;
+      const GiNaC::ex f = row.c[best_j] / p;
+      for (std::size_t l = 0; l < n_vars; ++l)
+        if (!var_done[l] && l != best_j && !pivot_row.c[l].is_zero()) row.c[l] = (row.c[l] - f * pivot_row.c[l]).expand();
+      row.c[best_j] = 0;
+      row.rest = row.rest - f * pivot_row.rest;
+    }
+    row_done[best_i] = true;
+    var_done[best_j] = true;
+    out.pivots.push_back({static_cast<int>(best_j), pivot_row});
+  }
+  for (std::size_t i = 0; i < n_rows; ++i)
+    if (!row_done[i]) out.core_rows.push_back(static_cast<int>(i));
+  for (std::size_t j = 0; j < n_vars; ++j)
+    if (!var_done[j]) out.core_vars.push_back(static_cast<int>(j));
+  out.rows = std::move(rows);
+  return out;
+}
+
+GiNaC::ex pivot_value(const Elimination::Pivot& p, const std::map<int, GiNaC::ex>& value) {
+  GiNaC::ex acc = p.row.rest;
+  for (std::size_t l = 0; l < p.row.c.size(); ++l)
+    if (static_cast<int>(l) != p.var && !p.row.c[l].is_zero()) acc += p.row.c[l] * value.at(static_cast<int>(l));
+  return -acc / p.row.c[static_cast<std::size_t>(p.var)];
+}
+
+void back_substitute(const Elimination& e, std::map<int, GiNaC::ex>& value) {
+  for (auto it = e.pivots.rbegin(); it != e.pivots.rend(); ++it) value[it->var] = pivot_value(*it, value);
+}
+
+}  // namespace mbsc::sym
