@@ -126,6 +126,31 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
+// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
+int lu_solve_2x2(int k, const double* A, double* B) {
+  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+  const double tiny = 1e-13 * amax;
+  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
+  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
+  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
+  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
+  const double f = c / a;
+  const double e = d - f * b;
+  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
+  for (int j = 0; j < k; ++j) {
+    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
+    const double x1 = (r1 - f * r0) / e;
+    B[j] = (r0 - b * x1) / a;
+    B[k + j] = x1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
@@ -209,7 +234,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double B_0[6] = {
       t13, p[3]*s3, c2*p[4]*t7 + c3*p[3]*t9 + t14 + t4,
       t15, -c3*p[3], p[3]*s3*t9 + t1 + p[4]*t7*s2 + t16};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   const double r_motor_left_w = x[39]*p[11] - p[14]*x[38];
   const double r_motor_right_w = x[41]*p[11] - p[14]*x[40];
   const double t17 = p[2]*p[1]*p[6];
@@ -354,7 +379,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[6] = {
       t0, p[3]*s3, c1*p[4]*t1 + c3*p[3]*t2 - c0*t3*p[2] - c2*t4*p[1],
       t5, -c3*p[3], p[3]*s3*t2 - t4*p[1]*s2 + p[4]*t1*s1 - t3*p[2]*s0};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   OUT[0] = p[15];
   OUT[1] = 0.0;
   OUT[2] = 0.0;
@@ -447,7 +472,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   double B_0[6] = {
       t7, p[3]*s3, c2*p[4]*t5 + c3*p[3]*t6 + t8 + t3,
       t9, -c3*p[3], p[3]*s3*t6 + t1 + p[4]*t5*s2 - t2*p[2]*s1};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   const double r_motor_left_w = x[39]*p[11] - p[14]*x[38];
   const double r_motor_right_w = x[41]*p[11] - p[14]*x[40];
   OUT[0] = u[0] - x[39]*p[16] - x[38]*p[12];

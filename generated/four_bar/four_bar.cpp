@@ -126,38 +126,34 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
-// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
-// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
-// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
-// (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
-  double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
-  const double tiny = 1e-13 * dmax;
-  for (int j = 0; j < n; ++j) {
-    double d = A[j * n + j];
-    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
-    if (!(d > tiny)) return 1;
-    const double ljj = std::sqrt(d);
-    A[j * n + j] = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double s = A[i * n + j];
-      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
-      A[i * n + j] = s / ljj;
-    }
-  }
-  for (int c = 0; c < k; ++c) {
-    // L y = b, then L^T x = y.
-    for (int i = 0; i < n; ++i) {
-      double s = B[i * k + c];
-      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      double s = B[i * k + c];
-      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
+// A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
+int chol_1x1(int k, const double* A, double* B) {
+  if (!(A[0] > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
+int lu_solve_2x2(int k, const double* A, double* B) {
+  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+  const double tiny = 1e-13 * amax;
+  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
+  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
+  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
+  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
+  const double f = c / a;
+  const double e = d - f * b;
+  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
+  for (int j = 0; j < k; ++j) {
+    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
+    const double x1 = (r1 - f * r0) / e;
+    B[j] = (r0 - b * x1) / a;
+    B[k + j] = x1;
   }
   return 0;
 }
@@ -186,7 +182,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[4] = {
       -s2*p[0], t1 + t2*p[2]*c1 + t4,
       p[0]*c2, t5 + t6 + t7};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   const double t8 = 2.0*p[0]*c2 - c0*p[1]*B_0[0];
   const double t9 = p[0]*p[0]*p[5];
   const double t10 = 0.25*t9;
@@ -201,7 +197,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       0.25*p[6]*t8*t8 + 0.08333333333333333*t9 + t10*s2*s2 + t12*t13 + 0.25*t14*t14*p[6] + t10*c2*c2 + t15*s1*s1*t13 + B_0[0]*B_0[0]*t16 + t15*t13*c1*c1};
   double B_1[1] = {
       -0.25*t8*(2.0*(p[4]*p[6]) + (-(2.0*s2*t0*p[0] - t5 + c0*p[1]*B_0[1])*p[6])) - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] - t2*p[2]*c1) + p[8] - B_0[3]*t12*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t7)*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - s2*t0*t10*c2 - 0.25*t14*(p[1]*B_0[1]*s0 + t4 - 2.0*t0*p[0]*c2)*p[6] - 0.25*(2.0*(p[4]*p[5]) - s2*t0*(p[0]*p[5]))*p[0]*c2 - t16*B_0[1]*B_0[0]};
-  if (chol_solve(1, 1, A_1, B_1) != 0) return 1;
+  if (chol_1x1(1, A_1, B_1) != 0) return 1;
   const double crank_u = -0.5*(s2*B_1[0] + t0*c2)*p[0];
   const double crank_v = 0.5*(B_1[0]*c2 - s2*t0)*p[0];
   const double coupler_w = -B_1[0]*B_0[0] - B_0[1];
@@ -249,7 +245,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[4] = {
       -s2*p[0], t1*p[2]*c1 - t0*p[0]*c2 - t2*c0*p[1],
       p[0]*c2, t1*s1*p[2] - t2*p[1]*s0 - s2*t0*p[0]};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   const double t3 = 2.0*p[0]*c2 - c0*p[1]*B_0[0];
   const double t4 = p[0]*p[0]*p[5];
   const double t5 = 0.25*t4;
@@ -282,7 +278,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[4] = {
       -s2*p[0], t1*p[2]*c1 - t0*p[0]*c2 + t3,
       p[0]*c2, t4 - s2*t0*p[0] + t5};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   OUT[0] = -0.25*(2.0*p[0]*c2 - c0*p[1]*B_0[0])*(2.0*(p[4]*p[6]) + (-(2.0*s2*t0*p[0] - t4 + c0*p[1]*B_0[1])*p[6])) - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] - t1*p[2]*c1) + p[8] - B_0[3]*(0.08333333333333333*(p[7]*p[2]*p[2]))*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t5)*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - s2*t0*(0.25*(p[0]*p[0]*p[5]))*c2 - 0.25*(p[1]*s0*B_0[0] - 2.0*s2*p[0])*(p[1]*B_0[1]*s0 + t3 - 2.0*t0*p[0]*c2)*p[6] - 0.25*(2.0*(p[4]*p[5]) - s2*t0*(p[0]*p[5]))*p[0]*c2 - (0.08333333333333333*(p[6]*p[1]*p[1]))*B_0[1]*B_0[0];
   if (!all_finite(OUT, 1)) return 2;
   return 0;

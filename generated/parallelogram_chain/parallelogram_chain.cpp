@@ -128,39 +128,10 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
-// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
-// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
-// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
-// (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
-  double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
-  const double tiny = 1e-13 * dmax;
-  for (int j = 0; j < n; ++j) {
-    double d = A[j * n + j];
-    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
-    if (!(d > tiny)) return 1;
-    const double ljj = std::sqrt(d);
-    A[j * n + j] = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double s = A[i * n + j];
-      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
-      A[i * n + j] = s / ljj;
-    }
-  }
-  for (int c = 0; c < k; ++c) {
-    // L y = b, then L^T x = y.
-    for (int i = 0; i < n; ++i) {
-      double s = B[i * k + c];
-      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      double s = B[i * k + c];
-      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-  }
+// A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
+int chol_1x1(int k, const double* A, double* B) {
+  if (!(A[0] > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
   return 0;
 }
 
@@ -239,7 +210,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       t18*B_0[10]*B_0[10] + 0.25*p[4]*t19*t19 + 0.25*p[4]*t20*t20 + t22*t23 + 0.25*t24*t24*p[4] + B_0[8]*B_0[8]*t18 + s2*s2*t25*t23 + 0.25*p[4]*t26*t26 + t22 + t25*s6*s6 + s4*s4*t25*t27 + t28*t22 + 0.25*t29*t29*p[4] + t18*B_0[6]*B_0[6] + 0.25*t30*t30*p[4] + t28*c0*c0*t25 + t25*c6*c6 + t27*t22 + t25*t23*c2*c2 + t25*t27*c4*c4 + t28*t25*s0*s0};
   double B_1[1] = {
       0.25*((c1*p[0]*B_0[7] + 2.0*s6*t2*p[1] + t0*p[0]*s1)*p[4] - 2.0*t33)*t20 - (p[1]*B_0[1]*s0 + t6)*t32*s0*B_0[0] - t22*B_0[1]*B_0[0] + 0.25*(2.0*t34 - p[3]*(B_0[3]*c2*p[1] + t11))*B_0[2]*c2*p[1] - 0.25*c4*(t35 - -(t13*s4*p[1] + c4*B_0[5]*p[1])*p[3])*p[1]*B_0[4] - B_0[5]*t22*B_0[4] + (t8 - s2*B_0[3]*p[1])*s2*B_0[2]*t32 - B_0[9]*t18*B_0[8] - B_0[3]*B_0[2]*t22 + 0.25*(t15 - 2.0*c2*p[1]*t7 + 2.0*s2*B_0[3]*p[1] + B_0[11]*s5*p[0])*p[4]*t29 - (B_0[5]*s4*p[1] - c4*t13*p[1])*s4*t32*B_0[4] - 0.25*c0*p[1]*(t35 + (t4 + c0*p[1]*B_0[1])*p[3])*B_0[0] - 0.25*t26*(-(2.0*t1*p[1]*s0 + 2.0*c0*p[1]*B_0[1] + B_0[9]*p[0]*c3 - t12)*p[4] + t36) - 0.25*(t36 - p[4]*(t14*s5*p[0] + B_0[11]*p[0]*c5 + 2.0*B_0[3]*c2*p[1] + 2.0*s2*p[1]*t7))*t24 - B_0[11]*t18*B_0[10] - t18*B_0[6]*B_0[7] - 0.25*p[4]*t30*(2.0*c0*t1*p[1] + p[0]*c3*t9 - B_0[9]*p[0]*s3 - 2.0*p[1]*B_0[1]*s0) + 0.25*(t35 + s6*t2*t31)*c6*p[1] - s6*t2*t25*c6 + 0.25*(2.0*t2*c6*p[1] - p[0]*B_0[7]*s1 + c1*t0*p[0])*p[4]*t19};
-  if (chol_solve(1, 1, A_1, B_1) != 0) return 1;
+  if (chol_1x1(1, A_1, B_1) != 0) return 1;
   const double crank_0_u = -0.5*(s6*B_1[0] + t2*c6)*p[1];
   const double crank_0_v = -0.5*(s6*t2 - B_1[0]*c6)*p[1];
   const double crank_1_w = -B_1[0]*B_0[0] - B_0[1];

@@ -124,6 +124,17 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
+// A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
+int solve_1x1(int k, const double* A, double* B) {
+  if (!(std::fabs(A[0]) > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
@@ -175,7 +186,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       c1*p[2]};
   double B_0[3] = {
       t2, -c1*p[3], x[13]*s1*(x[13]*t1 - x[12]*p[3] + x[9]*p[2])};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   const double t3 = B_0[0]*B_0[0];
   const double t4 = p[2]*p[2];
   const double t5 = p[0]*t4;
@@ -233,7 +244,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       c0*p[2]};
   double B_0[3] = {
       t2, -c0*p[3], x[13]*s0*(x[13]*t1 - x[12]*p[3] + x[9]*p[2])};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   const double t3 = B_0[0]*B_0[0];
   const double t4 = p[2]*p[2];
   const double t5 = 2.0*(p[0]*t4);
@@ -264,7 +275,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
       c1*p[2]};
   double B_0[3] = {
       t2, -c1*p[3], x[13]*s1*(x[13]*t1 - x[12]*p[3] + x[9]*p[2])};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   const double t3 = p[4]*p[1]*s0 + (s1*x[13]*x[13]*t1 - B_0[2]*p[2])*p[1];
   const double t4 = p[0]*p[2]*p[2];
   const double t5 = p[4]*p[0]*s0 - B_0[2]*(p[0]*p[2]);

@@ -126,6 +126,31 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
+// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
+int lu_solve_2x2(int k, const double* A, double* B) {
+  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+  const double tiny = 1e-13 * amax;
+  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
+  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
+  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
+  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
+  const double f = c / a;
+  const double e = d - f * b;
+  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
+  for (int j = 0; j < k; ++j) {
+    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
+    const double x1 = (r1 - f * r0) / e;
+    B[j] = (r0 - b * x1) / a;
+    B[k + j] = x1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
@@ -179,7 +204,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   const double t5 = p[1]*(B_0[3]*B_0[4] + B_0[1]*B_0[0]);
   const double t6 = -B_0[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -222,7 +247,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   OUT[0] = B_0[3]*B_0[3]*p[1] + 2.0*(p[0]*p[2]*p[2]) + B_0[0]*B_0[0]*p[1];
   const double t5 = p[1]*(B_0[3]*B_0[4] + B_0[1]*B_0[0]);
   OUT[1] = t5;
@@ -247,7 +272,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve(2, 3, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return 1;
   OUT[0] = -(p[4]*p[1]*s0 + B_0[2]*p[1])*B_0[0] - (p[4]*p[0]*p[2]*s0) - (B_0[5]*p[1] - (c0*p[4]*p[1]))*B_0[3];
   OUT[1] = -((B_0[5] - (c0*p[4]))*B_0[4] - -((p[4]*s0) + B_0[2])*B_0[1])*p[1];
   if (!all_finite(OUT, 2)) return 2;

@@ -126,39 +126,21 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
-// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
-// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
-// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
-// (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
-  double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
-  const double tiny = 1e-13 * dmax;
-  for (int j = 0; j < n; ++j) {
-    double d = A[j * n + j];
-    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
-    if (!(d > tiny)) return 1;
-    const double ljj = std::sqrt(d);
-    A[j * n + j] = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double s = A[i * n + j];
-      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
-      A[i * n + j] = s / ljj;
-    }
-  }
-  for (int c = 0; c < k; ++c) {
-    // L y = b, then L^T x = y.
-    for (int i = 0; i < n; ++i) {
-      double s = B[i * k + c];
-      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      double s = B[i * k + c];
-      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-  }
+// A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
+int solve_1x1(int k, const double* A, double* B) {
+  if (!(std::fabs(A[0]) > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+// A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
+int chol_1x1(int k, const double* A, double* B) {
+  if (!(A[0] > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
   return 0;
 }
 
@@ -177,7 +159,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (lu_solve(1, 2, A_0, B_0) != 0) return 1;
+  if (solve_1x1(2, A_0, B_0) != 0) return 1;
   const double t3 = p[1]*s0*B_0[0];
   const double t4 = t3 - s1*p[0];
   const double t5 = 0.25*(p[0]*p[0]*p[2]);
@@ -190,7 +172,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       B_0[0]*B_0[0]*p[5] + p[3] + t4*t4*p[6] + t5*s1*s1 + 0.25*p[4]*t6*t6 + 0.25*p[4]*t7*t7 + t5*c1*c1};
   double B_1[1] = {
       0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1 - B_0[1]*p[5]*B_0[0] - -((t8 + t9 + t0*p[0]*c1)*p[6] + u[1])*t4 + 0.25*t6*p[4]*(2.0*t0*p[0]*c1 + t8 + t9) - s1*t5*t0*c1 - 0.25*t7*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + u[0]};
-  if (chol_solve(1, 1, A_1, B_1) != 0) return 1;
+  if (chol_1x1(1, A_1, B_1) != 0) return 1;
   const double crank_u = -0.5*(s1*B_1[0] + t0*c1)*p[0];
   const double crank_v = 0.5*(B_1[0]*c1 - s1*t0)*p[0];
   const double t10 = -t0*p[0]*c1;
@@ -229,7 +211,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*x[10]*x[10]*p[0] + x[13]*x[13]*p[1]*s0};
-  if (lu_solve(1, 2, A_0, B_0) != 0) return 1;
+  if (solve_1x1(2, A_0, B_0) != 0) return 1;
   const double t0 = p[1]*s0*B_0[0];
   const double t1 = t0 - s1*p[0];
   const double t2 = 0.25*(p[0]*p[0]*p[2]);
@@ -253,7 +235,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (lu_solve(1, 2, A_0, B_0) != 0) return 1;
+  if (solve_1x1(2, A_0, B_0) != 0) return 1;
   const double t3 = -p[1]*B_0[1]*s0;
   const double t4 = c0*t1*p[1];
   const double t5 = p[1]*s0*B_0[0];

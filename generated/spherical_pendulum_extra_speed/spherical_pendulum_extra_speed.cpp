@@ -126,6 +126,17 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
+// A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
+int solve_1x1(int k, const double* A, double* B) {
+  if (!(std::fabs(A[0]) > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
@@ -170,7 +181,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   const double t0 = p[0]*B_0[1]*B_0[0];
   const double t1 = B_0[2] + p[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -200,7 +211,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   OUT[0] = (B_0[0]*B_0[0] + 1.0)*p[0];
   const double t0 = p[0]*B_0[1]*B_0[0];
   OUT[1] = t0;
@@ -216,7 +227,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (lu_solve(1, 3, A_0, B_0) != 0) return 1;
+  if (solve_1x1(3, A_0, B_0) != 0) return 1;
   const double t0 = B_0[2] + p[2];
   OUT[0] = -t0*p[0]*B_0[0];
   OUT[1] = -t0*p[0]*B_0[1];

@@ -126,38 +126,34 @@ double rcond_1norm(int n, double* A, double* W) {
 
 namespace {
 
-// Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
-// lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
-// Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
-// (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
-  double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
-  const double tiny = 1e-13 * dmax;
-  for (int j = 0; j < n; ++j) {
-    double d = A[j * n + j];
-    for (int m = 0; m < j; ++m) d -= A[j * n + m] * A[j * n + m];
-    if (!(d > tiny)) return 1;
-    const double ljj = std::sqrt(d);
-    A[j * n + j] = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double s = A[i * n + j];
-      for (int m = 0; m < j; ++m) s -= A[i * n + m] * A[j * n + m];
-      A[i * n + j] = s / ljj;
-    }
-  }
-  for (int c = 0; c < k; ++c) {
-    // L y = b, then L^T x = y.
-    for (int i = 0; i < n; ++i) {
-      double s = B[i * k + c];
-      for (int m = 0; m < i; ++m) s -= A[i * n + m] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-      double s = B[i * k + c];
-      for (int m = i + 1; m < n; ++m) s -= A[m * n + i] * B[m * k + c];
-      B[i * k + c] = s / A[i * n + i];
-    }
+// A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
+int chol_1x1(int k, const double* A, double* B) {
+  if (!(A[0] > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+
+namespace {
+
+// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
+int lu_solve_2x2(int k, const double* A, double* B) {
+  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+  const double tiny = 1e-13 * amax;
+  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
+  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
+  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
+  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
+  const double f = c / a;
+  const double e = d - f * b;
+  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
+  for (int j = 0; j < k; ++j) {
+    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
+    const double x1 = (r1 - f * r0) / e;
+    B[j] = (r0 - b * x1) / a;
+    B[k + j] = x1;
   }
   return 0;
 }
@@ -184,7 +180,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double B_0[4] = {
       0.0, p[3]*t4*s0 - s1*p[6]*t3,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t5*x[21] - t5*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t5*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   const double t6 = B_0[2]*s1*p[6] - p[3]*s0*B_0[0];
   const double t7 = B_0[0]*B_0[0];
   const double t8 = B_0[2]*B_0[2];
@@ -198,7 +194,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t6*t6*p[0] + t7*(0.25*(p[3]*p[3]*p[1]))*c0*c0 + t1*t8*t9 + p[8] + 0.25*p[1]*t10*t10 + t2*t8*t9 + t8*p[5] + t7*p[2]};
   double B_1[1] = {
       -c0*(c0*p[3]*B_0[1] + p[3]*t4*s0)*(0.25*(p[3]*p[1]))*B_0[0] - (t11 + t12 + B_0[3]*s1*p[6] - p[3]*B_0[1]*s0)*p[0]*t6 - p[2]*B_0[1]*B_0[0] - B_0[3]*B_0[2]*p[5] - t13*(s1*p[6]*t3 + B_0[3]*c1*p[6])*c1*B_0[2] + (c1*p[6]*t3 - B_0[3]*s1*p[6])*t13*B_0[2]*s1 - 0.25*t10*(p[3]*B_0[1]*s0 - c0*p[3]*t4 - 2.0*B_0[3]*s1*p[6] + 2.0*c1*p[6]*t3)*p[1] + u[0]};
-  if (chol_solve(1, 1, A_1, B_1) != 0) return 1;
+  if (chol_1x1(1, A_1, B_1) != 0) return 1;
   const double rod_w = -B_1[0]*B_0[0] - B_0[1];
   const double rocker_w = -B_0[3] - B_1[0]*B_0[2];
   const double t14 = -rocker_w*s1*p[6];
@@ -251,7 +247,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[4] = {
       0.0, p[3]*x[15]*x[15]*s0 - s1*p[6]*x[18]*x[18],
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t3*x[21] - t3*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t3*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   const double t4 = B_0[2]*s1*p[6] - p[3]*s0*B_0[0];
   const double t5 = B_0[0]*B_0[0];
   const double t6 = B_0[2]*B_0[2];
@@ -280,7 +276,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   double B_0[4] = {
       0.0, p[3]*t2*s0 - s1*p[6]*t1,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t3*x[21] - t3*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t3*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve(2, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return 1;
   const double t4 = 0.25*(p[4]*p[6]);
   OUT[0] = -c0*(c0*p[3]*B_0[1] + p[3]*t2*s0)*(0.25*(p[3]*p[1]))*B_0[0] - (c0*p[3]*t2 - c1*p[6]*t1 + B_0[3]*s1*p[6] - p[3]*B_0[1]*s0)*p[0]*(B_0[2]*s1*p[6] - p[3]*s0*B_0[0]) - p[2]*B_0[1]*B_0[0] - B_0[3]*B_0[2]*p[5] - t4*(s1*p[6]*t1 + B_0[3]*c1*p[6])*c1*B_0[2] + (c1*p[6]*t1 - B_0[3]*s1*p[6])*t4*B_0[2]*s1 - 0.25*(p[3]*s0*B_0[0] - 2.0*B_0[2]*s1*p[6])*(p[3]*B_0[1]*s0 - c0*p[3]*t2 - 2.0*B_0[3]*s1*p[6] + 2.0*c1*p[6]*t1)*p[1] + u[0];
   if (!all_finite(OUT, 1)) return 2;

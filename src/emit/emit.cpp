@@ -252,7 +252,7 @@ void check_model(const GeneratedModel& m) {
   check_name("model name", m.name);
   // A namespace called std would hide ::std inside the generated code.
   if (m.name == "std") throw std::runtime_error("cannot emit a model named 'std'");
-  std::set<std::string> names = {"lu_solve", "chol_solve", "rcond_1norm"};  // the solvers the source defines there
+  std::set<std::string> names = {"lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2"};  // the solvers the source defines there
   auto claim = [&](const std::string& what, const std::string& n) {
     check_name(what, n);
     if (!names.insert(n).second) throw std::runtime_error("cannot emit: the name '" + n + "' is used twice");
@@ -271,9 +271,13 @@ GeneratedFiles emit(const GeneratedModel& m) {
   check_model(m);
   bool need_limits = false;
   const std::string consts = constants(m, need_limits);
-  bool uses_solve = false, uses_chol = false, uses_finite = false, uses_rcond = false;
+  bool uses_solve = false, uses_chol = false, uses_finite = false, uses_rcond = false, uses_solve1 = false,
+       uses_chol1 = false, uses_lu2 = false;
   for (const auto& f : m.functions) {
     uses_rcond = uses_rcond || f.body.find("rcond_1norm(") != std::string::npos;
+    uses_solve1 = uses_solve1 || f.body.find("solve_1x1(") != std::string::npos;
+    uses_chol1 = uses_chol1 || f.body.find("chol_1x1(") != std::string::npos;
+    uses_lu2 = uses_lu2 || f.body.find("lu_solve_2x2(") != std::string::npos;
     uses_solve = uses_solve || uses_rcond || f.body.find("lu_solve(") != std::string::npos;
     uses_chol = uses_chol || f.body.find("chol_solve(") != std::string::npos;
     uses_finite = uses_finite || f.body.find("all_finite(") != std::string::npos;
@@ -293,6 +297,8 @@ GeneratedFiles emit(const GeneratedModel& m) {
   s["banner"] = h["banner"];
   s["name"] = m.name;
   s["support"] = (uses_finite ? all_finite_code() + "\n" : "") + (uses_solve ? lu_solve_code() + "\n" : "") + (uses_rcond ? rcond_code() + "\n" : "") +
+                 (uses_solve1 ? solve_1x1_code() + "\n" : "") + (uses_chol1 ? chol_1x1_code() + "\n" : "") +
+                 (uses_lu2 ? lu_solve_2x2_code() + "\n" : "") +
                  (uses_chol ? chol_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
   s["c_definitions"] = c_definitions(m);

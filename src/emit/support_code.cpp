@@ -128,6 +128,69 @@ int lu_solve(int n, int k, double* A, double* B) {
   return code;
 }
 
+// The 1x1 and 2x2 solves, written out: the same arithmetic and the same singularity
+// test as lu_solve / chol_solve, without their loops over n (the loop-closure cores of
+// planar linkages and one-DOF mass matrices are this small). One per function, so a
+// file holds only those it calls.
+const std::string& solve_1x1_code() {
+  static const std::string code = R"cpp(namespace {
+
+// A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
+int solve_1x1(int k, const double* A, double* B) {
+  if (!(std::fabs(A[0]) > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
+const std::string& chol_1x1_code() {
+  static const std::string code = R"cpp(namespace {
+
+// A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
+int chol_1x1(int k, const double* A, double* B) {
+  if (!(A[0] > 0.0)) return 1;
+  for (int j = 0; j < k; ++j) B[j] /= A[0];
+  return 0;
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
+const std::string& lu_solve_2x2_code() {
+  static const std::string code = R"cpp(namespace {
+
+// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
+int lu_solve_2x2(int k, const double* A, double* B) {
+  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+  const double tiny = 1e-13 * amax;
+  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
+  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
+  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
+  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
+  const double f = c / a;
+  const double e = d - f * b;
+  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
+  for (int j = 0; j < k; ++j) {
+    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
+    const double x1 = (r1 - f * r0) / e;
+    B[j] = (r0 - b * x1) / a;
+    B[k + j] = x1;
+  }
+  return 0;
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
 // Reciprocal 1-norm condition number of a block, through lu_solve on the identity.
 const std::string& rcond_code() {
   static const std::string code = R"cpp(namespace {

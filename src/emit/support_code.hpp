@@ -17,6 +17,11 @@ const std::string& chol_solve_code();
 /// status check uses (one branch for the whole output, not one per entry).
 const std::string& all_finite_code();
 
+/// solve_1x1, chol_1x1, lu_solve_2x2: the smallest solves without loops over n.
+const std::string& solve_1x1_code();
+const std::string& chol_1x1_code();
+const std::string& lu_solve_2x2_code();
+
 /// rcond_1norm(n, A, W): reciprocal 1-norm condition number of a block (needs lu_solve).
 const std::string& rcond_code();
 

@@ -87,7 +87,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
 
   // Names a Define's temporary must avoid: the parameters, the loop index, std, lu_solve,
   // and every identifier the bindings' texts use.
-  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm"};
+  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2"};
   for (const Binding& b : bindings) add_identifiers(b.cpp, reserved);
 
   schedule(*prog, define_names, reserved);

@@ -108,8 +108,12 @@ class Printer {
     }
     array("A_", s.A, s.n);
     array("B_", s.B, s.k);
-    lines.push_back(std::string("  if (") + (s.spd ? "chol_solve(" : "lu_solve(") + std::to_string(s.n) + ", " +
-                    std::to_string(s.k) + ", A_" + id + ", B_" + id + ") != 0) return 1;");
+    // The smallest systems go to the loop-free solvers (same arithmetic).
+    const std::string call = s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k)
+                             : s.n == 2 && !s.spd
+                                 ? "lu_solve_2x2(" + std::to_string(s.k)
+                                 : std::string(s.spd ? "chol_solve(" : "lu_solve(") + std::to_string(s.n) + ", " + std::to_string(s.k);
+    lines.push_back("  if (" + call + ", A_" + id + ", B_" + id + ") != 0) return 1;");
     ops_.solve_flops += s.spd ? chol_solve_flops(s.n, s.k) : lu_solve_flops(s.n, s.k);
   }
 
