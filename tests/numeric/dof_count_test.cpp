@@ -13,10 +13,12 @@
 #include <random>
 
 #include "five_bar/five_bar.hpp"
+#include "four_bar_toggle/four_bar_toggle.hpp"
 #include "four_bar/four_bar.hpp"
 #include "four_bar_joints/four_bar_joints.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "ring_disc/ring_disc.hpp"
+#include "ring_disc_joints/ring_disc_joints.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "test_support.hpp"
 #include "three_rrr/three_rrr.hpp"
@@ -217,5 +219,51 @@ TEST_CASE("DOF: ring and disc (rolling, velocity constraints)", "[numeric][dof]"
     std::vector<bool> gq(D::kNq, true), gu(D::kNu, false);
     for (int j = 0; j < D::kNdof; ++j) gu[index_of(D::kStateNames, D::kNx, D::kDofNames[j]) - D::kNq] = true;
     check_counts(model, x, gq, gu, nullptr, D::kParamDefaults, 0, gruebler);
+  }
+}
+
+TEST_CASE("DOF: four-bar through toggles, every partition", "[numeric][dof]") {
+  // The same Gruebler count as the four-bar: 3 (4 - 1) - 2 * 4 = 1, whichever of its three
+  // independent sets is used (all of them are derived at generation time).
+  const int gruebler = 3 * (4 - 1) - 2 * 4;
+  namespace T = mbsc_gen::four_bar_toggle;
+  CHECK(T::kNdof == gruebler);
+  CHECK(T::kNpartitions == 3);
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(T::kStateNames, T::kNx, n)); };
+  for (int k = 0; k < 5; ++k) {
+    std::vector<double> x(T::kNx, 0.0);
+    const double th = uniform(-1.5, 1.5);
+    x[ix("crank.theta")] = th;
+    x[ix("crank.x")] = 0.3 * std::cos(th), x[ix("crank.y")] = 0.3 * std::sin(th);
+    x[ix("rocker.theta")] = 1.2, x[ix("rocker.x")] = 1.0 + 0.45 * std::cos(1.2), x[ix("rocker.y")] = 0.45 * std::sin(1.2);
+    x[ix("coupler.theta")] = 0.9, x[ix("coupler.x")] = 0.6, x[ix("coupler.y")] = 0.7;
+    x[ix("crank.w")] = uniform(-1, 1);
+    std::vector<bool> gq(T::kNq, false), gu(T::kNu, false);
+    gq[ix("crank.theta")] = true;
+    gu[ix("crank.w") - T::kNq] = true;
+    check_counts(MBSC_TEST_ASSEMBLY_MODEL(T), x, gq, gu, nullptr, T::kParamDefaults, gruebler, gruebler);
+  }
+}
+
+TEST_CASE("DOF: ring and disc with rolling joints", "[numeric][dof]") {
+  // Two rigid bodies; each rolling joint is a contact (position) and a no-slip
+  // (velocity) condition: 3 * 2 - 2 - 2 = 2 at the velocity level, 6 - 2 = 4 positions.
+  const int gruebler = 3 * 2 - 2 - 2;
+  namespace J = mbsc_gen::ring_disc_joints;
+  CHECK(J::kNdof == gruebler);
+  REQUIRE(J::kNposc == 2);
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, n)); };
+  for (int k = 0; k < 5; ++k) {
+    std::vector<double> x(J::kNx, 0.0);
+    const double a = uniform(-3, 3);
+    x[ix("R.x")] = uniform(-1, 1);
+    x[ix("R.y")] = 1.0;
+    x[ix("D.x")] = x[ix("R.x")] + 0.7 * std::sin(a);
+    x[ix("D.y")] = 1.0 - 0.7 * std::cos(a) + 0.01;  // a little off: assembly moves it
+    x[ix("R.w")] = uniform(-1, 1), x[ix("D.w")] = uniform(-1, 1);
+    std::vector<bool> gq(J::kNq, false), gu(J::kNu, false);
+    gq[ix("R.x")] = gq[ix("D.x")] = true;
+    gu[ix("R.w") - J::kNq] = gu[ix("D.w") - J::kNq] = true;
+    check_counts(MBSC_TEST_ASSEMBLY_MODEL(J), x, gq, gu, nullptr, J::kParamDefaults, J::kNq - 2, gruebler);
   }
 }
