@@ -12,6 +12,7 @@
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::sym {
 namespace {
@@ -242,6 +243,13 @@ class Deriver {
       for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
     }
     reduce_forces(r);
+    // A subsystem's reduced M and h enter its parent as blocks: tidy them here, while
+    // they are small, so sin^2 + cos^2 and common factors do not reach the root unmerged.
+    if (n != m_.root()) {
+      for (unsigned i = 0; i < r.M.rows(); ++i)
+        for (unsigned j = 0; j < r.M.cols(); ++j) r.M(i, j) = tidy(pythagoras(r.M(i, j)));
+      for (unsigned i = 0; i < r.h.rows(); ++i) r.h(i, 0) = tidy(pythagoras(r.h(i, 0)));
+    }
     for (int s : r.dependent) {
       r.dependent_rates[s] = sol[s];
       eliminated_at_[s] = n;

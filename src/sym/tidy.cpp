@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/tidy.hpp"
 
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace mbsc::sym {
 namespace {
 
@@ -12,7 +17,40 @@ bool small(const GiNaC::ex& e, int limit) {
   return true;
 }
 
+/// Number of nodes of e (counted with repetition).
+int size_of(const GiNaC::ex& e) {
+  int count = 0;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) ++count;
+  return count;
+}
+
 }  // namespace
+
+GiNaC::ex pythagoras(const GiNaC::ex& e) {
+  if (!small(e, 400)) return e;
+  GiNaC::exset found;
+  e.find(GiNaC::pow(GiNaC::cos(GiNaC::wild(0)), 2), found);
+  // In the order of the angles' names: GiNaC orders an exset by hashes that change from
+  // run to run, and the rewrites kept depend on the order they are tried in. Only plain
+  // symbols (coordinates) are taken, whose names are stable.
+  std::vector<std::pair<std::string, GiNaC::ex>> squares;
+  for (const auto& sq : found)
+    if (GiNaC::is_a<GiNaC::symbol>(sq.op(0).op(0))) squares.push_back({GiNaC::ex_to<GiNaC::symbol>(sq.op(0).op(0)).get_name(), sq});
+  std::sort(squares.begin(), squares.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  GiNaC::ex best = e;
+  int best_size = size_of(e);
+  for (const auto& [name, sq] : squares) {
+    const GiNaC::ex u = sq.op(0).op(0);
+    if (!best.has(GiNaC::pow(GiNaC::sin(u), 2))) continue;
+    const GiNaC::ex candidate = GiNaC::collect_common_factors(best.subs(sq == 1 - GiNaC::pow(GiNaC::sin(u), 2)).expand());
+    const int size = size_of(candidate);
+    if (size < best_size) {
+      best = candidate;
+      best_size = size;
+    }
+  }
+  return best;
+}
 
 GiNaC::ex tidy(const GiNaC::ex& e) {
   // GiNaC's common-factor collection is superlinear in the size of a sum: large

@@ -9,4 +9,10 @@ namespace mbsc::sym {
 
 GiNaC::ex tidy(const GiNaC::ex& e);
 
+/// sin(u)^2 + cos(u)^2 = 1 where the squares do not meet as one sum (a s^2 + b + a c^2):
+/// cos(u)^2 -> 1 - sin(u)^2 on the expanded form, kept when it has fewer nodes. It
+/// expands, so it is for small expressions (a subsystem's M and h entries), not for
+/// whole right-hand sides.
+GiNaC::ex pythagoras(const GiNaC::ex& e);
+
 }  // namespace mbsc::sym
