@@ -113,34 +113,6 @@ std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
 
 }  // namespace
 
-ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::string& name) {
-  ir::FunctionSpec f{name, "reciprocal condition number of each block the rhs solves by LU (kBlockNames)", "rcond",
-                     "kNblocks", {}, {}};
-  int block = 0;
-  for (const auto& step : rhs.steps) {
-    f.steps.push_back(step);
-    const auto* s = std::get_if<ir::Solve>(&step);
-    if (!s || s->spd || s->condition) continue;
-    ir::Solve c;
-    c.label = s->label;
-    c.n = s->n;
-    c.k = 1;
-    c.A = s->A;
-    c.condition = true;
-    c.X = {GiNaC::symbol(fmt::format("rcond_{}", block++))};
-    f.outputs.push_back(c.X[0]);
-    f.steps.push_back(c);
-  }
-  return f;
-}
-
-std::vector<std::string> conditioning_labels(const ir::FunctionSpec& conditioning) {
-  std::vector<std::string> labels;
-  for (const auto& step : conditioning.steps)
-    if (const auto* s = std::get_if<ir::Solve>(&step); s && s->condition) labels.push_back(s->label);
-  return labels;
-}
-
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
@@ -320,41 +292,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     return std::nullopt;
   }
   auto wanted = [&](const char* n) { return opt.functions.empty() || opt.functions.count(n); };
-  std::optional<emit::PartitionTable> table;
-  std::vector<std::string> block_labels;
-  std::vector<std::string> partition_names;
+  std::optional<PartitionSpecs> partitions;
   if (wanted("conditioning") && wanted("rhs")) {
-    table.emplace();
-    for (int k = 0; k < npart; ++k) {
-      std::optional<sym::Eom> alt;
-      const sym::Eom* e = &eom;
-      if (k > 0) {
-        sym::Options o = eom.options;
-        o.partition = k;
-        alt = sym::derive(m, o, diags);
-        if (!alt) return std::nullopt;
-        e = &*alt;
-      }
-      std::string dofs;
-      for (int s : e->independent) dofs += (dofs.empty() ? "" : ", ") + m.speeds[s].name;
-      partition_names.push_back(dofs);
-      const auto rhs_it = std::find_if(specs.begin(), specs.end(), [](const ir::FunctionSpec& f) { return f.name == "rhs"; });
-      ir::FunctionSpec rhs = *rhs_it;
-      if (k > 0) {
-        GenerateOptions only_rhs = opt;
-        only_rhs.functions = {"rhs"};
-        rhs = function_specs(m, *e, only_rhs, diags, nullptr).at(0);
-        rhs.name = fmt::format("rhs_alt{}", k);
-        rhs.doc = fmt::format("state derivative computed with partition {} (independent: {}); see rhs_partition", k, dofs);
-        specs.push_back(rhs);
-      }
-      ir::FunctionSpec cond = conditioning_spec(rhs, k == 0 ? "conditioning" : fmt::format("conditioning_alt{}", k));
-      if (k > 0) cond.doc = fmt::format("conditioning of the blocks rhs_alt{} solves", k);
-      if (k == 0) block_labels = conditioning_labels(cond);
-      table->rhs.push_back(rhs.name);
-      table->conditioning.push_back(cond.outputs.empty() ? std::string() : cond.name);
-      if (!cond.outputs.empty()) specs.push_back(cond);
-    }
+    const auto rhs = std::find_if(specs.begin(), specs.end(), [](const ir::FunctionSpec& f) { return f.name == "rhs"; });
+    partitions = partition_specs(m, eom, opt, npart, *rhs, diags);
+    if (!partitions) return std::nullopt;
+    specs.insert(specs.end(), partitions->specs.begin(), partitions->specs.end());
   }
 
   emit::GeneratedModel g;
@@ -420,12 +363,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     g.int_constants.push_back({"kNxFull", nq_full + nu_full});
     g.name_lists.push_back({"kFullStateNames", full_state});
   }
-  if (table) {
+  if (partitions) {
     g.int_constants.push_back({"kNpartitions", npart});
-    g.int_constants.push_back({"kNblocks", static_cast<long>(block_labels.size())});
-    g.name_lists.push_back({"kPartitionNames", partition_names});
-    g.name_lists.push_back({"kBlockNames", block_labels});
-    g.partitions = table;
+    g.int_constants.push_back({"kNblocks", static_cast<long>(partitions->block_labels.size())});
+    g.name_lists.push_back({"kPartitionNames", partitions->names});
+    g.name_lists.push_back({"kBlockNames", partitions->block_labels});
+    g.partitions = partitions->table;
   }
   auto binds = bindings(m, eom, ms);
   if (opt.multipliers) {

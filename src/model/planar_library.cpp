@@ -232,11 +232,12 @@ void PlanarLibrary::apply_torque(int node, const GiNaC::ex& tau, const SourcePos
   if (const auto w = omega_speed(node)) m_.forces.push_back(Force{*w, tau, pos});
 }
 
-void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos) {
+void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
+                                   Constraint::Level level) {
   Constraint c;
   c.name = join(m_.nodes[owner].name, name);
   c.node = owner;
-  c.level = Constraint::Level::Position;
+  c.level = level;
   c.residual = residual;
   c.pos = pos;
   m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
@@ -245,14 +246,7 @@ void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiN
 
 void PlanarLibrary::add_velocity_constraint(int owner, const std::string& name, const GiNaC::ex& residual,
                                             const SourcePos& pos) {
-  Constraint c;
-  c.name = join(m_.nodes[owner].name, name);
-  c.node = owner;
-  c.level = Constraint::Level::Velocity;
-  c.residual = residual;
-  c.pos = pos;
-  m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
-  m_.constraints.push_back(c);
+  add_constraint(owner, name, residual, pos, Constraint::Level::Velocity);
 }
 
 // ---- bodies in nodal coordinates (thesis Ex 2.6, Mo2DPack RigidBody) ----

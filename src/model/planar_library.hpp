@@ -96,7 +96,8 @@ class PlanarLibrary {
   void apply_force(int node, const GiNaC::ex& x, const GiNaC::ex& y, const GiNaC::ex& fx, const GiNaC::ex& fy,
                    const SourcePos& pos);
   void apply_torque(int node, const GiNaC::ex& tau, const SourcePos& pos);
-  void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+  void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
+                      Constraint::Level level = Constraint::Level::Position);
   void add_rotational(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what);

@@ -60,6 +60,18 @@ ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::strin
 /// The labels of those blocks (kBlockNames).
 std::vector<std::string> conditioning_labels(const ir::FunctionSpec& conditioning);
 
+/// What run-time re-selection adds to a generated model (src/driver/partition_specs.cpp).
+struct PartitionSpecs {
+  std::vector<ir::FunctionSpec> specs;     // rhs_alt<k>, conditioning, conditioning_alt<k>
+  emit::PartitionTable table;              // which function serves each partition
+  std::vector<std::string> names;          // kPartitionNames: each partition's independent speeds
+  std::vector<std::string> block_labels;   // kBlockNames: partition 0's LU-solved blocks
+};
+/// Derives partitions 1 .. npart-1 (each node's k-th `alternative`) and builds their rhs
+/// and every partition's conditioning; `rhs0` is partition 0's rhs. nullopt on error.
+std::optional<PartitionSpecs> partition_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
+                                             int npart, const ir::FunctionSpec& rhs0, Diagnostics& diags);
+
 /// Model + Eom -> everything the emitter prints.
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags);
