@@ -546,39 +546,45 @@ class Deriver {
       for (int j = 0; j < ni; ++j) row.rest += r.B(i, col.at(r.independent[j])) * m_.speed_dots[r.independent[j]];
     }
     const Elimination elim = eliminate_state_free_pivots(std::move(rows), m_, probe_);
-    const std::vector<int>& core_rows = elim.core_rows;
     const std::vector<int>& core_vars = elim.core_vars;
     std::map<int, GiNaC::ex> value;  // dependent index -> rate
     if (!core_vars.empty()) {
-      const int nc = static_cast<int>(core_vars.size());
-      ir::Solve solve;
-      solve.label = nc == nd ? fmt::format("subsystem '{}': dependent block B*", m_.label(n))
-                             : fmt::format("subsystem '{}': dependent block B*, core left by {} state-free pivots", m_.label(n),
-                                           nd - nc);
-      solve.n = nc;
-      solve.k = ni + 1;
       GiNaC::exmap zero_indep;
       for (int s : r.independent) zero_indep[m_.speed_dots[s]] = 0;
-      for (int i : core_rows) {
-        const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
-        for (int j : core_vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
-        for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));
-        solve.B.push_back(row.rest.subs(zero_indep));
-      }
       const std::string tag = sanitize(m_.nodes[n].name.empty() ? "top" : m_.nodes[n].name);
-      for (int k = 0; k < nc; ++k) {
-        GiNaC::ex acc = 0;
-        for (int l = 0; l <= ni; ++l) {
-          GiNaC::symbol x(fmt::format("X_{}_{}_{}", tag, k, l));
-          solve.X.push_back(x);
-          acc -= x * (l < ni ? GiNaC::ex(m_.speed_dots[r.independent[l]]) : GiNaC::ex(1));
+      const auto blocks = core_blocks(elim);
+      int index = 0;  // running core position: X names as for one block
+      for (std::size_t b = 0; b < blocks.size(); ++b) {
+        const auto& block = blocks[b];
+        const int nb = static_cast<int>(block.vars.size());
+        ir::Solve solve;
+        solve.label = static_cast<int>(core_vars.size()) == nd
+                          ? fmt::format("subsystem '{}': dependent block B*", m_.label(n))
+                          : fmt::format("subsystem '{}': dependent block B*, core left by {} state-free pivots", m_.label(n),
+                                        nd - static_cast<int>(core_vars.size()));
+        if (blocks.size() > 1) solve.label += fmt::format(", part {} of {}", b + 1, blocks.size());
+        solve.n = nb;
+        solve.k = ni + 1;
+        for (int i : block.rows) {
+          const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
+          for (int j : block.vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
+          for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));
+          solve.B.push_back(row.rest.subs(zero_indep));
         }
-        value[core_vars[static_cast<std::size_t>(k)]] = acc;
+        for (int k = 0; k < nb; ++k, ++index) {
+          GiNaC::ex acc = 0;
+          for (int l = 0; l <= ni; ++l) {
+            GiNaC::symbol x(fmt::format("X_{}_{}_{}", tag, index, l));
+            solve.X.push_back(x);
+            acc -= x * (l < ni ? GiNaC::ex(m_.speed_dots[r.independent[l]]) : GiNaC::ex(1));
+          }
+          value[block.vars[static_cast<std::size_t>(k)]] = acc;
+        }
+        bind_probe(solve);
+        r.solves.push_back(solve);
+        eom_.solves.push_back(solve);
+        eom_.pre_steps.push_back(solve);
       }
-      bind_probe(solve);
-      r.solves.push_back(solve);
-      eom_.solves.push_back(solve);
-      eom_.pre_steps.push_back(solve);
     }
     r.symbolic_complement = core_vars.empty();
     r.numeric_core = static_cast<int>(core_vars.size());

@@ -167,17 +167,19 @@ class MinimalStateBuilder {
       }
       const Elimination elim = eliminate_state_free_pivots(std::move(linear), m_, probe_);
       auto speed_of = [&](int j) { return m_.speeds[static_cast<std::size_t>(r.dependent[static_cast<std::size_t>(j)])].sym; };
-      if (!elim.core_vars.empty()) {
+      const auto blocks = elim.core_vars.empty() ? std::vector<CoreBlock>{} : core_blocks(elim);
+      for (std::size_t b = 0; b < blocks.size(); ++b) {
         ir::Solve solve;
         solve.label = fmt::format("subsystem '{}': dependent speeds", m_.label(n));
-        solve.n = static_cast<int>(elim.core_vars.size());
+        if (blocks.size() > 1) solve.label += fmt::format(", part {} of {}", b + 1, blocks.size());
+        solve.n = static_cast<int>(blocks[b].vars.size());
         solve.k = 1;
-        for (int i : elim.core_rows) {
+        for (int i : blocks[b].rows) {
           const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
-          for (int j : elim.core_vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
+          for (int j : blocks[b].vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
           solve.B.push_back(-row.rest);
         }
-        for (int j : elim.core_vars) solve.X.push_back(speed_of(j));
+        for (int j : blocks[b].vars) solve.X.push_back(speed_of(j));
         steps.push_back(solve);
       }
       std::map<int, GiNaC::ex> value;

@@ -56,6 +56,38 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
   return out;
 }
 
+std::vector<CoreBlock> core_blocks(const Elimination& e) {
+  // Union-find over core rows (0 .. R-1) and unknowns (R .. R+V-1), joined by nonzeros.
+  const std::size_t nr = e.core_rows.size(), nv = e.core_vars.size();
+  std::vector<std::size_t> parent(nr + nv);
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto find = [&](std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::size_t i = 0; i < nr; ++i)
+    for (std::size_t j = 0; j < nv; ++j)
+      if (!e.rows[static_cast<std::size_t>(e.core_rows[i])].c[static_cast<std::size_t>(e.core_vars[j])].is_zero())
+        parent[find(i)] = find(nr + j);
+  std::vector<CoreBlock> blocks;
+  std::map<std::size_t, std::size_t> block_of;  // root -> index in blocks (first row first)
+  for (std::size_t i = 0; i < nr; ++i) {
+    auto [it, fresh] = block_of.emplace(find(i), blocks.size());
+    if (fresh) blocks.emplace_back();
+    blocks[it->second].rows.push_back(e.core_rows[i]);
+  }
+  for (std::size_t j = 0; j < nv; ++j) {
+    auto it = block_of.find(find(nr + j));
+    if (it == block_of.end()) {  // an unknown in no row: the core is singular; keep it whole
+      return {CoreBlock{e.core_rows, e.core_vars}};
+    }
+    blocks[it->second].vars.push_back(e.core_vars[j]);
+  }
+  for (const auto& b : blocks)
+    if (b.rows.size() != b.vars.size()) return {CoreBlock{e.core_rows, e.core_vars}};
+  return blocks;
+}
+
 GiNaC::ex pivot_value(const Elimination::Pivot& p, const std::map<int, GiNaC::ex>& value) {
   GiNaC::ex acc = p.row.rest;
   for (std::size_t l = 0; l < p.row.c.size(); ++l)

@@ -37,6 +37,15 @@ struct Elimination {
 /// (numbers before parameter expressions) until none is left.
 Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model::Model& model, const Probe& probe);
 
+/// The core split into independent square blocks (connected components of its rows and
+/// unknowns; a regular matrix splits into square ones), in the order of their first row.
+/// Three legs of a parallel mechanism closing on a platform whose speeds are
+/// independent give three 2x2 blocks instead of one 6x6.
+struct CoreBlock {
+  std::vector<int> rows, vars;
+};
+std::vector<CoreBlock> core_blocks(const Elimination& e);
+
 /// A pivot's unknown from the values of the unknowns its row reads:
 /// x_var = -(rest + sum_{l != var} c_l x_l) / c_var.
 GiNaC::ex pivot_value(const Elimination::Pivot& p, const std::map<int, GiNaC::ex>& value);
