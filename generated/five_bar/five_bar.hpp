@@ -227,7 +227,7 @@ int energy(double t, const double* x, const double* u, const double* p, double* 
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// reciprocal condition number of each block the rhs solves by LU (kBlockNames)
+/// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);

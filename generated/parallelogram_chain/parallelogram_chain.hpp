@@ -192,7 +192,7 @@ int energy(double t, const double* x, const double* u, const double* p, double* 
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// reciprocal condition number of each block the rhs solves by LU (kBlockNames)
+/// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);

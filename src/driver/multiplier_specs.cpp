@@ -5,6 +5,7 @@
 
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/multipliers.hpp"
+#include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -42,25 +43,65 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     for (const auto& l : lambda) s.X.push_back(l);
     return s;
   };
-  const ir::Solve system = kkt();  // every function below starts with the same solve
+  // With a constant diagonal My (bodies in absolute coordinates, particles) the speeds
+  // come out of the first block row, q1' = My^-1 (hy + A^T lambda), and lambda from the
+  // nc x nc Schur complement (A My^-1 A^T) lambda = -(b + ...) - A My^-1 hy, symmetric
+  // positive definite while A has full row rank: a Cholesky of nc instead of an LU of
+  // nu + nc. Otherwise (nodal bodies, custom leaves with coupled inertia) the whole system.
+  bool diagonal = true;
+  for (unsigned i = 0; i < nu && diagonal; ++i)
+    for (unsigned j = 0; j < nu && diagonal; ++j) {
+      const GiNaC::ex e = fin(form.My(i, j));
+      diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) : e.is_zero();
+    }
+  std::vector<ir::Step> steps;  // every function below starts with them
+  if (diagonal && nc > 0) {
+    ir::Solve s;
+    s.label = "multipliers: (A My^-1 A^T) lambda = -(b + 2 alpha f' + beta^2 f) - A My^-1 hy";
+    s.n = static_cast<int>(nc);
+    s.k = 1;
+    s.spd = true;
+    for (unsigned r = 0; r < nc; ++r) {
+      for (unsigned c = 0; c < nc; ++c) {
+        GiNaC::ex e = 0;
+        for (unsigned j = 0; j < nu; ++j)
+          if (!form.A(r, j).is_zero() && !form.A(c, j).is_zero()) e += form.A(r, j) * form.A(c, j) / form.My(j, j);
+        s.A.push_back(fin(e));
+      }
+      GiNaC::ex rhs = -(form.b(r, 0) + 2 * gains.alpha * form.velocity(r, 0) + gains.beta * gains.beta * form.g(r, 0));
+      for (unsigned j = 0; j < nu; ++j)
+        if (!form.A(r, j).is_zero()) rhs -= form.A(r, j) * form.hy(j, 0) / form.My(j, j);
+      s.B.push_back(fin(rhs));
+      s.X.push_back(lambda[r]);
+    }
+    steps.push_back(s);
+    for (unsigned j = 0; j < nu; ++j) {
+      GiNaC::ex e = form.hy(j, 0);
+      for (unsigned r = 0; r < nc; ++r)
+        if (!form.A(r, j).is_zero()) e += form.A(r, j) * lambda[r];
+      steps.push_back(ir::Define{m.speed_dots[j], fin(e / form.My(j, j))});
+    }
+  } else {
+    steps.push_back(kkt());
+  }
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
   std::vector<ir::FunctionSpec> specs;
   if (wanted("rhs")) {
     ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates), multipliers formulation", "xdot", "kNx",
-                       {system}, {}};
+                       steps, {}};
     for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
     for (const auto& s : m.speed_dots) f.outputs.push_back(s);
     specs.push_back(f);
   }
   if (wanted("multipliers") && nc > 0) {
     ir::FunctionSpec f{"multipliers", "Lagrange multipliers lambda, one per constraint (kConstraintNames)", "lambda", "kNc",
-                       {system}, {}};
+                       steps, {}};
     for (const auto& l : lambda) f.outputs.push_back(l);
     specs.push_back(f);
   }
   if (wanted("reaction_forces") && nc > 0) {
     ir::FunctionSpec f{"reaction_forces", "generalized constraint forces A^T lambda along each speed (kStateNames after kNq)",
-                       "R", "kNu", {system}, {}};
+                       "R", "kNu", steps, {}};
     for (unsigned j = 0; j < nu; ++j) {
       GiNaC::ex e = 0;
       for (unsigned r = 0; r < nc; ++r) e += fin(form.A(r, j)) * lambda[r];

@@ -9,13 +9,13 @@
 namespace mbsc::driver {
 
 ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::string& name) {
-  ir::FunctionSpec f{name, "reciprocal condition number of each block the rhs solves by LU (kBlockNames)", "rcond",
+  ir::FunctionSpec f{name, "reciprocal condition number of each block the rhs solves (kBlockNames)", "rcond",
                      "kNblocks", {}, {}};
   int block = 0;
   for (const auto& step : rhs.steps) {
     f.steps.push_back(step);
     const auto* s = std::get_if<ir::Solve>(&step);
-    if (!s || s->spd || s->condition) continue;
+    if (!s || !s->reported || s->condition) continue;
     ir::Solve c;
     c.label = s->label;
     c.n = s->n;

@@ -54,8 +54,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                                              Diagnostics& diags, const sym::MinimalState* minimal = nullptr);
 std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal = nullptr);
 
-/// The `conditioning` function of an rhs: the rcond of every block the rhs solves by LU
-/// (not the Cholesky of M), one output per block in solve order.
+/// The `conditioning` function of an rhs: the rcond of every block the rhs solves that
+/// is `reported` (not the reduced mass matrix), one output per block in solve order.
 ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::string& name);
 /// The labels of those blocks (kBlockNames).
 std::vector<std::string> conditioning_labels(const ir::FunctionSpec& conditioning);

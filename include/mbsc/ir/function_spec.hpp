@@ -49,6 +49,9 @@ struct Solve {
   /// 1 / (|A|_1 |A^-1|_1), or 0 when A is singular to working precision (B unused, k = 1).
   /// What the generated `conditioning` functions report for each block the rhs solves.
   bool condition = false;
+  /// Whether the generated `conditioning` function reports this block (the numeric
+  /// blocks a partition or the constraints make singular; not a reduced mass matrix).
+  bool reported = true;
 };
 
 using Step = std::variant<Define, Solve>;
