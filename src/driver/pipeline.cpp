@@ -284,13 +284,14 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
 
   // Conditioning of the solved blocks, and the partitions the run time can switch
   // between (docs/formulation.md "Re-selecting the independent set").
-  const int npart = opt.multipliers ? 1 : m.partition_count();
+  int npart = opt.multipliers ? 1 : m.partition_count();
   if (npart > 1 && ms) {
+    // The minimal state is made of one set's speeds: only the declared set is generated.
     for (const auto& node : m.nodes)
       if (!node.alternative_pos.empty())
-        diags.error(node.alternative_pos.front(), "'alternative' independent sets need --state full: the minimal state is made "
-                                                  "of one set's speeds");
-    return std::nullopt;
+        diags.warning(node.alternative_pos.front(), "'alternative' independent sets are ignored with --state minimal (its "
+                                                    "state is made of one set's speeds); use --state full to switch sets");
+    npart = 1;
   }
   auto wanted = [&](const char* n) { return opt.functions.empty() || opt.functions.count(n); };
   std::optional<PartitionSpecs> partitions;
