@@ -50,9 +50,11 @@ namespace {
 
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// n and k are template arguments, so every call site gets loops of known length.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int chol_solve(double* A, double* B) {
   double dmax = 0.0;
   for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
   const double tiny = 1e-13 * dmax;
@@ -112,7 +114,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[2] = {
       p[2]*(c0*r_b1_u + r_b1_v*s0),
       (r_b2_v*s1 - c1*e_b2_u*p[1])*p[3]};
-  if (chol_solve(2, 1, A_0, B_0) != 0) return 1;
+  if (chol_solve<2, 1>(A_0, B_0) != 0) return 1;
   const double b1_v = (c0*t0 + B_0[0]*s0)*p[2];
   const double b2_v = B_0[1]*p[3]*s1 + b1_v + t2;
   const double b1_u = (c0*B_0[0] - t0*s0)*p[2];

@@ -50,10 +50,12 @@ bool all_finite(const double* v, int n) {
 namespace {
 
 // Solves A X = B in place. A: n x n, row-major, destroyed. B: n x k, row-major, replaced by
-// X. Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
+// X (n and k are template arguments: loops of known length at every call site).
+// Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
-int lu_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int lu_solve(double* A, double* B) {
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
   const double tiny = 1e-13 * amax;
@@ -102,7 +104,8 @@ namespace {
 // 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
 // receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
 // near machine epsilon mean the block is numerically singular.
-double rcond_1norm(int n, double* A, double* W) {
+template <int n>
+double rcond_1norm(double* A, double* W) {
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -111,7 +114,7 @@ double rcond_1norm(int n, double* A, double* W) {
   }
   for (int i = 0; i < n * n; ++i) W[i] = 0.0;
   for (int i = 0; i < n; ++i) W[i * n + i] = 1.0;
-  if (lu_solve(n, n, A, W) != 0) return 0.0;
+  if (lu_solve<n, n>(A, W) != 0) return 0.0;
   double norm_inv = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -153,9 +156,11 @@ namespace {
 
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// n and k are template arguments, so every call site gets loops of known length.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int chol_solve(double* A, double* B) {
   double dmax = 0.0;
   for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
   const double tiny = 1e-13 * dmax;
@@ -271,7 +276,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       u[1] - x[41]*p[16] - x[40]*p[12],
       e_linkage_left_upper_u*(0.5*(p[1]*p[5]))*s0 + r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] + 0.5*c0*p[1]*r_linkage_left_upper_v - t18*B_0[2]*t19 - 0.16666666666666666*t36*B_0[3] + t24*t37 - p[9]*x[21] - 0.16666666666666666*t38*B_0[0] - t39*t20*p[10],
       p[17]*r_motor_right_w + e_linkage_left_upper_u_i5*(0.5*(p[7]*p[3]))*s3 + 0.5*c3*p[3]*r_linkage_left_upper_v_i5 + c3*r_linkage_left_lower_v_i5*p[3] - 0.16666666666666666*t36*B_0[4] - p[9]*x[29] - t30*(0.5*t31)*B_0[5] + e_linkage_left_lower_u_i5*(p[8]*p[3])*s3 - B_0[1]*c1*p[2]*t37 - 0.16666666666666666*B_0[1]*t38 - t28*t39*B_0[1]*s1};
-  if (chol_solve(4, 1, A_1, B_1) != 0) return 1;
+  if (chol_solve<4, 1>(A_1, B_1) != 0) return 1;
   const double motor_right_w = p[17]*B_1[3];
   const double motor_left_w = p[17]*B_1[2];
   const double t40 = B_0[0]*B_1[2];
@@ -1365,7 +1370,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       -p[2]*s0, p[4]*s1,
       c0*p[2], -c1*p[4]};
   double B_0[5];
-  B_0[0] = rcond_1norm(2, A_0, B_0 + 1);
+  B_0[0] = rcond_1norm<2>(A_0, B_0 + 1);
   OUT[0] = B_0[0];
   if (!all_finite(OUT, 1)) return 2;
   return 0;

@@ -52,10 +52,12 @@ bool all_finite(const double* v, int n) {
 namespace {
 
 // Solves A X = B in place. A: n x n, row-major, destroyed. B: n x k, row-major, replaced by
-// X. Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
+// X (n and k are template arguments: loops of known length at every call site).
+// Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
-int lu_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int lu_solve(double* A, double* B) {
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
   const double tiny = 1e-13 * amax;
@@ -104,7 +106,8 @@ namespace {
 // 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
 // receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
 // near machine epsilon mean the block is numerically singular.
-double rcond_1norm(int n, double* A, double* W) {
+template <int n>
+double rcond_1norm(double* A, double* W) {
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -113,7 +116,7 @@ double rcond_1norm(int n, double* A, double* W) {
   }
   for (int i = 0; i < n * n; ++i) W[i] = 0.0;
   for (int i = 0; i < n; ++i) W[i * n + i] = 1.0;
-  if (lu_solve(n, n, A, W) != 0) return 0.0;
+  if (lu_solve<n, n>(A, W) != 0) return 0.0;
   double norm_inv = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -185,7 +188,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       0.0, t10 + t11 + t12,
       0.0, c4*t13*p[1] + t15 + t16,
       0.0, t13*s4*p[1] + t17 - t14*s5*p[0]};
-  if (lu_solve(6, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve<6, 2>(A_0, B_0) != 0) return 1;
   const double t18 = 0.08333333333333333*(p[4]*p[0]*p[0]);
   const double t19 = p[0]*B_0[6]*s1 - 2.0*s6*p[1];
   const double t20 = 2.0*c6*p[1] - c1*p[0]*B_0[6];
@@ -318,7 +321,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       0.0, s2*p[1]*t3 - t1*p[1]*s0 - p[0]*s3*t4,
       0.0, c4*t5*p[1] - t6*p[0]*c5 - c2*p[1]*t3,
       0.0, t5*s4*p[1] - s2*p[1]*t3 - t6*s5*p[0]};
-  if (lu_solve(6, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve<6, 2>(A_0, B_0) != 0) return 1;
   const double t7 = 0.08333333333333333*(p[4]*p[0]*p[0]);
   const double t8 = p[0]*B_0[6]*s1 - 2.0*s6*p[1];
   const double t9 = 2.0*c6*p[1] - c1*p[0]*B_0[6];
@@ -380,7 +383,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
       0.0, t8 - t1*p[1]*s0 + t9,
       0.0, c4*t10*p[1] + t12 - c2*p[1]*t5,
       0.0, t10*s4*p[1] - s2*p[1]*t5 - t11*s5*p[0]};
-  if (lu_solve(6, 2, A_0, B_0) != 0) return 1;
+  if (lu_solve<6, 2>(A_0, B_0) != 0) return 1;
   const double t13 = p[3]*p[1];
   const double t14 = 0.25*t13;
   const double t15 = p[4]*p[2];
@@ -1452,7 +1455,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       0.0, -s2*p[1], s4*p[1], 0.0, 0.0, -s5*p[0],
       0.0, c2*p[1], -c4*p[1], 0.0, 0.0, p[0]*c5};
   double B_0[37];
-  B_0[0] = rcond_1norm(6, A_0, B_0 + 1);
+  B_0[0] = rcond_1norm<6>(A_0, B_0 + 1);
   OUT[0] = B_0[0];
   if (!all_finite(OUT, 1)) return 2;
   return 0;

@@ -50,10 +50,12 @@ bool all_finite(const double* v, int n) {
 namespace {
 
 // Solves A X = B in place. A: n x n, row-major, destroyed. B: n x k, row-major, replaced by
-// X. Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
+// X (n and k are template arguments: loops of known length at every call site).
+// Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
-int lu_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int lu_solve(double* A, double* B) {
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
   const double tiny = 1e-13 * amax;
@@ -102,7 +104,8 @@ namespace {
 // 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
 // receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
 // near machine epsilon mean the block is numerically singular.
-double rcond_1norm(int n, double* A, double* W) {
+template <int n>
+double rcond_1norm(double* A, double* W) {
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -111,7 +114,7 @@ double rcond_1norm(int n, double* A, double* W) {
   }
   for (int i = 0; i < n * n; ++i) W[i] = 0.0;
   for (int i = 0; i < n; ++i) W[i * n + i] = 1.0;
-  if (lu_solve(n, n, A, W) != 0) return 0.0;
+  if (lu_solve<n, n>(A, W) != 0) return 0.0;
   double norm_inv = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -153,9 +156,11 @@ namespace {
 
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// n and k are template arguments, so every call site gets loops of known length.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int chol_solve(double* A, double* B) {
   double dmax = 0.0;
   for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
   const double tiny = 1e-13 * dmax;
@@ -214,7 +219,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_1[2] = {
       -(p[4]*p[1]*s0 + B_0[2]*p[1])*B_0[0] - (p[4]*p[0]*p[2]*s0) - (B_0[5]*p[1] - (c0*p[4]*p[1]))*B_0[3],
       -((B_0[5] - (c0*p[4]))*B_0[4] - (t6 - (p[4]*s0))*B_0[1])*p[1]};
-  if (chol_solve(2, 1, A_1, B_1) != 0) return 1;
+  if (chol_solve<2, 1>(A_1, B_1) != 0) return 1;
   const double R_u = -B_1[0]*p[2];
   const double D_u = t6 - B_1[0]*B_0[0] - B_0[1]*B_1[1];
   const double D_v = -B_1[0]*B_0[3] - B_1[1]*B_0[4] - B_0[5];
@@ -379,7 +384,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       2.0*x[3] - 2.0*x[0], 2.0*x[4] - 2.0*x[1],
       -(x[4] - x[1])*t0, -(x[0] - x[3])*t0};
   double B_0[5];
-  B_0[0] = rcond_1norm(2, A_0, B_0 + 1);
+  B_0[0] = rcond_1norm<2>(A_0, B_0 + 1);
   OUT[0] = B_0[0];
   if (!all_finite(OUT, 1)) return 2;
   return 0;

@@ -50,9 +50,11 @@ namespace {
 
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// n and k are template arguments, so every call site gets loops of known length.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int chol_solve(double* A, double* B) {
   double dmax = 0.0;
   for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
   const double tiny = 1e-13 * dmax;
@@ -110,7 +112,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[2] = {
       -(s0*r_bob_u + c0*p[0]*s1*e_bob_w + c1*c0*e_bob_v*p[0])*p[1],
       -s0*(c1*e_bob_w - e_bob_v*s1)*(p[0]*p[1])};
-  if (chol_solve(2, 1, A_0, B_0) != 0) return 1;
+  if (chol_solve<2, 1>(A_0, B_0) != 0) return 1;
   const double bob_w = -(t0 - c0*B_0[0]*s1 - c1*s0*B_0[1] + t1)*p[1];
   const double bob_v = (t2 + c1*c0*B_0[0] - s0*B_0[1]*s1 + t3)*p[1];
   const double bob_u = -(s0*B_0[0] + c0*t4)*p[1];

@@ -50,10 +50,12 @@ bool all_finite(const double* v, int n) {
 namespace {
 
 // Solves A X = B in place. A: n x n, row-major, destroyed. B: n x k, row-major, replaced by
-// X. Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
+// X (n and k are template arguments: loops of known length at every call site).
+// Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
-int lu_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int lu_solve(double* A, double* B) {
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
   const double tiny = 1e-13 * amax;
@@ -102,7 +104,8 @@ namespace {
 // 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
 // receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
 // near machine epsilon mean the block is numerically singular.
-double rcond_1norm(int n, double* A, double* W) {
+template <int n>
+double rcond_1norm(double* A, double* W) {
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -111,7 +114,7 @@ double rcond_1norm(int n, double* A, double* W) {
   }
   for (int i = 0; i < n * n; ++i) W[i] = 0.0;
   for (int i = 0; i < n; ++i) W[i * n + i] = 1.0;
-  if (lu_solve(n, n, A, W) != 0) return 0.0;
+  if (lu_solve<n, n>(A, W) != 0) return 0.0;
   double norm_inv = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -602,7 +605,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       -c0*p[3], c1*p[6],
       0.0, c1*x[5] - 0.5*c1*c1*p[6] - 0.5*s1*s1*p[6] + x[6]*s1 - x[9]*s1 - p[9]*s2*s1 - p[9]*c1*c2 - c1*x[8]};
   double B_0[5];
-  B_0[0] = rcond_1norm(2, A_0, B_0 + 1);
+  B_0[0] = rcond_1norm<2>(A_0, B_0 + 1);
   OUT[0] = B_0[0];
   if (!all_finite(OUT, 1)) return 2;
   return 0;

@@ -33,9 +33,11 @@ const std::string& chol_solve_code() {
 
 // Solves A X = B in place for symmetric positive definite A. A: n x n, row-major, its
 // lower triangle replaced by L with A = L L^T. B: n x k, row-major, replaced by X.
+// n and k are template arguments, so every call site gets loops of known length.
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
-int chol_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int chol_solve(double* A, double* B) {
   double dmax = 0.0;
   for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
   const double tiny = 1e-13 * dmax;
@@ -78,10 +80,12 @@ const std::string& lu_solve_code() {
   static const std::string code = R"cpp(namespace {
 
 // Solves A X = B in place. A: n x n, row-major, destroyed. B: n x k, row-major, replaced by
-// X. Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
+// X (n and k are template arguments: loops of known length at every call site).
+// Gaussian elimination with partial pivoting. Returns 1, leaving A and B unspecified,
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
-int lu_solve(int n, int k, double* A, double* B) {
+template <int n, int k>
+int lu_solve(double* A, double* B) {
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
   const double tiny = 1e-13 * amax;
@@ -198,7 +202,8 @@ const std::string& rcond_code() {
 // 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
 // receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
 // near machine epsilon mean the block is numerically singular.
-double rcond_1norm(int n, double* A, double* W) {
+template <int n>
+double rcond_1norm(double* A, double* W) {
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -207,7 +212,7 @@ double rcond_1norm(int n, double* A, double* W) {
   }
   for (int i = 0; i < n * n; ++i) W[i] = 0.0;
   for (int i = 0; i < n; ++i) W[i * n + i] = 1.0;
-  if (lu_solve(n, n, A, W) != 0) return 0.0;
+  if (lu_solve<n, n>(A, W) != 0) return 0.0;
   double norm_inv = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;

@@ -102,18 +102,18 @@ class Printer {
       // A_i is destroyed; B_i holds the result, then A_i^-1 as workspace.
       array("A_", s.A, s.n);
       lines.push_back("  double B_" + id + "[" + std::to_string(s.n * s.n + 1) + "];");
-      lines.push_back("  B_" + id + "[0] = rcond_1norm(" + std::to_string(s.n) + ", A_" + id + ", B_" + id + " + 1);");
+      lines.push_back("  B_" + id + "[0] = rcond_1norm<" + std::to_string(s.n) + ">(A_" + id + ", B_" + id + " + 1);");
       ops_.solve_flops += lu_solve_flops(s.n, s.n) + 2L * s.n * s.n;
       return;
     }
     array("A_", s.A, s.n);
     array("B_", s.B, s.k);
     // The smallest systems go to the loop-free solvers (same arithmetic).
-    const std::string call = s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k)
-                             : s.n == 2 && !s.spd
-                                 ? "lu_solve_2x2(" + std::to_string(s.k)
-                                 : std::string(s.spd ? "chol_solve(" : "lu_solve(") + std::to_string(s.n) + ", " + std::to_string(s.k);
-    lines.push_back("  if (" + call + ", A_" + id + ", B_" + id + ") != 0) return 1;");
+    const std::string call = s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k) + ", "
+                             : s.n == 2 && !s.spd ? "lu_solve_2x2(" + std::to_string(s.k) + ", "
+                                                  : std::string(s.spd ? "chol_solve<" : "lu_solve<") + std::to_string(s.n) +
+                                                        ", " + std::to_string(s.k) + ">(";
+    lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return 1;");
     ops_.solve_flops += s.spd ? chol_solve_flops(s.n, s.k) : lu_solve_flops(s.n, s.k);
   }
 

@@ -9,6 +9,7 @@
 #include "test_support.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "three_rrr_mult/three_rrr_mult.hpp"
+#include "three_rrr_platform/three_rrr_platform.hpp"
 #include "whitworth/whitworth.hpp"
 #include "whitworth_mult/whitworth_mult.hpp"
 
@@ -105,18 +106,21 @@ TEST_CASE("3RRR: assembly from the platform pose gives the thesis's elbows", "[n
   }
   same_accelerations(R::rhs, mbsc_gen::three_rrr_mult::rhs, x, u, R::kParamDefaults, R::kNp, R::kNx);
 
-  // The platform partition: the same state derivative, its block split per leg.
-  REQUIRE(R::kNpartitions == 2);
-  CHECK(std::string(R::kPartitionNames[1]) == "platform.u, platform.v, platform.w");
+  // The platform partition (tests/data/planar/three_rrr_platform.mbs, the same model
+  // with one `alternative`): the same state derivative, its block split per leg.
+  namespace P = mbsc_gen::three_rrr_platform;
+  REQUIRE(P::kNpartitions == 2);
+  REQUIRE(P::kNx == R::kNx);
+  CHECK(std::string(P::kPartitionNames[1]) == "platform.u, platform.v, platform.w");
   std::vector<double> a(R::kNx), b(R::kNx);
-  REQUIRE(R::rhs_partition(0, 0.0, x.data(), u, R::kParamDefaults, a.data()) == 0);
-  REQUIRE(R::rhs_partition(1, 0.0, x.data(), u, R::kParamDefaults, b.data()) == 0);
+  REQUIRE(R::rhs(0.0, x.data(), u, R::kParamDefaults, a.data()) == 0);
+  REQUIRE(P::rhs_partition(1, 0.0, x.data(), u, R::kParamDefaults, b.data()) == 0);
   double scale = 1.0;
   for (double e : a) scale = std::max(scale, std::abs(e));
   for (int i = 0; i < R::kNx; ++i) CHECK(std::abs(a[static_cast<std::size_t>(i)] - b[static_cast<std::size_t>(i)]) < 1e-9 * scale);
   double rc0 = 0.0, rc1 = 0.0;
-  REQUIRE(R::conditioning_partition(0, 0.0, x.data(), u, R::kParamDefaults, &rc0) == 0);
-  REQUIRE(R::conditioning_partition(1, 0.0, x.data(), u, R::kParamDefaults, &rc1) == 0);
+  REQUIRE(P::conditioning_partition(0, 0.0, x.data(), u, R::kParamDefaults, &rc0) == 0);
+  REQUIRE(P::conditioning_partition(1, 0.0, x.data(), u, R::kParamDefaults, &rc1) == 0);
   CHECK(rc0 > 1e-3);
   CHECK(rc1 > 1e-3);
 }

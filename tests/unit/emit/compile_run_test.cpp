@@ -375,7 +375,7 @@ TEST_CASE("end to end: Cholesky solve of a symmetric positive definite block", "
   model.tool_version = "0.1.0";
   model.functions = {mbsc::ir::lower(spd, b), mbsc::ir::lower(indefinite, b)};
   const mbsc::emit::GeneratedFiles files = mbsc::emit::emit(model);
-  REQUIRE(files.source.find("chol_solve(3, 2") != std::string::npos);
+  REQUIRE(files.source.find("chol_solve<3, 2>(") != std::string::npos);
   REQUIRE(files.source.find("lu_solve") == std::string::npos);  // only the solver in use is emitted
 
   mbsc::test::ScratchDir dir("chol");
