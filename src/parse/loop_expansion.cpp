@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 
 namespace mbsc::parse {
@@ -46,7 +47,7 @@ class Expander {
         const auto ov = overrides_.find(t_[j].text);
         if (ov != overrides_.end()) params_[t_[j].text] = ov->second;
         else if (t_[k].kind == TokenKind::Number && k + 1 < t_.size() && ends_statement(t_[k + 1].kind))
-          params_[t_[j].text] = sign * std::stod(t_[k].text);
+          params_[t_[j].text] = sign * std::strtod(t_[k].text.c_str(), nullptr);  // inf when out of range
         // Skip to the next ',' of this statement (parentheses may hold commas).
         int depth = 0;
         while (k < t_.size() && !(depth == 0 && ends_statement(t_[k].kind))) {
@@ -234,7 +235,7 @@ class Expander {
         return v;
       }
       case TokenKind::Number: {
-        const double d = std::stod(tok.text);
+        const double d = std::strtod(tok.text.c_str(), nullptr);  // inf when out of range: not whole
         if (d != std::floor(d) || std::abs(d) > 1e9) fail(tok, fmt::format("{} is not a whole number", tok.text));
         return static_cast<long>(d);
       }

@@ -97,4 +97,12 @@ TEST_CASE("loop mistakes are reported at their token", "[parse][loop]") {
   CHECK_THAT(error_of("output y = x[1/2]\n"), Catch::Contains("1 / 2 is not a whole number"));
   CHECK_THAT(error_of("output y = ] + 1\n"), Catch::Contains("t.mbs:1:12: error: ']' belongs after a name"));
   CHECK_THAT(error_of("for i = 1 to 20000 { }\n"), Catch::Contains("runs 20000 times"));
+  // Out-of-range literals are errors, not exceptions (in a bound, and in a parameter
+  // default the loops may read).
+  CHECK_THAT(error_of("for i = 1 to 1e999 { }\n"), Catch::Contains("1e999 is not a whole number"));
+  {
+    Diagnostics diags;
+    CHECK(mbsc::parse::parse_text("parameter N = 1e999\nfor i = 1 to 2 { }\n", "t.mbs", diags).has_value());
+  }
+  CHECK_THAT(error_of("parameter N = 1e999\nfor i = 1 to N { }\n"), Catch::Contains("parameter 'N' is inf"));
 }
