@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
@@ -284,7 +285,15 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
 
   // Conditioning of the solved blocks, and the partitions the run time can switch
   // between (docs/formulation.md "Re-selecting the independent set").
-  int npart = opt.multipliers ? 1 : m.partition_count();
+  int npart = m.partition_count();
+  if (npart > 1 && opt.multipliers) {
+    // The multipliers formulation has no independent set to switch.
+    for (const auto& node : m.nodes)
+      if (!node.alternative_pos.empty())
+        diags.warning(node.alternative_pos.front(), "'alternative' independent sets do not apply to --formulation "
+                                                    "multipliers (it has no independent set)");
+    npart = 1;
+  }
   if (npart > 1 && ms) {
     // The minimal state is made of one set's speeds: only the declared set is generated.
     for (const auto& node : m.nodes)
@@ -297,6 +306,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   std::optional<PartitionSpecs> partitions;
   if (wanted("conditioning") && wanted("rhs")) {
     const auto rhs = std::find_if(specs.begin(), specs.end(), [](const ir::FunctionSpec& f) { return f.name == "rhs"; });
+    if (rhs == specs.end()) throw std::logic_error("generate: rhs was requested but not built");
     partitions = partition_specs(m, eom, opt, npart, *rhs, diags);
     if (!partitions) return std::nullopt;
     specs.insert(specs.end(), partitions->specs.begin(), partitions->specs.end());

@@ -83,11 +83,19 @@ std::optional<int> PlanarLibrary::body(int owner, const std::string& path) const
   return std::nullopt;
 }
 
+std::size_t PlanarLibrary::node_count(int node) const {
+  std::size_t n = 0;
+  for (const auto& [name, p] : points_) n += p.node == node;
+  return n;
+}
+
 std::vector<PlanarLibrary::Node2> PlanarLibrary::nodes_of(int node) const {
-  // Coordinates come in pairs P_x, P_y (declaration order), speeds P_u, P_v, then w.
+  // Coordinates come in pairs P_x, P_y (declaration order), speeds P_u, P_v, then w;
+  // coordinates and speeds the body declares itself follow.
   const Node& b = m_.nodes[node];
   std::vector<Node2> out;
-  for (std::size_t k = 0; k + 1 < b.coords.size(); k += 2) {
+  const std::size_t n_nodes = node_count(node);
+  for (std::size_t k = 0; k < 2 * n_nodes && k + 1 < b.coords.size(); k += 2) {
     const std::string& qx = m_.coords[b.coords[k]].name;  // "body.P_x"
     const std::string point = qx.substr(0, qx.size() - 2);
     const Point& p = points_.at(point);
@@ -110,6 +118,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::rotate(int node, const GiNaC::ex&
     // a Delta + c z x Delta. Polynomial in the nodal coordinates: no angle needed.
     const auto n = nodes_of(node);
     const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
+    if (l2.is_zero()) return {dx, dy};  // coincident frame nodes: reported by finish_nodal
     const GiNaC::ex Dx = n[1].x - n[0].x, Dy = n[1].y - n[0].y;
     const GiNaC::ex a = (ddx * dx + ddy * dy) / l2, c = (ddx * dy - ddy * dx) / l2;
     return {a * Dx - c * Dy, a * Dy + c * Dx};
@@ -121,7 +130,7 @@ std::optional<int> PlanarLibrary::omega_speed(int node) const {
   if (node == kGround) return std::nullopt;
   const Node& b = m_.nodes[node];
   if (b.kind == LeafKind::Rigid2d) return b.speeds[2];
-  if (b.kind == LeafKind::Rigid2dNodal) return b.speeds.back();
+  if (b.kind == LeafKind::Rigid2dNodal) return b.speeds[2 * node_count(node)];
   return std::nullopt;
 }
 
@@ -148,12 +157,34 @@ std::optional<GiNaC::ex> PlanarLibrary::angle(int node) const {
   if (node == kGround) return GiNaC::ex(0);
   const Node& b = m_.nodes[node];
   if (b.kind == LeafKind::Rigid2dNodal) {
-    // The turn of the first two nodes' line from its body-frame direction.
+    // The turn of the first two nodes' line from its body-frame direction (it jumps by
+    // 2 pi where either atan2 does: joints and springs use relative_angle instead).
     const auto n = nodes_of(node);
     return GiNaC::atan2(n[1].y - n[0].y, n[1].x - n[0].x) - GiNaC::atan2(n[1].by - n[0].by, n[1].bx - n[0].bx);
   }
   if (b.kind != LeafKind::Rigid2d) return std::nullopt;
   return GiNaC::ex(m_.coords[b.coords[2]].sym);
+}
+
+bool PlanarLibrary::nodal(int node) const { return node != kGround && m_.nodes[node].kind == LeafKind::Rigid2dNodal; }
+
+GiNaC::ex PlanarLibrary::relative_angle(int a, int b) const {
+  // Bodies in absolute coordinates: the difference of their angle coordinates. With a
+  // nodal body there is no angle coordinate; the turn from a's frame to b's is read off
+  // their rotated x directions, atan2(e_a x e_b, e_a . e_b): continuous as each body
+  // turns, where a difference of two atan2 would jump by 2 pi.
+  if (!nodal(a) && !nodal(b)) return *angle(b) - *angle(a);
+  const auto ea = rotate(a, 1, 0), eb = rotate(b, 1, 0);
+  return GiNaC::atan2(ea.first * eb.second - ea.second * eb.first, ea.first * eb.first + ea.second * eb.second);
+}
+
+GiNaC::ex PlanarLibrary::angle_residual(int a, int b, const GiNaC::ex& rel) const {
+  // theta_b - theta_a = rel. With a nodal body, as sin(theta_b - theta_a - rel) = 0 in
+  // the rotated x directions (polynomial in the nodes, no branch cut).
+  if (!nodal(a) && !nodal(b)) return *angle(b) - *angle(a) - rel;
+  const auto ea = rotate(a, 1, 0), eb = rotate(b, 1, 0);
+  const GiNaC::ex cross = ea.first * eb.second - ea.second * eb.first, dot = ea.first * eb.first + ea.second * eb.second;
+  return rel.is_zero() ? cross : cross * GiNaC::cos(rel) - dot * GiNaC::sin(rel);
 }
 
 std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::velocity(int node, const GiNaC::ex& x, const GiNaC::ex& y) const {
@@ -162,7 +193,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::velocity(int node, const GiNaC::e
   if (b.kind == LeafKind::Rigid2dNodal) {
     // v_P = v_1 + w z x (r_P - p_1), from the first node.
     const auto n = nodes_of(node);
-    const GiNaC::ex w = m_.speeds[b.speeds.back()].sym;
+    const GiNaC::ex w = m_.speeds[*omega_speed(node)].sym;
     return {n[0].u - w * (y - n[0].y), n[0].v + w * (x - n[0].x)};
   }
   const GiNaC::ex u = m_.speeds[b.speeds[0]].sym, v = m_.speeds[b.speeds[1]].sym;
@@ -275,7 +306,8 @@ void PlanarLibrary::finish_nodal(int node) {
     add_constraint(node, owner_name + "." + tag + ".y", n[k].y - n[0].y - d.second, b.pos);
   }
   // The angular speed: w |delta|^2 = Delta x Delta'.
-  const GiNaC::ex w = m_.speeds[b.speeds.back()].sym, wdot = m_.speed_dots[b.speeds.back()];
+  const int w_speed = *omega_speed(node);
+  const GiNaC::ex w = m_.speeds[w_speed].sym, wdot = m_.speed_dots[w_speed];
   add_velocity_constraint(node, owner_name + ".w", w * l2 - (Dx * (n[1].v - n[0].v) - Dy * (n[1].u - n[0].u)), b.pos);
 
   // Mass centre r* = p1 + g Delta + h z x Delta (g, h from the body frame), and its
@@ -290,8 +322,8 @@ void PlanarLibrary::finish_nodal(int node) {
     return std::make_pair((1 - g) * u1 + g * u2 - h * (v2 - v1), (1 - g) * v1 + g * v2 + h * (u2 - u1));
   };
   const auto vs = cm_velocity(n[0].u, n[0].v, n[1].u, n[1].v);
-  const std::size_t s1 = static_cast<std::size_t>(b.speeds[0]), s2 = static_cast<std::size_t>(b.speeds[2]);
-  const auto as = cm_velocity(m_.speed_dots[s1], m_.speed_dots[s1 + 1], m_.speed_dots[s2], m_.speed_dots[s2 + 1]);
+  auto dot_of = [&](int k) { return m_.speed_dots[static_cast<std::size_t>(b.speeds[static_cast<std::size_t>(k)])]; };
+  const auto as = cm_velocity(dot_of(0), dot_of(1), dot_of(2), dot_of(3));
   const GiNaC::ex gx = m_.gravity.size() > 0 ? m_.gravity[0] : GiNaC::ex(0);
   const GiNaC::ex gy = m_.gravity.size() > 1 ? m_.gravity[1] : GiNaC::ex(0);
   // Effective forces (m g - m a*) . d v*/d q1 over the first two nodes' speeds, -J w' on w.
@@ -300,7 +332,7 @@ void PlanarLibrary::finish_nodal(int node) {
     const GiNaC::ex q = vs.first.diff(m_.speeds[k].sym) * fx + vs.second.diff(m_.speeds[k].sym) * fy;
     if (!q.is_zero()) m_.forces.push_back(Force{k, q, b.pos});
   }
-  m_.forces.push_back(Force{b.speeds.back(), -b.inertia * wdot, b.pos});
+  m_.forces.push_back(Force{w_speed, -b.inertia * wdot, b.pos});
   b.kinetic = GiNaC::numeric(1, 2) * b.mass * (vs.first * vs.first + vs.second * vs.second) +
               GiNaC::numeric(1, 2) * b.inertia * w * w;
   b.has_kinetic = true;
@@ -335,7 +367,7 @@ void PlanarLibrary::add_rotational(int owner, const Element& e, const std::strin
     return;
   }
   if (e.kind == "rotational_spring") {
-    const GiNaC::ex twist = *thb - *tha - (e.length ? *e.length : GiNaC::ex(0));
+    const GiNaC::ex twist = relative_angle(*a, *b) - (e.length ? *e.length : GiNaC::ex(0));
     apply_torque(*b, -*e.value * twist, e.pos);
     apply_torque(*a, *e.value * twist, e.pos);
     m_.nodes[owner].potential += *e.value * twist * twist / 2;
@@ -355,6 +387,12 @@ void PlanarLibrary::add_rolling(int owner, const Element& e, const std::string& 
   auto a = axis(owner, e.end1, e.end1_pos);
   if (!a) return;
   const auto disc = body(owner, e.end2);
+  if (disc && nodal(*disc)) {
+    diags_.error(e.end2_pos, fmt::format("{}: the disc '{}' is in nodal coordinates (rigid2d_nodal or `parametrization "
+                                         "nodal`); rolling needs a rigid2d disc in absolute coordinates",
+                                         what, e.end2));
+    return;
+  }
   if (!disc || *disc == kGround || m_.nodes[*disc].kind != LeafKind::Rigid2d) {
     diags_.error(e.end2_pos, fmt::format("{}: '{}' is not a rigid2d body (the disc; its mass centre is its centre)", what, e.end2));
     return;
@@ -384,13 +422,20 @@ void PlanarLibrary::add_rolling(int owner, const Element& e, const std::string& 
 // the tangent t = n rotated by +90 degrees on both bodies (no slip).
 void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what) {
   const auto ring = body(owner, e.end1), disc = body(owner, e.end2);
-  for (auto [b, path, pos] : {std::tuple{ring, e.end1, e.end1_pos}, std::tuple{disc, e.end2, e.end2_pos}})
+  for (auto [b, path, pos] : {std::tuple{ring, e.end1, e.end1_pos}, std::tuple{disc, e.end2, e.end2_pos}}) {
+    if (b && nodal(*b)) {
+      diags_.error(pos, fmt::format("{}: '{}' is in nodal coordinates (rigid2d_nodal or `parametrization nodal`); "
+                                    "ring and disc must be rigid2d bodies in absolute coordinates",
+                                    what, path));
+      return;
+    }
     if (!b || *b == kGround || m_.nodes[*b].kind != LeafKind::Rigid2d) {
       diags_.error(pos, fmt::format("{}: '{}' is not a rigid2d body (ring and disc are rigid2d bodies centred on their "
                                     "mass centres)",
                                     what, path));
       return;
     }
+  }
   if (*ring == *disc) {
     diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what, m_.label(*disc)));
     return;
@@ -398,6 +443,16 @@ void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::s
   if (e.option != "radius" || e.option2 != "ring") {
     diags_.error(e.kind_pos, fmt::format("{} needs 'radius r ring R' (the disc's radius, then the ring's)", what));
     return;
+  }
+  {
+    GiNaC::exmap defaults;
+    for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
+    const GiNaC::ex gap = GiNaC::evalf((*e.value2 - *e.value).subs(defaults));
+    if (GiNaC::is_a<GiNaC::numeric>(gap) && !(GiNaC::ex_to<GiNaC::numeric>(gap).to_double() > 0.0)) {
+      diags_.error(e.option2_pos, fmt::format("{}: the ring's radius must exceed the disc's (ring - radius = {})", what,
+                                              GiNaC::ex_to<GiNaC::numeric>(gap).to_double()));
+      return;
+    }
   }
   const Node& R = m_.nodes[*ring];
   const Node& D = m_.nodes[*disc];
@@ -489,7 +544,7 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     }
     rel = *e.value;
   }
-  if (locks_angle) add_constraint(owner, name + ".angle", *th2 - *th1 - rel, e.pos);
+  if (locks_angle) add_constraint(owner, name + ".angle", angle_residual(p1->node, p2->node, rel), e.pos);
 
   // Actuators: a torque across a revolute joint, a force along a prismatic one.
   if (e.option == "torque") {

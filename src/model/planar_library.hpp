@@ -90,6 +90,12 @@ class PlanarLibrary {
     GiNaC::ex x, y, u, v;
   };
   std::vector<Node2> nodes_of(int node) const;
+  std::size_t node_count(int node) const;  // a nodal body's points
+  bool nodal(int node) const;
+  /// theta_b - theta_a (continuous where a nodal body is involved) and the residual of
+  /// theta_b - theta_a = rel, for joints that lock a relative angle.
+  GiNaC::ex relative_angle(int a, int b) const;
+  GiNaC::ex angle_residual(int a, int b, const GiNaC::ex& rel) const;
   /// World velocity of the material point of `node` at world position (x, y).
   std::pair<GiNaC::ex, GiNaC::ex> velocity(int node, const GiNaC::ex& x, const GiNaC::ex& y) const;
   /// Generalized forces of a world force (fx, fy) acting at world (x, y) on `node`.

@@ -11,7 +11,9 @@
 namespace mbsc::parse {
 namespace {
 
-constexpr long kMaxIterations = 10000;
+constexpr long kMaxIterations = 10000;   // one loop
+constexpr long kMaxExpanded = 100000;    // all loops together (nested ones multiply)
+constexpr long kMaxValue = 1000000000;   // bounds, indices and every value on the way
 
 bool ends_statement(TokenKind k) {
   return k == TokenKind::Comma || k == TokenKind::Newline || k == TokenKind::Semicolon || k == TokenKind::End ||
@@ -159,6 +161,11 @@ class Expander {
                                        kMaxIterations));
       return std::string::npos;
     }
+    if (*last >= *first && (expanded_ += *last - *first + 1) > kMaxExpanded) {
+      diags_.error(kw.pos, fmt::format("loop over '{}': the loops expand to more than {} repetitions in all", var,
+                                       kMaxExpanded));
+      return std::string::npos;
+    }
     for (long v = *first; v <= *last; ++v) {
       Env inner = env;
       inner[var] = v;
@@ -193,12 +200,21 @@ class Expander {
     failed_ = true;
   }
 
+  /// Every value stays within +-1e9, so sums and products of two never overflow.
+  long bounded(long v, const Token& at) {
+    if (v > kMaxValue || v < -kMaxValue) {
+      fail(at, fmt::format("{} is out of range (at most {} in magnitude)", v, kMaxValue));
+      return 0;
+    }
+    return v;
+  }
+
   long sum() {
     long v = product();
     while (!failed_ && pos_ < end_ && (t_[pos_].kind == TokenKind::Plus || t_[pos_].kind == TokenKind::Minus)) {
-      const bool plus = t_[pos_++].kind == TokenKind::Plus;
+      const Token& op = t_[pos_++];
       const long r = product();
-      v = plus ? v + r : v - r;
+      v = bounded(op.kind == TokenKind::Plus ? v + r : v - r, op);
     }
     return v;
   }
@@ -209,7 +225,7 @@ class Expander {
       const Token& op = t_[pos_++];
       const long r = factor();
       if (op.kind == TokenKind::Star) {
-        v *= r;
+        v = bounded(v * r, op);
       } else if (r == 0 || v % r != 0) {
         fail(op, fmt::format("{} / {} is not a whole number", v, r));
       } else {
@@ -236,20 +252,24 @@ class Expander {
       }
       case TokenKind::Number: {
         const double d = std::strtod(tok.text.c_str(), nullptr);  // inf when out of range: not whole
-        if (d != std::floor(d) || std::abs(d) > 1e9) fail(tok, fmt::format("{} is not a whole number", tok.text));
+        if (d != std::floor(d) || std::abs(d) > static_cast<double>(kMaxValue)) {
+          fail(tok, fmt::format("{} is not a whole number of at most {} in magnitude", tok.text, kMaxValue));
+          return 0;
+        }
         return static_cast<long>(d);
       }
       case TokenKind::Ident: {
         if (auto it = env_->find(tok.text); it != env_->end()) return it->second;
         if (auto it = params_.find(tok.text); it != params_.end()) {
-          if (it->second != std::floor(it->second) || std::abs(it->second) > 1e9) {
+          if (it->second != std::floor(it->second) || std::abs(it->second) > static_cast<double>(kMaxValue)) {
             fail(tok, fmt::format("parameter '{}' is {}", tok.text, it->second));
             return 0;
           }
           structural_[tok.text] = it->second;
           return static_cast<long>(it->second);
         }
-        fail(tok, fmt::format("'{}' is not a loop variable or a parameter with a number default", tok.text));
+        fail(tok, fmt::format("'{}' is not a loop variable or a parameter with a number default declared in this file",
+                              tok.text));
         return 0;
       }
       default:
@@ -263,6 +283,7 @@ class Expander {
   const std::map<std::string, double>& overrides_;
   std::map<std::string, double>& structural_;
   std::map<std::string, double> params_;
+  long expanded_ = 0;  // repetitions made so far, over all loops
   // State of the expression being evaluated.
   std::size_t pos_ = 0, end_ = 0;
   const Env* env_ = nullptr;

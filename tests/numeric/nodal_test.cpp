@@ -14,6 +14,8 @@
 #include "four_bar_joints/four_bar_joints.hpp"
 #include "four_bar_nodal/four_bar_nodal.hpp"
 #include "four_bar_nodal_mult/four_bar_nodal_mult.hpp"
+#include "rail_block/rail_block.hpp"
+#include "rail_block_nodal/rail_block_nodal.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/rk4.hpp"
 #include "test_support.hpp"
@@ -41,21 +43,31 @@ std::vector<BodyPoint> points() {
 
 double com_of(const std::string& body) { return body == "crank" ? param("a") / 2 : body == "coupler" ? param("b") / 2 : param("c") / 2; }
 
-/// Absolute state (and optionally its derivative) -> nodal state (and derivative).
-std::vector<double> to_nodal(const std::vector<double>& xa, const std::vector<double>* xda, std::vector<double>* xdn) {
+/// The two layouts of one mechanism: absolute state names and nodal state names.
+struct Layouts {
+  const char* const* abs_names;
+  int abs_nx;
+  const char* const* nodal_names;
+  int nodal_nx;
+};
+
+/// Absolute state (and optionally its derivative) -> nodal state (and derivative), for
+/// the given points and mass-centre offsets along each body's x axis.
+std::vector<double> map_to_nodal(const Layouts& L, const std::vector<BodyPoint>& pts, double (*com)(const std::string&),
+                                 const std::vector<double>& xa, const std::vector<double>* xda, std::vector<double>* xdn) {
   auto ga = [&](const std::vector<double>& v, const std::string& n) {
-    return v[static_cast<std::size_t>(index_of(A::kStateNames, A::kNx, n))];
+    return v[static_cast<std::size_t>(index_of(L.abs_names, L.abs_nx, n))];
   };
-  std::vector<double> xn(N::kNx, 0.0);
-  if (xdn) xdn->assign(N::kNx, 0.0);
+  std::vector<double> xn(static_cast<std::size_t>(L.nodal_nx), 0.0);
+  if (xdn) xdn->assign(static_cast<std::size_t>(L.nodal_nx), 0.0);
   auto setn = [&](std::vector<double>& v, const std::string& n, double value) {
-    v[static_cast<std::size_t>(index_of(N::kStateNames, N::kNx, n))] = value;
+    v[static_cast<std::size_t>(index_of(L.nodal_names, L.nodal_nx, n))] = value;
   };
-  for (const auto& p : points()) {
+  for (const auto& p : pts) {
     const std::string b = p.body;
     const double x = ga(xa, b + ".x"), y = ga(xa, b + ".y"), th = ga(xa, b + ".theta");
     const double u = ga(xa, b + ".u"), v = ga(xa, b + ".v"), w = ga(xa, b + ".w");
-    const double ex = p.bx - com_of(b), ey = p.by;  // from the mass centre, body frame
+    const double ex = p.bx - com(b), ey = p.by;  // from the mass centre, body frame
     const double rx = std::cos(th) * ex - std::sin(th) * ey, ry = std::sin(th) * ex + std::cos(th) * ey;
     const std::string q = b + "." + p.point;
     setn(xn, q + "_x", x + rx);
@@ -72,6 +84,10 @@ std::vector<double> to_nodal(const std::vector<double>& xa, const std::vector<do
     }
   }
   return xn;
+}
+
+std::vector<double> to_nodal(const std::vector<double>& xa, const std::vector<double>* xda, std::vector<double>* xdn) {
+  return map_to_nodal({A::kStateNames, A::kNx, N::kStateNames, N::kNx}, points(), com_of, xa, xda, xdn);
 }
 
 }  // namespace
@@ -169,4 +185,50 @@ TEST_CASE("nodal four-bar: rigidity and energy along a run; multipliers agree", 
   CHECK(diff < 1e-7);
   CHECK(closure < 1e-8);
   CHECK(energy < 1e-8);
+}
+
+TEST_CASE("nodal and absolute rail with a sliding block: prismatic angle row and rotational spring", "[numeric][nodal]") {
+  namespace RA = mbsc_gen::rail_block;
+  namespace RN = mbsc_gen::rail_block_nodal;
+  REQUIRE(RA::kNdof == 2);
+  REQUIRE(RN::kNdof == 2);
+  const std::vector<BodyPoint> pts = {{"rail", "O", 0, 0}, {"rail", "E", 1, 0}, {"block", "P", 0, 0}, {"block", "Q", 0.2, 0}};
+  auto com = [](const std::string& b) { return b == "rail" ? 0.5 : 0.1; };
+  const Layouts L{RA::kStateNames, RA::kNx, RN::kStateNames, RN::kNx};
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(RA::kStateNames, RA::kNx, n)); };
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> angle(-3.1, 3.1), along(0.1, 0.9), rate(-2.0, 2.0);
+  for (int k = 0; k < 20; ++k) {
+    // Rail angles all round (through +-pi, where a difference of atan2 would jump).
+    const double phi = angle(rng), s = along(rng), w = rate(rng), sd = rate(rng);
+    const double c = std::cos(phi), sn = std::sin(phi);
+    std::vector<double> xa(RA::kNx, 0.0);
+    xa[ix("rail.theta")] = phi, xa[ix("rail.x")] = 0.5 * c, xa[ix("rail.y")] = 0.5 * sn, xa[ix("rail.w")] = w;
+    xa[ix("rail.u")] = -0.5 * sn * w, xa[ix("rail.v")] = 0.5 * c * w;
+    const double r = s + 0.1;  // the block's mass centre along the rail
+    xa[ix("block.theta")] = phi, xa[ix("block.x")] = r * c, xa[ix("block.y")] = r * sn, xa[ix("block.w")] = w;
+    xa[ix("block.u")] = sd * c - r * sn * w, xa[ix("block.v")] = sd * sn + r * c * w;
+    std::vector<double> g(RA::kNposc), vr(RA::kNc);
+    REQUIRE(RA::position_constraints(0.0, xa.data(), nullptr, RA::kParamDefaults, g.data()) == 0);
+    REQUIRE(RA::velocity_constraints(0.0, xa.data(), nullptr, RA::kParamDefaults, vr.data()) == 0);
+    for (double e : g) REQUIRE(std::abs(e) < 1e-12);
+    for (double e : vr) REQUIRE(std::abs(e) < 1e-12);
+    std::vector<double> xda(RA::kNx), expected, xdn(RN::kNx);
+    REQUIRE(RA::rhs(0.0, xa.data(), nullptr, RA::kParamDefaults, xda.data()) == 0);
+    const auto xn = map_to_nodal(L, pts, +com, xa, &xda, &expected);
+    std::vector<double> gn(RN::kNposc);
+    REQUIRE(RN::position_constraints(0.0, xn.data(), nullptr, RN::kParamDefaults, gn.data()) == 0);
+    for (double e : gn) REQUIRE(std::abs(e) < 1e-12);
+    REQUIRE(RN::rhs(0.0, xn.data(), nullptr, RN::kParamDefaults, xdn.data()) == 0);
+    double scale = 1.0;
+    for (double e : expected) scale = std::max(scale, std::abs(e));
+    for (int i = RN::kNq; i < RN::kNx; ++i) {
+      INFO(RN::kStateNames[i] << " at rail angle " << phi);
+      CHECK(std::abs(xdn[static_cast<std::size_t>(i)] - expected[static_cast<std::size_t>(i)]) < 1e-9 * scale);
+    }
+    double ea[3], en[3];
+    REQUIRE(RA::energy(0.0, xa.data(), nullptr, RA::kParamDefaults, ea) == 0);
+    REQUIRE(RN::energy(0.0, xn.data(), nullptr, RN::kParamDefaults, en) == 0);
+    CHECK(std::abs(ea[2] - en[2]) < 1e-12 * std::max(1.0, std::abs(ea[2])));
+  }
 }

@@ -160,9 +160,8 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
       return res;
     }
   }
-  res.near_singular = res.pivot_ratio > opt.singular_ratio;
-  res.near_singular = res.near_singular || (res.position_rank >= 0 && res.position_rank < res.position_full_rank);
   const bool rank_drop = res.position_rank >= 0 && res.position_rank < res.position_full_rank;
+  res.near_singular = res.pivot_ratio > opt.singular_ratio || rank_drop;
   res.message = res.near_singular ? "assembled, but near a singular configuration (Jacobian pivots span " +
                                         std::to_string(res.pivot_ratio) +
                                         (rank_drop ? "; Jacobian rank " + std::to_string(res.position_rank) + " instead of " +

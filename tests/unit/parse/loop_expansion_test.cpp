@@ -105,4 +105,8 @@ TEST_CASE("loop mistakes are reported at their token", "[parse][loop]") {
     CHECK(mbsc::parse::parse_text("parameter N = 1e999\nfor i = 1 to 2 { }\n", "t.mbs", diags).has_value());
   }
   CHECK_THAT(error_of("parameter N = 1e999\nfor i = 1 to N { }\n"), Catch::Contains("parameter 'N' is inf"));
+  // No overflow on the way, and nested loops share one budget.
+  CHECK_THAT(error_of("for i = 1 to 1000000000*1000000000*1000000000 { }\n"), Catch::Contains("out of range"));
+  CHECK_THAT(error_of("for i = 1 to 9000 {\n for j = 1 to 9000 {\n }\n}\n"),
+             Catch::Contains("more than 100000 repetitions in all"));
 }
