@@ -235,8 +235,9 @@ class Parser {
     if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) fail_expected("a statement");
     const Token kw = take();
     const std::string& k = kw.text;
-    if (k == "model") return parse_model(out, kw);
-    if (k == "parametrization") return parse_parametrization(out, kw);
+    if (k == "model") return parse_named(out, kw, Statement::Kind::Model, "model name after 'model'");
+    if (k == "parametrization")
+      return parse_named(out, kw, Statement::Kind::Parametrization, "'absolute' or 'nodal' after 'parametrization'");
     if (k == "parameter") return parse_valued_names(out, kw, Statement::Kind::Parameter);
     if (k == "speed") return parse_valued_names(out, kw, Statement::Kind::Speed);
     if (k == "input") return parse_names(out, kw, Statement::Kind::Input);
@@ -263,23 +264,13 @@ class Parser {
     fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
   }
 
-  // 'model' IDENT
-  void parse_model(std::vector<StatementPtr>& out, const Token& kw) {
-    Statement st = begin(Statement::Kind::Model, kw);
-    const Token name = expect_name("model name after 'model'");
+  // KEYWORD IDENT, for 'model NAME' and 'parametrization (absolute | nodal)'.
+  void parse_named(std::vector<StatementPtr>& out, const Token& kw, Statement::Kind kind, const std::string& expected) {
+    Statement st = begin(kind, kw);
+    const Token name = expect_name(expected);
     st.name = name.text;
     st.name_pos = name.pos;
-    end_statement("model '" + name.text + "'");
-    push(out, std::move(st));
-  }
-
-  // 'parametrization' ('absolute' | 'nodal')
-  void parse_parametrization(std::vector<StatementPtr>& out, const Token& kw) {
-    Statement st = begin(Statement::Kind::Parametrization, kw);
-    const Token name = expect_name("'absolute' or 'nodal' after 'parametrization'");
-    st.name = name.text;
-    st.name_pos = name.pos;
-    end_statement("parametrization '" + name.text + "'");
+    end_statement(kw.text + " '" + name.text + "'");
     push(out, std::move(st));
   }
 
