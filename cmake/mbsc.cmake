@@ -14,7 +14,9 @@ function(mbsc_add_model target)
   get_filename_component(model_path ${ARG_MODEL} ABSOLUTE)
   get_filename_component(name ${ARG_MODEL} NAME_WE)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/mbsc_generated)
-  set(args generate ${model_path} -o ${out_dir})
+  # --force: this folder in the build tree is mbsc's by construction (older builds may
+  # have written it without the marker); --quiet: no progress line in build logs.
+  set(args generate ${model_path} -o ${out_dir} --force --quiet)
   if(ARG_NAME)
     set(name ${ARG_NAME})
     list(APPEND args --name ${name})

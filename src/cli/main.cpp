@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
 
 namespace {
@@ -29,13 +30,39 @@ bool add_freezes(const std::vector<std::string>& items, std::map<std::string, do
     std::string name;
     double value = 0;
     if (!mbsc::driver::parse_assignment(f, name, value)) {
-      std::cerr << "mbsc: error: --freeze expects name=value, got '" << f << "'\n";
+      std::cerr << "mbsc: error: --freeze expects name=value with a finite number, got '" << mbsc::printable(f) << "'\n";
       return false;
     }
     frozen[name] = value;
   }
   return true;
 }
+
+/// --budget, --max-memory, --quiet and --progress, on every subcommand.
+struct WorkFlags {
+  double seconds = mbsc::driver::WorkBudget{}.seconds;
+  std::size_t memory_mib = mbsc::driver::WorkBudget{}.memory_mib;
+  bool quiet = false, progress = false;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--budget", seconds, "time budget of the symbolic work, in seconds")
+        ->check(CLI::Range(0.001, 1e7))
+        ->capture_default_str();
+    cmd->add_option("--max-memory", memory_mib, "memory budget of the symbolic work, in MiB")
+        ->check(CLI::Range(std::size_t{16}, std::size_t{1} << 30))
+        ->capture_default_str();
+    cmd->add_flag("-q,--quiet", quiet, "no progress line");
+    cmd->add_flag("--progress", progress, "show progress even when stderr is not a terminal");
+  }
+  mbsc::driver::WorkArgs args() const {
+    mbsc::driver::WorkArgs w;
+    w.budget.seconds = seconds;
+    w.budget.memory_mib = memory_mib;
+    w.progress = quiet ? mbsc::driver::ProgressMode::Never
+                       : progress ? mbsc::driver::ProgressMode::Always : mbsc::driver::ProgressMode::Auto;
+    return w;
+  }
+};
 
 }  // namespace
 
@@ -47,6 +74,8 @@ int main(int argc, char** argv) {
   mbsc::driver::CheckArgs check;
   auto* c = app.add_subcommand("check", "validate a model; print its tree, variables, ranks and degrees of freedom");
   c->add_option("model", check.model, "model file (.mbs)")->required();
+  WorkFlags check_work;
+  check_work.add_to(c);
 
   mbsc::driver::PrintArgs print;
   std::vector<std::string> what, print_freeze, print_outputs;
@@ -62,6 +91,8 @@ int main(int argc, char** argv) {
   p->add_option("--state", print_state, "with --stats: full or minimal (as for generate)")
       ->check(CLI::IsMember({"full", "minimal"}))
       ->default_val("full");
+  WorkFlags print_work;
+  print_work.add_to(p);
 
   mbsc::driver::GenerateArgs gen;
   std::vector<std::string> outputs, freeze;
@@ -86,14 +117,22 @@ int main(int argc, char** argv) {
       ->default_val("full");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
+  g->add_flag("--force", gen.force,
+              "write into OUT/<name> even when mbsc did not write that folder (only its own files are replaced)");
+  WorkFlags gen_work;
+  gen_work.add_to(g);
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 1;
   }
-  if (*c) return mbsc::driver::run_check(check, std::cout, std::cerr);
+  if (*c) {
+    check.work = check_work.args();
+    return mbsc::driver::run_check(check, std::cout, std::cerr);
+  }
   if (*p) {
+    print.work = print_work.args();
     print.what = split_list(what);
     for (const auto& o : split_list(print_outputs)) print.functions.insert(o);
     print.minimal_state = print_state == "minimal";
@@ -103,6 +142,7 @@ int main(int argc, char** argv) {
   for (const auto& o : split_list(outputs)) gen.functions.insert(o);
   gen.minimal_state = state == "minimal";
   gen.multipliers = formulation == "multipliers";
+  gen.work = gen_work.args();
   if (!add_freezes(freeze, gen.frozen)) return 1;
   return mbsc::driver::run_generate(gen, std::cout, std::cerr);
 }

@@ -3,12 +3,17 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "../ir/identifiers.hpp"
+#include "mbsc/diag/activity.hpp"
+#include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
 
@@ -20,9 +25,13 @@ bool parse_assignment(const std::string& text, std::string& name, double& value)
   if (eq == std::string::npos || eq == 0) return false;
   name = text.substr(0, eq);
   const std::string v = text.substr(eq + 1);
+  if (v.empty() || v.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;  // no nan, inf, hex
   char* end = nullptr;
+  errno = 0;
   value = std::strtod(v.c_str(), &end);
-  return !v.empty() && end && *end == '\0';
+  if (!end || *end != '\0' || !std::isfinite(value)) return false;
+  // Underflow to 0 or a subnormal: 1e-400 is not what the user meant either.
+  return !(errno == ERANGE && std::fabs(value) < 2.2250738585072014e-308);
 }
 
 namespace {
@@ -33,26 +42,46 @@ std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
   return fmt::format("{}", fmt::join(v, ", "));
 }
 
-/// Loads and derives; prints diagnostics. Returns false (exit 1) on user errors. The
+/// Loads and derives into `diags`. Returns false (exit 1) on user errors. The
 /// `alternative` independent sets are derived too, so their mistakes are reported here;
 /// `partitions` (when given) receives each partition's independent speeds.
 bool load_and_derive(const std::string& path, const std::map<std::string, double>& frozen, std::optional<model::Model>& m,
-                     std::optional<sym::Eom>& eom, std::ostream& err, std::vector<std::string>* partitions = nullptr) {
-  Diagnostics diags;
-  m = load_model(path, diags, frozen);
+                     std::optional<sym::Eom>& eom, Diagnostics& diags, std::vector<std::string>* partitions = nullptr,
+                     const std::string& generated_name = "") {
+  m = load_model(path, diags, frozen, generated_name);
   if (m) {
     sym::Options opt;
     opt.frozen = frozen;
     eom = sym::derive(*m, opt, diags);
     if (eom && partitions) partitions->push_back(speed_names(*m, eom->independent));
     for (int k = 1; eom && k < m->partition_count(); ++k) {
+      checkpoint("deriving", fmt::format("the independent set of alternative {}", k), m->nodes.back().pos,
+                 static_cast<std::size_t>(k), static_cast<std::size_t>(m->partition_count()));
       opt.partition = k;
       auto alt = sym::derive(*m, opt, diags);
       if (alt && partitions) partitions->push_back(speed_names(*m, alt->independent));
     }
   }
-  err << diags.format();
   return m && eom && !diags.has_errors();
+}
+
+/// Runs `work` under a WorkMonitor: a spent budget becomes an error in `diags`. The
+/// monitor is stopped (its progress line cleared) before the diagnostics are printed.
+template <class Work>
+bool monitored(const WorkArgs& args, Diagnostics& diags, std::ostream& err, Work&& work) {
+  bool ok = false;
+  {
+    WorkMonitor monitor(args.budget, args.progress);
+    try {
+      ok = work();
+    } catch (const BudgetExceeded& b) {
+      diags.error(b.pos, b.message);
+      ok = false;
+    }
+    monitor.stop();
+  }
+  err << diags.format();
+  return ok && !diags.has_errors();
 }
 
 }  // namespace
@@ -61,7 +90,8 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<model::Model> m;
   std::optional<sym::Eom> eom;
   std::vector<std::string> partitions;
-  if (!load_and_derive(a.model, {}, m, eom, err, &partitions)) return 1;
+  Diagnostics diags;
+  if (!monitored(a.work, diags, err, [&] { return load_and_derive(a.model, {}, m, eom, diags, &partitions); })) return 1;
   out << fmt::format("model {}: {} degree(s) of freedom\n", m->name, eom->ndof());
   out << fmt::format("  coordinates q0 ({}):", m->coords.size());
   for (const auto& q : m->coords) out << " " << q.name;
@@ -95,18 +125,19 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
-  std::optional<model::Model> m;
-  std::optional<sym::Eom> eom;
-  if (!load_and_derive(a.model, a.frozen, m, eom, err)) return 1;
-  int node = m->root();
+namespace {
+
+/// The text `print` writes, into `text`; false (errors in diags) otherwise.
+bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, std::string& text, Diagnostics& diags) {
+  const SourcePos file{a.model, 0, 0};
+  int node = m.root();
   if (!a.node.empty()) {
     node = -1;
-    for (size_t n = 0; n < m->nodes.size(); ++n)
-      if (m->nodes[n].name == a.node) node = static_cast<int>(n);
+    for (size_t n = 0; n < m.nodes.size(); ++n)
+      if (m.nodes[n].name == a.node) node = static_cast<int>(n);
     if (node < 0) {
-      err << fmt::format("mbsc: error: model '{}' has no subsystem '{}'\n", m->name, a.node);
-      return 1;
+      diags.error(file, fmt::format("model '{}' has no subsystem '{}' (--node)", m.name, a.node));
+      return false;
     }
   }
   if (a.stats) {
@@ -114,81 +145,88 @@ int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
     opt.frozen = a.frozen;
     opt.functions = a.functions;
     opt.minimal_state = a.minimal_state;
-    Diagnostics diags;
-    auto g = generate(*m, *eom, opt, diags);
-    err << diags.format();
-    if (!g) return 1;
-    out << fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", "function", "adds", "muls", "divs", "calls", "solve_flops",
-                       "total");
+    auto g = generate(m, eom, opt, diags);
+    if (!g) return false;
+    text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", "function", "adds", "muls", "divs", "calls",
+                        "solve_flops", "total");
     for (const auto& f : g->functions)
-      out << fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", f.name, f.ops.adds, f.ops.muls, f.ops.divs,
-                         f.ops.calls, f.ops.solve_flops, f.ops.total());
-    return 0;
+      text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", f.name, f.ops.adds, f.ops.muls, f.ops.divs,
+                          f.ops.calls, f.ops.solve_flops, f.ops.total());
+    return true;
   }
   std::vector<std::string> what = a.what;
-  if (what.empty()) what = node == m->root() ? std::vector<std::string>{"rates", "B", "C", "fbar", "M", "h"}
-                                             : std::vector<std::string>{"B", "C", "fbar"};
+  if (what.empty()) what = node == m.root() ? std::vector<std::string>{"rates", "B", "C", "fbar", "M", "h"}
+                                            : std::vector<std::string>{"B", "C", "fbar"};
   try {
-    out << print_node(*m, *eom, node, what, a.latex);
+    text += print_node(m, eom, node, what, a.latex);
   } catch (const std::invalid_argument& e) {
-    err << "mbsc: error: " << e.what() << "\n";
-    return 1;
+    diags.error(file, e.what());
+    return false;
   }
+  return true;
+}
+
+}  // namespace
+
+int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
+  std::optional<model::Model> m;
+  std::optional<sym::Eom> eom;
+  std::string text;
+  Diagnostics diags;
+  const bool ok = monitored(a.work, diags, err, [&] {
+    if (!load_and_derive(a.model, a.frozen, m, eom, diags)) return false;
+    return print_text(a, *m, *eom, text, diags);
+  });
+  if (!ok) return 1;
+  out << text;
   return 0;
 }
 
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
+  if (!a.name.empty()) {
+    if (const std::string why = ir::namespace_name_problem(a.name); !why.empty()) {
+      err << fmt::format("mbsc: error: --name '{}' {}; it names the generated C++ namespace and files\n",
+                         printable(a.name), why);
+      return 1;
+    }
+  }
   std::optional<model::Model> m;
   std::optional<sym::Eom> eom;
-  if (!load_and_derive(a.model, a.frozen, m, eom, err)) return 1;
-  Diagnostics diags;
-  GenerateOptions opt;
-  opt.functions = a.functions;
-  opt.multipliers = a.multipliers;
-  opt.minimal_state = a.minimal_state;
-  opt.frozen = a.frozen;
-  opt.name = a.name;
-  auto g = generate(*m, *eom, opt, diags);
-  err << diags.format();
-  if (!g) return 1;
+  std::optional<emit::GeneratedModel> g;
   emit::GeneratedFiles files;
-  try {
-    files = emit::emit(*g);
-  } catch (const std::exception& e) {
-    err << "mbsc: internal error while emitting: " << e.what() << "\n";
-    return 2;
-  }
-  // Write into a fresh temporary folder, then move it into place: nothing half-written.
-  const fs::path dir = fs::path(a.out_dir.empty() ? "." : a.out_dir);
+  Diagnostics diags;
+  bool internal = false;
+  const bool ok = monitored(a.work, diags, err, [&] {
+    if (!load_and_derive(a.model, a.frozen, m, eom, diags, nullptr, a.name)) return false;
+    GenerateOptions opt;
+    opt.functions = a.functions;
+    opt.multipliers = a.multipliers;
+    opt.minimal_state = a.minimal_state;
+    opt.frozen = a.frozen;
+    opt.name = a.name;
+    g = generate(*m, *eom, opt, diags);
+    if (!g) return false;
+    checkpoint("emitting", "the C++ files", m->name_pos, 0, 0);
+    try {
+      files = emit::emit(*g);
+    } catch (const std::exception& e) {
+      diags.error(m->name_pos, std::string("internal error while emitting: ") + e.what());
+      internal = true;
+      return false;
+    }
+    return true;
+  });
+  if (!ok) return internal ? 2 : 1;
+  // The symbolic work is over (and its monitor stopped): write, all or nothing.
   const std::string& name = g->name;
-  const fs::path final_dir = dir / name;
-  const fs::path tmp_dir = dir / ("." + name + ".tmp");
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  fs::remove_all(tmp_dir, ec);
-  fs::create_directories(tmp_dir, ec);
-  if (ec) {
-    err << fmt::format("mbsc: error: cannot create folder '{}': {}\n", tmp_dir.string(), ec.message());
+  std::string error;
+  if (!write_output_folder(a.out_dir, name, {{name + ".hpp", files.header}, {name + ".cpp", files.source}}, a.force,
+                           error)) {
+    err << error << "\n";
     return 1;
   }
-  auto write = [&](const fs::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    f << text;
-    return static_cast<bool>(f);
-  };
-  if (!write(tmp_dir / (name + ".hpp"), files.header) || !write(tmp_dir / (name + ".cpp"), files.source)) {
-    fs::remove_all(tmp_dir, ec);
-    err << fmt::format("mbsc: error: cannot write into '{}'\n", tmp_dir.string());
-    return 1;
-  }
-  fs::remove_all(final_dir, ec);
-  fs::rename(tmp_dir, final_dir, ec);
-  if (ec) {
-    fs::remove_all(tmp_dir, ec);
-    err << fmt::format("mbsc: error: cannot create '{}'\n", final_dir.string());
-    return 1;
-  }
-  out << fmt::format("wrote {}/{}.hpp and {}.cpp ({} dof;", final_dir.string(), name, name, eom->ndof());
+  const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
+  out << fmt::format("wrote {}/{}.hpp and {}.cpp ({} dof;", printable(final_dir), name, name, eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());
   out << ")\n";
   return 0;

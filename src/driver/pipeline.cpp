@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../ir/identifiers.hpp"
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -43,15 +45,19 @@ std::string text_hash(const std::string& text) {
 }
 
 std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags,
-                                      const std::map<std::string, double>& overrides) {
+                                      const std::map<std::string, double>& overrides, const std::string& generated_name) {
+  checkpoint("reading", "the model", SourcePos{path, 0, 0}, 0, 0);
   auto file = parse::parse_file(path, diags, overrides);
   if (!file) return std::nullopt;
-  auto m = model::build(*file, diags);
+  auto m = model::build(*file, diags, overrides);
   if (!m) return std::nullopt;
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  m->source_text_hash = text_hash(ss.str());
+  // The name becomes a C++ namespace and a file stem: `check` refuses what `generate` could not write.
+  if (const std::string why = ir::namespace_name_problem(m->name); generated_name.empty() && !why.empty()) {
+    diags.error(m->name_pos, fmt::format("model name '{}' {}; the generated code is named after it (rename the "
+                                         "model, or give another name with --name)", m->name, why));
+    return std::nullopt;
+  }
+  m->source_text_hash = text_hash(file->main_source);
   return m;
 }
 

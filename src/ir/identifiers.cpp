@@ -62,6 +62,19 @@ bool is_generated_name(const std::string& s) {
   return std::all_of(s.begin() + static_cast<std::ptrdiff_t>(digits_from), s.end(), is_digit);
 }
 
+std::string namespace_name_problem(const std::string& name) {
+  if (!is_identifier(name)) return "is not a C++ identifier (letters, digits and '_', not starting with a digit)";
+  if (is_cpp_keyword(name)) return "is a C++ keyword";
+  if (name.find("__") != std::string::npos) return "contains '__' (reserved in C++)";
+  if (name[0] == '_') return "starts with '_' (reserved in C++)";
+  if (is_std_macro_name(name)) return "is a macro name of the C++ standard library";
+  // The generated code says std::sin, mbsc_gen::..., and lives in mbsc_gen::NAME: a
+  // namespace of either name inside mbsc_gen would capture those lookups.
+  if (name == "std" || name == "mbsc_gen") return "is a namespace the generated code uses";
+  if (name.size() > 200) return "is longer than 200 characters";
+  return "";
+}
+
 // Replace invalid characters, collapse '_' runs, trim '_' at both ends, fix a leading digit.
 std::string sanitize_identifier(const std::string& name) {
   std::string out;

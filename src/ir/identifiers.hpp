@@ -13,6 +13,9 @@ bool is_cpp_keyword(const std::string& s);
 bool is_std_macro_name(const std::string& s);
 /// Names the printer generates itself: t<N>, s<N>, c<N>, A_<N>, B_<N>.
 bool is_generated_name(const std::string& s);
+/// Why `name` cannot be the namespace and file stem of a generated model (a C++
+/// keyword, a reserved name, a standard macro, ...), or "" when it can.
+std::string namespace_name_problem(const std::string& name);
 /// Maps any text to an identifier: invalid characters become '_', runs of '_' collapse,
 /// no leading or trailing '_', a leading digit gets a "v" prefix, "" becomes "v".
 std::string sanitize_identifier(const std::string& name);

@@ -50,7 +50,7 @@ struct Pending {
 
 class Builder {
  public:
-  Builder(Diagnostics& diags) : diags_(diags) {}
+  Builder(Diagnostics& diags, const std::map<std::string, double>& frozen) : diags_(diags), frozen_(frozen) {}
 
   std::optional<Model> run(const ast::File& file) {
     collect_globals(file.statements);
@@ -78,6 +78,7 @@ class Builder {
         case Kind::Model:
           if (!m_.name.empty()) diags_.error(s->pos, fmt::format("model name given twice ('{}' and '{}')", m_.name, s->name));
           m_.name = s->name;
+          m_.name_pos = s->name_pos;
           break;
         case Kind::Parametrization:
           if (s->name != "absolute" && s->name != "nodal")
@@ -176,10 +177,21 @@ class Builder {
     return true;
   }
 
-  GiNaC::ex substitute_param_defaults(const GiNaC::ex& e) const {
+  /// e with every parameter replaced by its value: the default, or (with_frozen) the
+  /// --freeze value. Only the symbols e holds are looked up (10 000 parameters stay linear).
+  GiNaC::ex substitute_param_defaults(const GiNaC::ex& e, bool with_frozen = false) const {
+    if (GiNaC::is_a<GiNaC::numeric>(e)) return e;
     GiNaC::exmap sub;
-    for (size_t i = 0; i < m_.params.size(); ++i) sub[m_.params[i].sym] = m_.param_defaults[i];
-    return e.subs(sub);
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const auto entry = table_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
+      if (entry == table_.end() || entry->second.kind != Entry::Param || !GiNaC::ex(entry->second.sym).is_equal(*it)) continue;
+      const auto& p = m_.params[static_cast<std::size_t>(entry->second.index)];
+      const auto frozen = with_frozen ? frozen_.find(p.name) : frozen_.end();
+      sub[p.sym] = frozen != frozen_.end() ? exact_decimal(frozen->second)
+                                           : GiNaC::ex(m_.param_defaults[static_cast<std::size_t>(entry->second.index)]);
+    }
+    return sub.empty() ? e : e.subs(sub);
   }
 
   // ---- pass A: declare nodes and their variables (post-order) ----
@@ -385,6 +397,7 @@ class Builder {
   }
 
   void fill_node(int id) {
+    const int errors_before = diags_.error_count();
     Node& node = m_.nodes[id];
     const Pending& pend = pending_[id];
     const bool body_kind = is_body(node.kind);
@@ -582,7 +595,10 @@ class Builder {
     if (body_kind && !has_mass_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
     if (is_rigid2d(node.kind) && !inertia_pos_.count(id))
       diags_.error(node.pos, fmt::format("{} body '{}' has no inertia", to_string(node.kind), node.name));
-    if (node.kind == LeafKind::Rigid2dNodal && has_mass_.count(id) && inertia_pos_.count(id)) library_.finish_nodal(id);
+    // A nodal body is finished from all its points: not when one of them failed.
+    if (node.kind == LeafKind::Rigid2dNodal && has_mass_.count(id) && inertia_pos_.count(id) &&
+        diags_.error_count() == errors_before)
+      library_.finish_nodal(id);
     if (node.kind != LeafKind::Node && !node.children.empty())
       diags_.error(node.pos, fmt::format("leaf '{}' of kind {} cannot contain subsystems", node.name, to_string(node.kind)));
     // Formal parameters of a component instance: bind to the arguments (in the parent's scope).
@@ -731,21 +747,42 @@ class Builder {
       diags_.error(c.pos, fmt::format("velocity constraint '{}' contains no speed; write it as a position constraint", c.name));
   }
 
+  /// Masses and inertias must be positive, at the parameters' defaults or their
+  /// --freeze values (which the message names, since the file alone looks right).
   void check_masses() {
+    GiNaC::exmap formals;
+    for (auto& [name, f] : m_.formals) formals[f.sym] = substitute_param_defaults(f.value, true);
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
       const Node& node = m_.nodes[n];
       auto check = [&](const GiNaC::ex& e, const SourcePos& pos, const char* what) {
-        GiNaC::ex v = substitute_param_defaults(e);
-        GiNaC::exmap formals;
-        for (auto& [name, f] : m_.formals) formals[f.sym] = substitute_param_defaults(f.value);
-        v = v.subs(formals).subs(formals);
+        GiNaC::ex with_formals = e, v;
+        try {
+          if (!formals.empty()) with_formals = e.subs(formals).subs(formals);
+          v = substitute_param_defaults(with_formals, true);
+        } catch (const std::exception&) {
+          diags_.error(pos, fmt::format("{} of body '{}' is undefined at these parameter values{}", what, node.name,
+                                        frozen_note(with_formals)));
+          return;
+        }
         double d;
         if (evaluate_number(v, d) && !(d > 0))
-          diags_.error(pos, fmt::format("{} of body '{}' is not positive ({})", what, node.name, d));
+          diags_.error(pos, fmt::format("{} of body '{}' is not positive ({}){}", what, node.name, d,
+                                        frozen_note(with_formals)));
       };
       if (has_mass_.count(static_cast<int>(n))) check(node.mass, node.mass_pos, "mass");
       if (inertia_pos_.count(static_cast<int>(n))) check(node.inertia, inertia_pos_[n], "inertia");
     }
+  }
+
+  /// ", with --freeze a=1" naming the frozen parameters e depends on, or "".
+  std::string frozen_note(const GiNaC::ex& e) const {
+    std::string names;
+    for (const auto& p : m_.params) {
+      const auto it = frozen_.find(p.name);
+      if (it == frozen_.end() || !e.has(p.sym)) continue;
+      names += fmt::format("{}{}={}", names.empty() ? "" : " ", p.name, it->second);
+    }
+    return names.empty() ? "" : ", with --freeze " + names;
   }
 
   struct Entry {
@@ -765,6 +802,7 @@ class Builder {
   };
 
   Diagnostics& diags_;
+  const std::map<std::string, double>& frozen_;  // --freeze values (parameter name -> value)
   Model m_;
   PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
   std::map<std::string, Entry> table_;
@@ -785,8 +823,8 @@ class Builder {
 
 }  // namespace
 
-std::optional<Model> build(const ast::File& file, Diagnostics& diags) {
-  Builder b(diags);
+std::optional<Model> build(const ast::File& file, Diagnostics& diags, const std::map<std::string, double>& frozen) {
+  Builder b(diags, frozen);
   try {
     auto m = b.run(file);
     if (m) m->structural = file.structural;

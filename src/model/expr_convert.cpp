@@ -3,7 +3,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "mbsc/diag/limits.hpp"
 
 namespace mbsc::model {
 
@@ -13,22 +19,28 @@ GiNaC::numeric parse_decimal(const std::string& text_in) {
   const std::string& text = text_in;
   // Split mantissa digits, fraction length and exponent; build digits * 10^(exp - frac).
   std::string digits;
-  long frac = 0, exponent = 0;
+  long frac = 0;
+  std::string exponent_text;
   bool in_frac = false;
-  size_t i = 0;
-  for (; i < text.size(); ++i) {
+  for (size_t i = 0; i < text.size(); ++i) {
     char c = text[i];
     if (c == '.') {
       in_frac = true;
     } else if (c == 'e' || c == 'E') {
-      exponent = std::stol(text.substr(i + 1));
+      exponent_text = text.substr(i + 1);
       break;
-    } else {
+    } else if (c >= '0' && c <= '9') {
       digits += c;
       if (in_frac) ++frac;
+    } else {
+      throw std::invalid_argument("malformed number");
     }
   }
-  if (digits.empty()) digits = "0";
+  // Zero whatever its exponent (0e999999999999999999999 is a valid way to write 0).
+  if (digits.find_first_not_of('0') == std::string::npos) return 0;
+  // The lexer only lets through literals within double range and 100 characters, so the
+  // exponent fits a long unless it is malformed (std::stol throws then).
+  const long exponent = exponent_text.empty() ? 0 : std::stol(exponent_text);
   GiNaC::numeric value(digits.c_str());
   long shift = exponent - frac;
   if (shift >= 0) return value * GiNaC::pow(GiNaC::numeric(10), GiNaC::numeric(shift));
@@ -80,6 +92,146 @@ GiNaC::ex apply_function(const std::string& f, const std::vector<GiNaC::ex>& a) 
 
 }  // namespace
 
+namespace {
+
+/// Bits of the larger of the numerator and the denominator of an exact rational (0 for
+/// a float), over the real and imaginary parts.
+std::size_t exact_bits(const GiNaC::numeric& n) {
+  std::size_t bits = 0;
+  for (const GiNaC::numeric& part : {n.real(), n.imag()}) {
+    if (!part.is_rational()) continue;
+    bits = std::max<std::size_t>(bits, static_cast<std::size_t>(part.numer().int_length()));
+    bits = std::max<std::size_t>(bits, static_cast<std::size_t>(part.denom().int_length()));
+  }
+  return bits;
+}
+
+/// Why an exact real constant is out of what a double holds, or nullptr.
+const char* out_of_double_range(const GiNaC::numeric& n) {
+  if (!n.is_real() || n.is_zero()) return nullptr;
+  if (n.is_rational()) {
+    // log2|n| within a bit, without converting a huge rational to a double.
+    const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
+    if (log2 > 1025) return "too large for a double";
+    if (log2 < -1023) return "too small for a double";
+  }
+  try {
+    const double d = n.to_double();
+    if (!std::isfinite(d)) return "too large for a double";
+    if (std::fabs(d) < DBL_MIN) return "too small for a double";
+  } catch (const std::exception&) {
+    return "out of the range of a double";
+  }
+  return nullptr;
+}
+
+/// The overall numeric coefficient of a sum, product or number (what constant folding
+/// grows), if any.
+std::optional<GiNaC::numeric> folded_coefficient(const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return GiNaC::ex_to<GiNaC::numeric>(e);
+  if ((GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) && e.nops() > 0) {
+    const GiNaC::ex last = e.op(e.nops() - 1);
+    if (GiNaC::is_a<GiNaC::numeric>(last)) return GiNaC::ex_to<GiNaC::numeric>(last);
+  }
+  return std::nullopt;
+}
+
+/// "f(a, b)" for messages, the arguments as GiNaC prints them (cut when long).
+std::string call_text(const std::string& f, const std::vector<GiNaC::ex>& args) {
+  std::ostringstream out;
+  out << f << "(";
+  for (std::size_t i = 0; i < args.size(); ++i) out << (i ? ", " : "") << args[i];
+  out << ")";
+  std::string text = out.str();
+  if (text.size() > 60) text = text.substr(0, 56) + "...)";
+  return text;
+}
+
+/// "about 1e+600" for a message about a constant a double cannot hold.
+std::string magnitude_text(const GiNaC::numeric& n) {
+  if (!n.is_rational()) return "";
+  const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
+  return fmt::format(" (about 1e{:+d})", static_cast<long>(std::lround(static_cast<double>(log2) * 0.30103)));
+}
+
+/// True when e holds no symbol (only numbers, pi and functions of them).
+bool is_constant(const GiNaC::ex& e) {
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it)) return false;
+  return true;
+}
+
+}  // namespace
+
+bool ExprConverter::check_folded(const GiNaC::ex& e, const SourcePos& pos) {
+  const auto c = folded_coefficient(e);
+  if (!c) return true;
+  if (exact_bits(*c) > limits::kMaxExactBits) {
+    diags.error(pos, fmt::format("this expression folds to an exact constant of more than {} bits", limits::kMaxExactBits));
+    return false;
+  }
+  if (const char* why = out_of_double_range(*c)) {
+    diags.error(pos, fmt::format("this expression folds to a constant {}{}", why, magnitude_text(*c)));
+    return false;
+  }
+  return true;
+}
+
+double ExprConverter::safe_double(const GiNaC::numeric& n) {
+  try {
+    if (n.is_rational()) {
+      const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
+      if (log2 > 1100) return HUGE_VAL * (n.is_negative() ? -1 : 1);
+      if (log2 < -1100) return 0.0;
+    }
+    return n.real().to_double();
+  } catch (const std::exception&) {
+    return NAN;
+  }
+}
+
+std::optional<GiNaC::ex> ExprConverter::power(const GiNaC::ex& base, const GiNaC::ex& exponent, const SourcePos& pos) {
+  // Exact numbers to an exact power are evaluated at once by GiNaC: 2^(2^40) or
+  // 10^1000000000 would be computed digit by digit. Refuse what would be too large.
+  if (GiNaC::is_a<GiNaC::numeric>(base) && GiNaC::is_a<GiNaC::numeric>(exponent)) {
+    const auto& b = GiNaC::ex_to<GiNaC::numeric>(base);
+    const auto& x = GiNaC::ex_to<GiNaC::numeric>(exponent);
+    if (b.is_zero() && !(x.is_real() && x.is_positive())) {
+      diags.error(pos, fmt::format("0^{} is undefined", x.is_real() ? fmt::format("{}", safe_double(x)) : "z"));
+      return std::nullopt;
+    }
+    const bool unit = b.is_equal(GiNaC::numeric(1)) || b.is_equal(GiNaC::numeric(-1)) || b.is_zero();
+    if (!unit && x.is_real()) {
+      const double bits = static_cast<double>(std::max<std::size_t>(exact_bits(b), 1)) * std::fabs(safe_double(x));
+      if (!(bits <= static_cast<double>(limits::kMaxExactBits))) {
+        diags.error(pos, fmt::format("this power of exact numbers would need about {:.3g} bits (at most {}); write it "
+                                     "with exp and log, e.g. exp(x*log(b)), to have it evaluated in floating point",
+                                     bits, limits::kMaxExactBits));
+        return std::nullopt;
+      }
+    }
+  }
+  return apply(pos, "^", [&] { return GiNaC::pow(base, exponent); });
+}
+
+std::optional<GiNaC::ex> ExprConverter::apply(const SourcePos& pos, const std::string& what,
+                                              const std::function<GiNaC::ex()>& op) {
+  GiNaC::ex result;
+  try {
+    result = op();
+  } catch (const std::exception& e) {
+    // GiNaC evaluates functions of exact numbers at once: log(0), tan(pi/2), 0^(-1).
+    const std::string why = e.what();
+    diags.error(pos, fmt::format("{} is undefined{}", what,
+                                 why.find("pole") != std::string::npos || why.find("log(0)") != std::string::npos ? " (a pole)"
+                                 : why.find("division") != std::string::npos ? " (division by zero)"
+                                                                             : " (" + why + ")"));
+    return std::nullopt;
+  }
+  if (!check_folded(result, pos)) return std::nullopt;
+  return result;
+}
+
 std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
   using K = ast::Expr::Kind;
   switch (e.kind) {
@@ -121,28 +273,75 @@ std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
         else args.push_back(*v);
       }
       if (!ok) return std::nullopt;
-      return apply_function(e.text, args);
+      if (e.text == "pow") return power(args[0], args[1], e.pos);
+      auto r = apply(e.pos, call_text(e.text, args), [&] { return apply_function(e.text, args); });
+      if (!r) return std::nullopt;
+      // A function of constants must be a finite real number: acos(2), log(-1) are not.
+      bool constant = true;
+      for (const auto& a : args) constant = constant && is_constant(a);
+      if (constant) {
+        double value = 0;
+        if (!evaluate_number(*r, value)) {
+          diags.error(e.pos, fmt::format("{} is not a finite real number", call_text(e.text, args)));
+          return std::nullopt;
+        }
+        if (value != 0 && std::fabs(value) < DBL_MIN) {
+          diags.error(e.pos, fmt::format("{} is too small for a double", call_text(e.text, args)));
+          return std::nullopt;
+        }
+      }
+      return r;
     }
     case K::Unary: {
       auto v = convert(*e.args.at(0));
       if (!v) return std::nullopt;
       return e.text == "-" ? -*v : *v;
     }
+    case K::Sum: {
+      // One GiNaC sum built from all the terms at once (n log n, not n^2).
+      GiNaC::exvector terms;
+      terms.reserve(e.args.size());
+      bool ok = true;
+      for (std::size_t i = 0; i < e.args.size(); ++i) {
+        auto v = convert(*e.args[i]);
+        if (!v) {
+          ok = false;
+          continue;
+        }
+        terms.push_back(i > 0 && e.text.at(i - 1) == '-' ? -*v : *v);
+      }
+      if (!ok) return std::nullopt;
+      return apply(e.pos, "sum", [&] { return GiNaC::ex(GiNaC::add(terms)); });
+    }
+    case K::Product: {
+      GiNaC::exvector factors;
+      factors.reserve(e.args.size());
+      bool ok = true;
+      for (std::size_t i = 0; i < e.args.size(); ++i) {
+        auto v = convert(*e.args[i]);
+        if (!v) {
+          ok = false;
+          continue;
+        }
+        if (i > 0 && e.text.at(i - 1) == '/') {
+          if (v->is_zero()) {
+            diags.error(e.args[i]->pos, "division by zero");
+            ok = false;
+            continue;
+          }
+          factors.push_back(GiNaC::pow(*v, -1));
+        } else {
+          factors.push_back(*v);
+        }
+      }
+      if (!ok) return std::nullopt;
+      return apply(e.pos, "product", [&] { return GiNaC::ex(GiNaC::mul(factors)); });
+    }
     case K::Binary: {
       auto l = convert(*e.args.at(0));
       auto r = convert(*e.args.at(1));
       if (!l || !r) return std::nullopt;
-      if (e.text == "+") return *l + *r;
-      if (e.text == "-") return *l - *r;
-      if (e.text == "*") return *l * *r;
-      if (e.text == "/") {
-        if (r->is_zero()) {
-          diags.error(e.pos, "division by zero");
-          return std::nullopt;
-        }
-        return *l / *r;
-      }
-      return GiNaC::pow(*l, *r);
+      return power(*l, *r, e.pos);
     }
   }
   return std::nullopt;

@@ -97,8 +97,9 @@ std::vector<PlanarLibrary::Node2> PlanarLibrary::nodes_of(int node) const {
   const std::size_t n_nodes = node_count(node);
   for (std::size_t k = 0; k < 2 * n_nodes && k + 1 < b.coords.size(); k += 2) {
     const std::string& qx = m_.coords[b.coords[k]].name;  // "body.P_x"
-    const std::string point = qx.substr(0, qx.size() - 2);
-    const Point& p = points_.at(point);
+    const auto it = points_.find(qx.substr(0, qx.size() - 2));
+    if (it == points_.end()) break;  // a point that failed (reported): the body is not used
+    const Point& p = it->second;
     out.push_back(Node2{p.ex, p.ey, m_.coords[b.coords[k]].sym, m_.coords[b.coords[k + 1]].sym, m_.speeds[b.speeds[k]].sym,
                         m_.speeds[b.speeds[k + 1]].sym});
   }
@@ -117,6 +118,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::rotate(int node, const GiNaC::ex&
     // (equal lengths on the rigidity invariant): d = a delta + c z x delta maps to
     // a Delta + c z x Delta. Polynomial in the nodal coordinates: no angle needed.
     const auto n = nodes_of(node);
+    if (n.size() < 2) return {dx, dy};  // a point of the body failed (reported): any value will do
     const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
     if (l2.is_zero()) return {dx, dy};  // coincident frame nodes: reported by finish_nodal
     const GiNaC::ex Dx = n[1].x - n[0].x, Dy = n[1].y - n[0].y;
@@ -140,6 +142,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::world(int node, const GiNaC::ex& 
   if (b.kind == LeafKind::Rigid2dNodal) {
     // A node is where its coordinates say; any other point follows the first node.
     const auto n = nodes_of(node);
+    if (n.size() < 2) return {px, py};  // a point of the body failed (reported)
     for (const auto& k : n)
       if ((k.bx - px).expand().is_zero() && (k.by - py).expand().is_zero()) return {k.x, k.y};
     const auto d = rotate(node, px - n[0].bx, py - n[0].by);
@@ -160,6 +163,7 @@ std::optional<GiNaC::ex> PlanarLibrary::angle(int node) const {
     // The turn of the first two nodes' line from its body-frame direction (it jumps by
     // 2 pi where either atan2 does: joints and springs use relative_angle instead).
     const auto n = nodes_of(node);
+    if (n.size() < 2) return GiNaC::ex(0);  // a point of the body failed (reported)
     return GiNaC::atan2(n[1].y - n[0].y, n[1].x - n[0].x) - GiNaC::atan2(n[1].by - n[0].by, n[1].bx - n[0].bx);
   }
   if (b.kind != LeafKind::Rigid2d) return std::nullopt;
@@ -193,6 +197,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::velocity(int node, const GiNaC::e
   if (b.kind == LeafKind::Rigid2dNodal) {
     // v_P = v_1 + w z x (r_P - p_1), from the first node.
     const auto n = nodes_of(node);
+    if (n.empty()) return {0, 0};  // a point of the body failed (reported)
     const GiNaC::ex w = m_.speeds[*omega_speed(node)].sym;
     return {n[0].u - w * (y - n[0].y), n[0].v + w * (x - n[0].x)};
   }
@@ -285,6 +290,7 @@ void PlanarLibrary::add_velocity_constraint(int owner, const std::string& name, 
 void PlanarLibrary::finish_nodal(int node) {
   Node& b = m_.nodes[node];
   const auto n = nodes_of(node);
+  if (n.size() < 2) return;  // fewer than two nodes: reported where the body is declared
   const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
   GiNaC::exmap defaults;
   for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /// parse_file: reads a model file and splices its top-level includes in place, recursively.
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <system_error>
 #include <utility>
 
+#include "mbsc/diag/limits.hpp"
 #include "mbsc/parse/parse.hpp"
+#include "mbsc/parse/source_file.hpp"
 #include "parser_internal.hpp"
 
 namespace mbsc::parse {
@@ -14,21 +14,6 @@ namespace mbsc::parse {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// Include chains longer than this are rejected (a guard; cycles are caught earlier).
-constexpr std::size_t max_include_depth = 64;
-
-bool read_text(const std::string& path, std::string& text) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) return false;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) return false;
-  text = buf.str();
-  return true;
-}
 
 /// The identity of a file for cycle detection.
 fs::path identity(const std::string& path) {
@@ -63,21 +48,41 @@ class IncludeResolver {
         report(st->pos, "cyclic include of '" + st->name + "'");
         continue;
       }
-      if (stack_.size() >= max_include_depth) {
-        report(st->pos, "includes nested too deeply (more than " + std::to_string(max_include_depth) + ")");
+      if (stack_.size() >= limits::kMaxIncludeDepth) {
+        report(st->pos, "includes nested too deeply (more than " + std::to_string(limits::kMaxIncludeDepth) + ")");
         continue;
       }
-      std::string included;
-      if (!read_text(target, included)) {
-        report(st->pos, "cannot open file '" + target + "'");
+      // Budgets over the whole model: a file may include another several times, and
+      // chains of such files multiply (2^40 splices from 41 small files).
+      if (budget_exhausted_) continue;
+      if (++splices_ > limits::kMaxSplices) {
+        report(st->pos, "more than " + std::to_string(limits::kMaxSplices) +
+                            " includes spliced in all (do files include each other several times?)");
+        budget_exhausted_ = true;
         continue;
       }
+      std::string included, why;
+      if (!read_source_file(target, included, why, limits::kMaxFileBytes)) {
+        report(st->pos, "cannot read file '" + target + "': " + why);
+        continue;
+      }
+      if (!count_text(included.size(), st->pos)) continue;
       expand(target, included, out);
     }
     stack_.pop_back();
   }
 
   bool ok() const { return ok_; }
+
+  /// Adds `bytes` to the text read for this model; false (reported) past the limit.
+  bool count_text(std::size_t bytes, const SourcePos& pos) {
+    total_bytes_ += bytes;
+    if (total_bytes_ <= limits::kMaxTotalBytes) return true;
+    report(pos, "the model and its includes exceed " + std::to_string(limits::kMaxTotalBytes >> 20) +
+                    " MiB of text in all");
+    budget_exhausted_ = true;
+    return false;
+  }
 
  private:
   bool is_open(const fs::path& p) const {
@@ -95,6 +100,9 @@ class IncludeResolver {
   const std::map<std::string, double>& overrides_;
   std::map<std::string, double> structural_;  // loop parameters of every file
   std::vector<fs::path> stack_;  // files being expanded, outermost first
+  std::size_t splices_ = 0;      // include statements expanded so far
+  std::size_t total_bytes_ = 0;  // text read so far
+  bool budget_exhausted_ = false;
   bool ok_ = true;
 };
 
@@ -102,17 +110,19 @@ class IncludeResolver {
 
 std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
                                     const std::map<std::string, double>& overrides) {
-  std::string text;
-  if (!read_text(path, text)) {
-    diags.error(SourcePos{path, 0, 0}, "cannot open file '" + path + "'");
+  std::string text, why;
+  if (!read_source_file(path, text, why, limits::kMaxFileBytes)) {
+    diags.error(SourcePos{path, 0, 0}, "cannot read file '" + path + "': " + why);
     return std::nullopt;
   }
   IncludeResolver resolver(diags, overrides);
+  resolver.count_text(text.size(), SourcePos{path, 0, 0});
   ast::File file;
   file.path = path;
   resolver.expand(path, text, file.statements);
   if (!resolver.ok()) return std::nullopt;
   file.structural = resolver.structural();
+  file.main_source = std::move(text);
   return file;
 }
 

@@ -3,7 +3,13 @@
 #include "lexer.hpp"
 
 #include <array>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+
+#include "mbsc/diag/limits.hpp"
 
 namespace mbsc::parse {
 
@@ -27,6 +33,8 @@ class Lexer {
   Lexer(const std::string& text, const std::string& file) : text_(text), file_(file) {}
 
   std::vector<Token> run() {
+    // A UTF-8 byte-order mark (some editors write one) is not part of the text.
+    if (text_.compare(0, 3, "\xEF\xBB\xBF") == 0) i_ = 3;
     while (i_ < text_.size()) {
       const char c = text_[i_];
       if (c == '\n') {
@@ -104,10 +112,34 @@ class Lexer {
       advance();
     }
     std::string lit = text_.substr(start, i_ - start);
-    if (ok)
+    if (!ok) {
+      add(TokenKind::Invalid, "malformed number '" + shorten(lit) + "'", pos);
+    } else if (lit.size() > limits::kMaxNumberChars) {
+      add(TokenKind::Invalid, "number '" + shorten(lit) + "' is longer than " + std::to_string(limits::kMaxNumberChars) +
+                                  " characters",
+          pos);
+    } else if (const char* why = out_of_double_range(lit)) {
+      add(TokenKind::Invalid, "number '" + lit + "' " + why, pos);
+    } else {
       add(TokenKind::Number, std::move(lit), pos);
-    else
-      add(TokenKind::Invalid, "malformed number '" + lit + "'", pos);
+    }
+  }
+
+  /// Model numbers are exact, but the generated code computes in double: a literal a
+  /// double cannot hold is a mistake (and 1e999999999 would be a huge exact integer).
+  static const char* out_of_double_range(const std::string& lit) {
+    errno = 0;
+    const double v = std::strtod(lit.c_str(), nullptr);
+    if (std::isinf(v)) return "is too large for a double (at most about 1.8e308)";
+    const bool nonzero = lit.find_first_of("123456789") < lit.find_first_of("eE");
+    if (nonzero && std::fabs(v) < DBL_MIN) return "is too small for a double (nonzero, but below about 2.2e-308)";
+    return nullptr;
+  }
+
+  /// A long literal shown in a message: its start and its length.
+  static std::string shorten(const std::string& lit) {
+    if (lit.size() <= 40) return lit;
+    return lit.substr(0, 32) + "... (" + std::to_string(lit.size()) + " characters)";
   }
 
   // STRING := '"' any character except '"' and newline '"'   (no escapes)
@@ -121,6 +153,17 @@ class Lexer {
       return;
     }
     std::string body = text_.substr(start, i_ - start);
+    // Control bytes (a NUL would cut a file name short; escapes would reach a terminal).
+    for (std::size_t k = 0; k < body.size(); ++k) {
+      const unsigned char u = static_cast<unsigned char>(body[k]);
+      if (u < 0x20 || u == 0x7F) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(u));
+        advance();  // closing quote
+        add(TokenKind::Invalid, std::string("control character '") + buf + "' in a string", pos);
+        return;
+      }
+    }
     advance();  // closing quote
     add(TokenKind::String, std::move(body), pos);
   }

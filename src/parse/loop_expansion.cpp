@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <optional>
 
+#include "mbsc/diag/limits.hpp"
+
 namespace mbsc::parse {
 namespace {
 
@@ -65,6 +67,13 @@ class Expander {
   void emit(std::vector<Token>& out, Token tok) {
     // Repeated bodies meet at line ends: one newline is enough.
     if (tok.kind == TokenKind::Newline && !out.empty() && out.back().kind == TokenKind::Newline) return;
+    if (out.size() >= limits::kMaxExpandedTokens) {
+      if (!too_long_)
+        diags_.error(tok.pos, fmt::format("the loops expand this file to more than {} tokens",
+                                          limits::kMaxExpandedTokens));
+      too_long_ = true;
+      return;
+    }
     out.push_back(std::move(tok));
   }
 
@@ -88,6 +97,7 @@ class Expander {
 
   bool expand(std::size_t b, std::size_t e, const Env& env, std::vector<Token>& out) {
     for (std::size_t i = b; i < e;) {
+      if (too_long_) return false;
       const Token& tok = t_[i];
       if (tok.kind == TokenKind::Keyword && tok.text == "for") {
         const std::size_t next = expand_for(i, e, env, out);
@@ -123,7 +133,7 @@ class Expander {
       emit(out, tok);
       ++i;
     }
-    return true;
+    return !too_long_;
   }
 
   // 'for' IDENT '=' intexpr 'to' intexpr '{' tokens '}'
@@ -134,6 +144,10 @@ class Expander {
       return std::string::npos;
     }
     const std::string var = t_[i + 1].text;
+    if (loop_depth_ >= limits::kMaxLoopNesting) {
+      diags_.error(kw.pos, fmt::format("loop over '{}': loops nest more than {} deep", var, limits::kMaxLoopNesting));
+      return std::string::npos;
+    }
     std::size_t to = i + 3, open = std::string::npos;
     while (to < e && !(t_[to].kind == TokenKind::Ident && t_[to].text == "to") && t_[to].kind != TokenKind::LBrace &&
            t_[to].kind != TokenKind::Newline)
@@ -166,11 +180,16 @@ class Expander {
                                        kMaxExpanded));
       return std::string::npos;
     }
+    ++loop_depth_;
     for (long v = *first; v <= *last; ++v) {
       Env inner = env;
       inner[var] = v;
-      if (!expand(open + 1, close, inner, out)) return std::string::npos;
+      if (!expand(open + 1, close, inner, out)) {
+        --loop_depth_;
+        return std::string::npos;
+      }
     }
+    --loop_depth_;
     return close + 1;
   }
 
@@ -186,6 +205,7 @@ class Expander {
     env_ = &env;
     what_ = what;
     failed_ = false;
+    depth_ = 0;
     const long v = sum();
     if (!failed_ && pos_ != end_) fail(t_[pos_], fmt::format("unexpected {}", describe(t_[pos_])));
     if (failed_) return std::nullopt;
@@ -241,6 +261,15 @@ class Expander {
       return 0;
     }
     const Token& tok = t_[pos_++];
+    if (depth_ >= limits::kMaxNesting) {
+      fail(tok, fmt::format("it nests more than {} deep", limits::kMaxNesting));
+      return 0;
+    }
+    struct Deeper {
+      int& d;
+      explicit Deeper(int& depth) : d(++depth) {}
+      ~Deeper() { --d; }
+    } deeper(depth_);
     switch (tok.kind) {
       case TokenKind::Minus:
         return -factor();
@@ -272,6 +301,9 @@ class Expander {
                               tok.text));
         return 0;
       }
+      case TokenKind::Invalid:  // a lexical error: its own message
+        fail(tok, tok.text);
+        return 0;
       default:
         fail(tok, fmt::format("unexpected {}", describe(tok)));
         return 0;
@@ -284,11 +316,14 @@ class Expander {
   std::map<std::string, double>& structural_;
   std::map<std::string, double> params_;
   long expanded_ = 0;  // repetitions made so far, over all loops
+  int loop_depth_ = 0;   // `for` loops open around the tokens being expanded
+  bool too_long_ = false;  // the output reached limits::kMaxExpandedTokens (reported)
   // State of the expression being evaluated.
   std::size_t pos_ = 0, end_ = 0;
   const Env* env_ = nullptr;
   std::string what_;
   bool failed_ = false;
+  int depth_ = 0;  // nesting of '(' and unary '-' in the expression being evaluated
 };
 
 }  // namespace

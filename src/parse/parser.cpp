@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "lexer.hpp"
+#include "mbsc/diag/limits.hpp"
 #include "loop_expansion.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "parser_internal.hpp"
@@ -26,7 +27,7 @@ using TK = TokenKind;
 struct SyntaxError {};
 
 /// Expressions and blocks nested deeper than this are rejected (keeps the stack bounded).
-constexpr int max_nesting = 200;
+constexpr int max_nesting = limits::kMaxNesting;
 
 std::string pos_text(const SourcePos& pos) { return std::to_string(pos.line) + ":" + std::to_string(pos.col); }
 
@@ -668,27 +669,27 @@ class Parser {
   }
 
   // expr := term (('+'|'-') term)*
-  ExprPtr parse_expr() {
-    const SourcePos start = peek().pos;
-    ExprPtr lhs = parse_term();
-    while (at(TK::Plus) || at(TK::Minus)) {
-      const Token op = take();
-      ExprPtr rhs = parse_term();
-      lhs = make(Expr::Kind::Binary, op.text, {lhs, rhs}, start);
-    }
-    return lhs;
-  }
+  ExprPtr parse_expr() { return parse_chain(Expr::Kind::Sum, TK::Plus, TK::Minus); }
 
   // term := unary (('*'|'/') unary)*
-  ExprPtr parse_term() {
+  ExprPtr parse_term() { return parse_chain(Expr::Kind::Product, TK::Star, TK::Slash); }
+
+  /// One flat Sum or Product node for a chain of operands (see ast::Expr); a single
+  /// operand is returned as it is.
+  ExprPtr parse_chain(Expr::Kind kind, TK op1, TK op2) {
     const SourcePos start = peek().pos;
-    ExprPtr lhs = parse_unary();
-    while (at(TK::Star) || at(TK::Slash)) {
+    std::vector<ExprPtr> operands{kind == Expr::Kind::Sum ? parse_term() : parse_unary()};
+    std::string ops;
+    while (at(op1) || at(op2)) {
       const Token op = take();
-      ExprPtr rhs = parse_unary();
-      lhs = make(Expr::Kind::Binary, op.text, {lhs, rhs}, start);
+      if (operands.size() >= limits::kMaxOperands)
+        fail(op.pos, std::string("more than ") + std::to_string(limits::kMaxOperands) + " operands in one " +
+                         (kind == Expr::Kind::Sum ? "sum" : "product"));
+      ops += op.text;
+      operands.push_back(kind == Expr::Kind::Sum ? parse_term() : parse_unary());
     }
-    return lhs;
+    if (operands.size() == 1) return operands.front();
+    return make(kind, std::move(ops), std::move(operands), start);
   }
 
   // unary := ('-'|'+') unary | power

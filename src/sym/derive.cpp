@@ -661,6 +661,46 @@ class Deriver {
   std::vector<int> eliminated_at_;
 };
 
+/// Every expression of the model must stay defined with the frozen values put in
+/// (--freeze l=0 under a 1/l is an error at that expression, not deep in the derivation).
+bool frozen_values_defined(const model::Model& m, const std::map<std::string, double>& frozen, Diagnostics& diags) {
+  GiNaC::exmap values;
+  for (const auto& p : m.params) {
+    const auto it = frozen.find(p.name);
+    if (it != frozen.end()) values[p.sym] = model::exact_decimal(it->second);
+  }
+  if (values.empty()) return true;
+  GiNaC::exmap formals;
+  for (const auto& [name, f] : m.formals) formals[f.sym] = f.value;
+  bool ok = true;
+  auto check = [&](const GiNaC::ex& e, const SourcePos& pos, const std::string& what) {
+    try {
+      GiNaC::ex v = e;
+      for (int pass = 0; pass < 4 && !formals.empty(); ++pass) v = v.subs(formals);
+      (void)v.subs(values);
+    } catch (const std::exception& ex) {
+      std::string names;
+      for (const auto& [name, value] : frozen) names += fmt::format(" {}={}", name, value);
+      diags.error(pos, fmt::format("{} is undefined with --freeze{} ({})", what, names, ex.what()));
+      ok = false;
+    }
+  };
+  for (const auto& c : m.constraints) check(c.residual, c.pos, fmt::format("constraint '{}'", c.name));
+  for (const auto& f : m.forces) check(f.value, f.pos, fmt::format("the force on '{}'", m.speeds[f.speed].name));
+  for (const auto& o : m.outputs) check(o.value, o.pos, fmt::format("output '{}'", o.name));
+  for (const auto& n : m.nodes) {
+    const std::string label = m.label(static_cast<int>(&n - m.nodes.data()));
+    check(n.mass, n.mass_pos, fmt::format("the mass of '{}'", label));
+    check(n.inertia, n.pos, fmt::format("the inertia of '{}'", label));
+    check(n.kinetic, n.pos, fmt::format("the kinetic energy of '{}'", label));
+    check(n.potential, n.pos, fmt::format("the potential energy of '{}'", label));
+  }
+  for (std::size_t q = 0; q < m.coord_rates.size(); ++q)
+    check(m.coord_rates[q], m.coords[q].pos, fmt::format("the rate of coordinate '{}'", m.coords[q].name));
+  for (const auto& g : m.gravity) check(g, m.nodes.empty() ? SourcePos{} : m.nodes.back().pos, "gravity");
+  return ok;
+}
+
 }  // namespace
 
 std::optional<Eom> derive(const model::Model& model, const Options& options, Diagnostics& diags) {
@@ -676,6 +716,7 @@ std::optional<Eom> derive(const model::Model& model, const Options& options, Dia
   // the value the expansion used.
   Options with_structure = options;
   for (const auto& [name, v] : model.structural) with_structure.frozen.emplace(name, v);
+  if (!frozen_values_defined(model, options.frozen, diags)) return std::nullopt;
   try {
     Deriver d(model, with_structure, diags);
     return d.run();

@@ -8,10 +8,19 @@
 #include <string>
 #include <vector>
 
+#include "mbsc/driver/work_monitor.hpp"
+
 namespace mbsc::driver {
+
+/// Options every command takes: the budgets of the symbolic work and the progress line.
+struct WorkArgs {
+  WorkBudget budget;
+  ProgressMode progress = ProgressMode::Auto;
+};
 
 struct CheckArgs {
   std::string model;
+  WorkArgs work;
 };
 int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err);
 
@@ -24,6 +33,7 @@ struct PrintArgs {
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs
   bool minimal_state = false;       // for --stats with --state minimal
+  WorkArgs work;
 };
 int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err);
 
@@ -35,10 +45,13 @@ struct GenerateArgs {
   std::string name;                 // --name (default: the model's name)
   bool minimal_state = false;       // --state minimal
   bool multipliers = false;         // --formulation multipliers
+  bool force = false;               // --force: write into an OUT/<name> mbsc did not write
+  WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 
-/// Parses "name=value" (for --freeze). Returns false on malformed text.
+/// Parses "name=value" (for --freeze). Returns false on malformed text and on a value
+/// that is not a finite number a double holds (nan, inf, 1e400).
 bool parse_assignment(const std::string& text, std::string& name, double& value);
 
 }  // namespace mbsc::driver

@@ -40,9 +40,12 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
                                                const BaumgarteGains& gains);
 
 /// Parses and builds a model file (includes resolved). nullopt on error.
-/// `overrides` (the --freeze values) also set the parameters `for` loops and indices use.
+/// `overrides` (the --freeze values) also set the parameters `for` loops and indices use,
+/// and stand in for the defaults where values are checked. The model's name must be
+/// usable as a C++ namespace unless `generated_name` (--name) replaces it.
 std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags,
-                                      const std::map<std::string, double>& overrides = {});
+                                      const std::map<std::string, double>& overrides = {},
+                                      const std::string& generated_name = "");
 
 /// Expression with component formals and frozen parameters substituted.
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e);

@@ -21,9 +21,20 @@ struct ExprConverter {
   std::function<std::optional<GiNaC::ex>(const std::string& path, const SourcePos& pos, bool primed)> lookup;
 
   std::optional<GiNaC::ex> convert(const ast::Expr& e);
+
+ private:
+  /// Runs one GiNaC operation; its exceptions (log(0), tan(pi/2)) and constants folded
+  /// beyond limits::kMaxExactBits or a double's range become errors at `pos`.
+  std::optional<GiNaC::ex> apply(const SourcePos& pos, const std::string& what, const std::function<GiNaC::ex()>& op);
+  /// base^exponent, refusing exact powers too large to compute (2^(2^40)).
+  std::optional<GiNaC::ex> power(const GiNaC::ex& base, const GiNaC::ex& exponent, const SourcePos& pos);
+  /// False (reported) when e's folded numeric coefficient is too large or out of double range.
+  bool check_folded(const GiNaC::ex& e, const SourcePos& pos);
+  static double safe_double(const GiNaC::numeric& n);
 };
 
 /// Exact rational for a decimal literal ("0.15" -> 3/20, "1e-3" -> 1/1000, "-2.5").
+/// Throws std::invalid_argument / std::out_of_range on malformed text.
 GiNaC::numeric parse_decimal(const std::string& text);
 
 /// True (and the value) when `e` evaluates to a finite real number.

@@ -95,6 +95,7 @@ struct Node {
 /// (children before parents, root last).
 struct Model {
   std::string name;
+  SourcePos name_pos;  // of NAME in `model NAME`
   /// Parameters that `for` bounds or indices used (parse::File::structural): derived
   /// and generated frozen at these values.
   std::map<std::string, double> structural;

@@ -20,10 +20,16 @@ using ExprPtr = std::shared_ptr<const Expr>;
 ///   Name    text = dotted path as written ("m1", "R.u", "left.upper.theta", "t")
 ///   Call    text = function name ("sin"), args = arguments
 ///   Unary   text = "-" or "+", args = {operand}
-///   Binary  text = "+", "-", "*", "/", "^", args = {lhs, rhs}
+///   Sum     args = the operands (two or more), text = the sign before each operand after
+///           the first: a + b - c is {a, b, c} with text "+-"
+///   Product args likewise, text of '*' and '/': a * b / c is {a, b, c} with text "*/"
+///   Binary  text = "^", args = {base, exponent}
 ///   Prime   args = {operand}: time derivative written postfix, x' (only of a Name)
+/// Sums and products are flat (not a chain of binary nodes), so a long one written in a
+/// model costs no depth: only parentheses, signs and powers nest, and the parser bounds
+/// those (limits::kMaxNesting).
 struct Expr {
-  enum class Kind { Number, Name, Call, Unary, Binary, Prime };
+  enum class Kind { Number, Name, Call, Unary, Sum, Product, Binary, Prime };
   Kind kind = Kind::Number;
   std::string text;
   std::vector<ExprPtr> args;
@@ -112,6 +118,8 @@ struct File {
   /// Parameters that loop bounds or indices used, with the value used (structural:
   /// the model freezes them, since other values need another expansion).
   std::map<std::string, double> structural;
+  /// The text of the model file itself (parse_file), for the banner hash.
+  std::string main_source;
 };
 
 }  // namespace mbsc::ast

@@ -128,10 +128,11 @@ TEST_CASE("include: a missing included file is an error at the include statement
   // The syntax error of the file itself is reported first, then the includes in order.
   CHECK(mbsc::to_string(diags.all()[0].pos) == main + ":4:6");
   CHECK(mbsc::to_string(diags.all()[1].pos) == main + ":2:3");
-  CHECK(diags.all()[1].message.find("cannot open file") == 0);
-  CHECK(diags.all()[1].message.find("nope.mbs") != std::string::npos);
+  CHECK(diags.all()[1].message.find("cannot read file") == 0);
+  CHECK(diags.all()[1].message.find("nope.mbs': no such file") != std::string::npos);
   CHECK(mbsc::to_string(diags.all()[2].pos) == main + ":3:1");
-  CHECK(diags.all()[2].message.find("cannot open file") == 0);
+  CHECK(diags.all()[2].message.find("cannot read file") == 0);
+  CHECK(diags.all()[2].message.find("is a folder") != std::string::npos);
 }
 
 TEST_CASE("include: a missing top file is an error without a line", "[parse][include]") {
@@ -143,8 +144,8 @@ TEST_CASE("include: a missing top file is an error without a line", "[parse][inc
   CHECK(diags.all()[0].pos.file == missing);
   CHECK(diags.all()[0].pos.line == 0);
   CHECK(diags.all()[0].pos.col == 0);
-  CHECK(diags.all()[0].message.find("cannot open file") == 0);
-  CHECK(diags.format() == missing + ": error: cannot open file '" + missing + "'\n");
+  CHECK(diags.all()[0].message.find("cannot read file") == 0);
+  CHECK(diags.format() == missing + ": error: cannot read file '" + missing + "': no such file\n");
 }
 
 TEST_CASE("include: syntax errors in included files carry their own path", "[parse][include]") {

@@ -30,6 +30,12 @@ std::string show(const ExprPtr& e) {
     }
     case Expr::Kind::Unary: return "(" + e->text + show(e->args.at(0)) + ")";
     case Expr::Kind::Binary: return "(" + show(e->args.at(0)) + e->text + show(e->args.at(1)) + ")";
+    case Expr::Kind::Sum:
+    case Expr::Kind::Product: {  // flat in the tree, written back left-associated
+      std::string out = show(e->args.at(0));
+      for (std::size_t i = 1; i < e->args.size(); ++i) out = "(" + out + e->text.at(i - 1) + show(e->args[i]) + ")";
+      return out;
+    }
     case Expr::Kind::Prime: return show(e->args.at(0)) + "'";
   }
   return "?";
@@ -113,12 +119,14 @@ TEST_CASE("parser: numbers, names, paths and calls", "[parse]") {
 
   const File f = parse_ok("output y = 0.15 + left.upper.theta * sin(t)");
   const ExprPtr& e = f.statements[0]->value;
-  REQUIRE(e->kind == Expr::Kind::Binary);
+  REQUIRE(e->kind == Expr::Kind::Sum);
+  CHECK(e->text == "+");
   const ExprPtr& num = e->args[0];
   CHECK(num->kind == Expr::Kind::Number);
   CHECK(num->text == "0.15");
   const ExprPtr& prod = e->args[1];
-  REQUIRE(prod->kind == Expr::Kind::Binary);
+  REQUIRE(prod->kind == Expr::Kind::Product);
+  CHECK(prod->text == "*");
   CHECK(prod->args[0]->kind == Expr::Kind::Name);
   CHECK(prod->args[0]->text == "left.upper.theta");
   CHECK(prod->args[1]->kind == Expr::Kind::Call);

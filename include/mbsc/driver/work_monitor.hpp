@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Watches the symbolic work of one command: its time and memory budgets, and a
+/// progress line on stderr when it runs long. The stages report what they work on with
+/// mbsc::checkpoint (diag/activity.hpp).
+///
+/// * Time: past `seconds`, the next checkpoint throws BudgetExceeded naming the element
+///   (the command reports it, exit 1). A single GiNaC call that does not come back to a
+///   checkpoint is stopped by the watcher thread a grace period later: it prints the
+///   same message and ends the process with exit code 1.
+/// * Memory: past `memory_mib` of resident memory the watcher ends the process at once
+///   the same way (a runaway expansion can take gigabytes a second).
+/// Both happen before any output file is written (the command stops the monitor first),
+/// so nothing is ever half-written.
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "mbsc/diag/activity.hpp"
+
+namespace mbsc::driver {
+
+struct WorkBudget {
+  double seconds = 300;           // --budget
+  std::size_t memory_mib = 8192;  // --max-memory
+};
+
+enum class ProgressMode {
+  Auto,    // a progress line on stderr once the work has run a second, if stderr is a terminal
+  Never,   // --quiet
+  Always,  // --progress: also when stderr is not a terminal (one line per update)
+};
+
+class WorkMonitor : public ActivityWatcher {
+ public:
+  WorkMonitor(const WorkBudget& budget, ProgressMode mode);
+  ~WorkMonitor() override;
+  WorkMonitor(const WorkMonitor&) = delete;
+  WorkMonitor& operator=(const WorkMonitor&) = delete;
+
+  void on_checkpoint(const Activity& a) override;
+
+  /// Stops watching (joins the thread, clears the progress line); idempotent.
+  void stop();
+
+ private:
+  void watch();
+  std::string budget_message(const Activity& a, bool memory) const;
+  void draw(const Activity& a, double elapsed);
+  void clear_line();
+
+  WorkBudget budget_;
+  bool show_;       // progress wanted at all
+  bool terminal_;   // stderr is a terminal: redraw one line
+  std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  Activity current_;
+  bool stopping_ = false;
+  bool line_drawn_ = false;
+  double last_drawn_ = -1;
+  std::thread thread_;
+};
+
+/// Resident memory of this process in MiB (0 when unknown).
+std::size_t resident_mib();
+
+}  // namespace mbsc::driver

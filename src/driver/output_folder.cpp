@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/output_folder.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "mbsc/diag/diagnostics.hpp"
+
+namespace mbsc::driver {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMarkerHeader = "# This folder was written by mbsc generate.";
+
+std::string marker_text(const std::vector<OutputFile>& files) {
+  std::string text = std::string(kMarkerHeader) +
+                     "\n# mbsc replaces or removes the files listed below, and only those, when it\n"
+                     "# generates into this folder again. Anything else here is left alone.\n";
+  for (const auto& f : files) text += f.name + "\n";
+  return text;
+}
+
+/// A name the marker may list: a plain file name, nothing that leaves the folder.
+bool plain_name(const std::string& n) {
+  return !n.empty() && n != "." && n != ".." && n != kMarkerName && n.find('/') == std::string::npos &&
+         n.find('\0') == std::string::npos;
+}
+
+/// Reads the marker of an existing folder: true (and the files it lists) when the
+/// folder is mbsc's.
+bool read_marker(const fs::path& dir, std::set<std::string>& listed) {
+  std::error_code ec;
+  const fs::path marker = dir / kMarkerName;
+  const auto st = fs::symlink_status(marker, ec);
+  if (ec || !fs::is_regular_file(st) || fs::file_size(marker, ec) > 65536 || ec) return false;
+  std::ifstream in(marker, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line != kMarkerHeader) return false;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#' && plain_name(line)) listed.insert(line);
+  return true;
+}
+
+bool write_file(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary | std::ios::trunc);
+  f << text;
+  f.close();
+  return static_cast<bool>(f);
+}
+
+/// Removes the files this call wrote into its temporary folder, then the folder.
+void discard(const fs::path& tmp, const std::vector<OutputFile>& files) {
+  std::error_code ec;
+  for (const auto& f : files) fs::remove(tmp / f.name, ec);
+  fs::remove(tmp, ec);  // only succeeds when empty
+}
+
+std::string shown(const fs::path& p) { return printable(p.string()); }
+
+}  // namespace
+
+bool write_output_folder(const std::string& out_dir_text, const std::string& name, const std::vector<OutputFile>& files_in,
+                         bool force, std::string& error) {
+  const fs::path out_dir = out_dir_text.empty() ? fs::path(".") : fs::path(out_dir_text);
+  const fs::path target = out_dir / name;
+  std::vector<OutputFile> files = files_in;
+  files.push_back({kMarkerName, marker_text(files_in)});
+  for (const auto& f : files_in)
+    if (!plain_name(f.name)) {
+      error = fmt::format("mbsc: internal error: output file name '{}' is not a plain name", printable(f.name));
+      return false;
+    }
+
+  // What is there now decides what may be replaced.
+  std::error_code ec;
+  bool fresh = false;
+  std::set<std::string> previous;  // files the marker says mbsc wrote before
+  const auto st = fs::symlink_status(target, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    error = fmt::format("mbsc: error: cannot inspect '{}': {}", shown(target), ec.message());
+    return false;
+  }
+  if (!fs::exists(st)) {
+    fresh = true;
+  } else if (fs::is_symlink(st) && !force) {
+    error = fmt::format("mbsc: error: '{}' is a symbolic link; mbsc does not write through it (generate elsewhere with "
+                        "-o or --name, or pass --force)",
+                        shown(target));
+    return false;
+  } else if (!fs::is_directory(target, ec)) {
+    error = fmt::format("mbsc: error: '{}' exists and is not a folder; mbsc will not replace it (generate elsewhere "
+                        "with -o or --name)",
+                        shown(target));
+    return false;
+  } else if (!read_marker(target, previous) && !force) {
+    error = fmt::format("mbsc: error: '{}' exists and was not written by mbsc (it has no {} marker); refusing to "
+                        "touch it. Generate elsewhere with -o or --name, or pass --force to write {}.hpp and {}.cpp "
+                        "into it (nothing else there is removed)",
+                        shown(target), kMarkerName, name, name);
+    return false;
+  }
+  if (!fresh)
+    for (const auto& f : files) {
+      const auto fst = fs::symlink_status(target / f.name, ec);
+      if (fs::is_directory(fst)) {
+        error = fmt::format("mbsc: error: '{}' is a folder; mbsc will not replace it", shown(target / f.name));
+        return false;
+      }
+    }
+
+  // Write everything into a fresh temporary folder next to the target.
+  fs::create_directories(out_dir, ec);
+  if (ec || !fs::is_directory(out_dir)) {
+    error = fmt::format("mbsc: error: cannot create folder '{}': {}", shown(out_dir),
+                        ec ? ec.message() : std::string("a file of that name exists"));
+    return false;
+  }
+  std::string pattern = (out_dir / ("." + name + ".mbsc-tmp-XXXXXX")).string();
+  if (!::mkdtemp(pattern.data())) {
+    error = fmt::format("mbsc: error: cannot create a temporary folder in '{}': {}", shown(out_dir), std::strerror(errno));
+    return false;
+  }
+  const fs::path tmp(pattern);
+  for (const auto& f : files)
+    if (!write_file(tmp / f.name, f.text)) {
+      discard(tmp, files);
+      error = fmt::format("mbsc: error: cannot write into '{}' (disk full or no permission?)", shown(out_dir));
+      return false;
+    }
+
+  // Move into place: the whole folder at once when new; else file by file (each rename
+  // replaces one file atomically), the marker last.
+  if (fresh) {
+    fs::rename(tmp, target, ec);
+    if (ec) {
+      discard(tmp, files);
+      error = fmt::format("mbsc: error: cannot create '{}': {}", shown(target), ec.message());
+      return false;
+    }
+    return true;
+  }
+  for (const auto& f : files) {
+    fs::rename(tmp / f.name, target / f.name, ec);
+    if (ec) {
+      discard(tmp, files);
+      error = fmt::format("mbsc: error: cannot write '{}': {}", shown(target / f.name), ec.message());
+      return false;
+    }
+  }
+  fs::remove(tmp, ec);
+  // Files mbsc wrote last time and not now (another --name, fewer outputs): remove them,
+  // and nothing else.
+  std::set<std::string> now;
+  for (const auto& f : files) now.insert(f.name);
+  for (const auto& old : previous) {
+    if (now.count(old)) continue;
+    const auto ost = fs::symlink_status(target / old, ec);
+    if (fs::is_regular_file(ost)) fs::remove(target / old, ec);
+  }
+  return true;
+}
+
+}  // namespace mbsc::driver

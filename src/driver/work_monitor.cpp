@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/work_monitor.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace mbsc::driver {
+
+namespace {
+
+/// Seconds a GiNaC call may run past the time budget before the process is ended.
+double grace_seconds(double budget) { return std::max(2.0, 0.1 * budget); }
+
+/// Writes straight to fd 2: the watcher thread must not share std::cerr's buffer.
+void write_stderr(const std::string& text) {
+  std::size_t off = 0;
+  while (off < text.size()) {
+    const ssize_t n = ::write(2, text.data() + off, text.size() - off);
+    if (n <= 0) return;
+    off += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+std::size_t resident_mib() {
+  std::FILE* f = std::fopen("/proc/self/statm", "r");
+  if (!f) return 0;
+  unsigned long size = 0, resident = 0;
+  const int got = std::fscanf(f, "%lu %lu", &size, &resident);
+  std::fclose(f);
+  if (got != 2) return 0;
+  const long page = ::sysconf(_SC_PAGESIZE);
+  return static_cast<std::size_t>(resident) * static_cast<std::size_t>(page > 0 ? page : 4096) >> 20;
+}
+
+WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode)
+    : budget_(budget),
+      show_(mode != ProgressMode::Never && (mode == ProgressMode::Always || ::isatty(2))),
+      terminal_(::isatty(2) != 0),
+      start_(std::chrono::steady_clock::now()) {
+  current_.stage = "reading";
+  current_.element = "the model";
+  set_activity_watcher(this);
+  thread_ = std::thread([this] { watch(); });
+}
+
+WorkMonitor::~WorkMonitor() { stop(); }
+
+void WorkMonitor::stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (stopping_) return;
+    stopping_ = true;
+  }
+  set_activity_watcher(nullptr);
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  clear_line();
+}
+
+void WorkMonitor::on_checkpoint(const Activity& a) {
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    current_ = a;
+  }
+  if (elapsed > budget_.seconds) throw BudgetExceeded{a.pos, budget_message(a, false)};
+}
+
+std::string WorkMonitor::budget_message(const Activity& a, bool memory) const {
+  const std::string where = a.element.empty() ? a.stage : a.stage + " " + a.element;
+  if (memory)
+    return fmt::format("the symbolic work took more than the memory budget of {} MiB while {} (is the model much larger "
+                       "than intended? raise the budget with --max-memory MIB)",
+                       budget_.memory_mib, where);
+  return fmt::format("the symbolic work took more than the time budget of {:g} s while {} (is the model much larger "
+                     "than intended? raise the budget with --budget SECONDS)",
+                     budget_.seconds, where);
+}
+
+void WorkMonitor::watch() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, std::chrono::milliseconds(50));
+    if (stopping_) break;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const bool memory = budget_.memory_mib > 0 && resident_mib() > budget_.memory_mib;
+    if (memory || elapsed > budget_.seconds + grace_seconds(budget_.seconds)) {
+      // The main thread is inside one long call: end the process from here. No output
+      // file exists yet (the command writes only after stopping the monitor).
+      clear_line();
+      write_stderr(printable(to_string(current_.pos)) + ": error: " + printable(budget_message(current_, memory)) + "\n");
+      ::_exit(1);
+    }
+    if (show_ && elapsed >= 1.0) draw(current_, elapsed);
+  }
+}
+
+void WorkMonitor::draw(const Activity& a, double elapsed) {
+  // On a terminal: one line redrawn in place, 20 times a second at most. Otherwise
+  // (--progress into a file or pipe): a line per second.
+  if (!terminal_ && elapsed - last_drawn_ < 1.0) return;
+  last_drawn_ = elapsed;
+  std::string bar;
+  if (a.total > 0) {
+    const std::size_t width = 20, filled = std::min(width, a.done * width / a.total);
+    bar = fmt::format(" [{}{}] {}/{}", std::string(filled, '#'), std::string(width - filled, '.'), a.done, a.total);
+  }
+  std::string line = fmt::format("mbsc: {:5.1f} s {}{} {}", elapsed, a.stage, bar, a.element);
+  if (line.size() > 100) line = line.substr(0, 97) + "...";
+  write_stderr(terminal_ ? "\r\x1b[K" + line : line + "\n");
+  line_drawn_ = terminal_;
+}
+
+void WorkMonitor::clear_line() {
+  if (!line_drawn_) return;
+  write_stderr("\r\x1b[K");
+  line_drawn_ = false;
+}
+
+}  // namespace mbsc::driver
