@@ -77,47 +77,56 @@ inline constexpr double kParamDefaults[] = {1.0, 0.5, 1.0, 0.8, 9.81};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 18 adds, 47 muls, 0 divs, 4 calls, 5 solve flops, total 74.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 4 adds, 15 muls, 0 divs, 4 calls, 0 solve flops, total 23.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 8 adds, 22 muls, 0 divs, 4 calls, 0 solve flops, total 34.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// position constraint residuals (kConstraintNames, position ones)
 /// OUT: r, kNposc values (row-major). Cost: 6 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 14.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 6 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 18.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1), row-major kNc x kNu
 /// OUT: A, kNc*kNu values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
 /// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds

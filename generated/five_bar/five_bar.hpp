@@ -184,52 +184,62 @@ inline constexpr double kParamDefaults[] = {
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 106 adds, 260 muls, 0 divs, 8 calls, 42 solve flops, total 416.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 30 adds, 100 muls, 0 divs, 8 calls, 15 solve flops, total 153.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 53 adds, 160 muls, 0 divs, 8 calls, 15 solve flops, total 236.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// position constraint residuals (kConstraintNames, position ones)
 /// OUT: r, kNposc values (row-major). Cost: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 28 adds, 42 muls, 1 divs, 8 calls, 0 solve flops, total 79.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1), row-major kNc x kNu
 /// OUT: A, kNc*kNu values (row-major). Cost: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
 /// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 43 adds, 78 muls, 0 divs, 0 calls, 0 solve flops, total 121.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds

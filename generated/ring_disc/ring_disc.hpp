@@ -84,42 +84,50 @@ inline constexpr double kParamDefaults[] = {0.67, 0.08, 1.0, 0.3, 9.8, 0.9272952
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 32 adds, 89 muls, 0 divs, 4 calls, 8 solve flops, total 133.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 14 adds, 42 muls, 0 divs, 2 calls, 3 solve flops, total 61.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 18 adds, 49 muls, 0 divs, 4 calls, 3 solve flops, total 74.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 10 adds, 7 muls, 0 divs, 2 calls, 0 solve flops, total 19.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1), row-major kNc x kNu
 /// OUT: A, kNc*kNu values (row-major). Cost: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 1 adds, 1 muls, 0 divs, 1 calls, 3 solve flops, total 6.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds

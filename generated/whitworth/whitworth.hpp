@@ -125,52 +125,62 @@ inline constexpr double kParamDefaults[] = {
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 64 adds, 171 muls, 0 divs, 6 calls, 12 solve flops, total 253.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 37 adds, 95 muls, 0 divs, 6 calls, 11 solve flops, total 149.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 46 adds, 125 muls, 0 divs, 6 calls, 11 solve flops, total 188.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// position constraint residuals (kConstraintNames, position ones)
 /// OUT: r, kNposc values (row-major). Cost: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 27 adds, 46 muls, 0 divs, 6 calls, 0 solve flops, total 79.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1), row-major kNc x kNu
 /// OUT: A, kNc*kNu values (row-major). Cost: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
 /// OUT: J, kNposc*kNq values (row-major). Cost: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 10 adds, 33 muls, 0 divs, 0 calls, 0 solve flops, total 43.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 7 adds, 16 muls, 0 divs, 5 calls, 19 solve flops, total 47.
-/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds

@@ -74,6 +74,8 @@ int main(int argc, char** argv) {
   mbsc::driver::CheckArgs check;
   auto* c = app.add_subcommand("check", "validate a model; print its tree, variables, ranks and degrees of freedom");
   c->add_option("model", check.model, "model file (.mbs)")->required();
+  std::vector<std::string> check_freeze;
+  c->add_option("--freeze", check_freeze, "check with a parameter folded in, as generate --freeze would: name=value");
   WorkFlags check_work;
   check_work.add_to(c);
 
@@ -129,6 +131,7 @@ int main(int argc, char** argv) {
   }
   if (*c) {
     check.work = check_work.args();
+    if (!add_freezes(check_freeze, check.frozen)) return 1;
     return mbsc::driver::run_check(check, std::cout, std::cerr);
   }
   if (*p) {

@@ -2,6 +2,7 @@
 #include "mbsc/driver/output_folder.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -132,6 +133,10 @@ bool write_output_folder(const std::string& out_dir_text, const std::string& nam
     return false;
   }
   const fs::path tmp(pattern);
+  // mkdtemp makes the folder private (0700); the final folder gets the usual mode.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::chmod(tmp.c_str(), 0777 & ~mask);
   for (const auto& f : files)
     if (!write_file(tmp / f.name, f.text)) {
       discard(tmp, files);

@@ -164,7 +164,13 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     return steps;
   };
 
+  // The expressions of every function are finalized (formals, frozen values) and tidied here.
+  std::size_t prepared = 0;
+  auto preparing = [&](const char* name) {
+    checkpoint("preparing", fmt::format("function '{}'", name), m.name_pos, prepared++, all_function_names().size());
+  };
   if (wanted("rhs")) {
+    preparing("rhs");
     ir::FunctionSpec f{"rhs",
                        minimal ? "state derivative: xdot = (kept q0 rates, z rates)" : "state derivative: xdot = (q0 rates, q1 rates)",
                        "xdot", "kNx", with_rebuild(solve_steps(m, eom)), {}};
@@ -191,6 +197,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     specs.push_back(f);
   }
   if (wanted("mass_matrix") && nd > 0) {
+    preparing("mass_matrix");
     ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
                        "M", "kNdof*kNdof", with_rebuild(solve_steps(m, eom)), {}};
     for (int i = 0; i < nd; ++i)
@@ -198,6 +205,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     specs.push_back(f);
   }
   if (wanted("forcing") && nd > 0) {
+    preparing("forcing");
     ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof", with_rebuild(solve_steps(m, eom)), {}};
     for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
     specs.push_back(f);
@@ -207,22 +215,26 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     if (c.level == model::Constraint::Level::Position) pos.push_back(fin(c.residual));
   for (const auto& v : sym::velocity_residuals(m)) vel.push_back(fin(v));
   if (wanted("position_constraints") && !pos.empty()) {
+    preparing("position_constraints");
     ir::FunctionSpec f{"position_constraints", "position constraint residuals (kConstraintNames, position ones)", "r",
                        "kNposc", rebuild, pos};
     specs.push_back(f);
   }
   if (wanted("velocity_constraints") && !vel.empty()) {
+    preparing("velocity_constraints");
     ir::FunctionSpec f{"velocity_constraints", "velocity-level residuals of all constraints (kConstraintNames)", "r", "kNc",
                        rebuild, vel};
     specs.push_back(f);
   }
   if (wanted("constraint_jacobian") && !vel.empty() && !minimal) {
+    preparing("constraint_jacobian");
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1), row-major kNc x kNu", "A", "kNc*kNu", {}, {}};
     for (const auto& v : vel)
       for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
     specs.push_back(f);
   }
   if (wanted("position_jacobian") && !pos.empty() && !minimal) {
+    preparing("position_jacobian");
     ir::FunctionSpec f{"position_jacobian", "d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)", "J",
                        "kNposc*kNq", {}, {}};
     for (const auto& g : pos)
@@ -230,6 +242,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     specs.push_back(f);
   }
   if (wanted("energy") && eom.has_energy) {
+    preparing("energy");
     ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", rebuild, {}};
     f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
     specs.push_back(f);
@@ -238,11 +251,13 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                                          "energy is not defined", m.name));
   }
   if (wanted("outputs") && !m.outputs.empty()) {
+    preparing("outputs");
     ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", rebuild, {}};
     for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
     specs.push_back(f);
   }
   if (wanted("full_state") && minimal) {
+    preparing("full_state");
     ir::FunctionSpec f{"full_state", "the full state (all q0, all q1; kFullStateNames) rebuilt from the minimal one",
                        "x_full", "kNxFull", rebuild, {}};
     for (const auto& q : m.coords) f.outputs.push_back(q.sym);
@@ -394,7 +409,9 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     binds.push_back({gains.alpha, fmt::format("p[{}]", np), true});
     binds.push_back({gains.beta, fmt::format("p[{}]", np + 1), true});
   }
-  for (const auto& spec : specs) {
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const auto& spec = specs[i];
+    checkpoint("generating", fmt::format("function '{}'", spec.name), m.name_pos, i, specs.size());
     try {
       g.functions.push_back(ir::lower(spec, binds));
     } catch (const std::exception& e) {

@@ -208,7 +208,7 @@ std::string declarations(const GeneratedModel& m) {
     const std::string shape = f.out_shape.empty() ? std::to_string(f.nout) : f.out_shape;
     doc += "\nOUT: " + (f.out_name.empty() ? std::string("output") : f.out_name) + ", " + shape +
            " values (row-major). Cost: " + ops_text(f.ops) + ".\n" +
-           "Returns 0 on success, 1 if a linear solve is singular, 2 if an output is not finite.";
+           "Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite\n(a NaN or infinite input).";
     blocks.push_back(comment_block(doc, "///") + "\nint " + f.name + "(" + parameters(f, false) + ");");
   }
   if (m.partitions) blocks.push_back(partition_declarations());

@@ -78,7 +78,7 @@ class Printer {
   bool inline_node(NodeId id) const { return name(id).empty(); }
   static std::string wrap(const Text& t, int min_prec) { return t.prec < min_prec ? "(" + t.s + ")" : t.s; }
 
-  // double A_i = {rows}; double B_i = {rows}; solve; status 1 when singular.
+  // double A_i = {rows}; double B_i = {rows}; solve; status 1 when singular, 2 when A_i is not finite.
   void solve(const SolveBlock& s, std::vector<std::string>& lines) {
     const std::string id = std::to_string(s.number);
     const std::string label = comment_text(s.label);
@@ -113,7 +113,10 @@ class Printer {
                              : s.n == 2 && !s.spd ? "lu_solve_2x2(" + std::to_string(s.k) + ", "
                                                   : std::string(s.spd ? "chol_solve<" : "lu_solve<") + std::to_string(s.n) +
                                                         ", " + std::to_string(s.k) + ">(";
-    lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return 1;");
+    // A failed solve is status 1 (singular) unless its matrix is not finite: then the
+    // inputs were (a NaN parameter, an infinite state), and the status says so (2).
+    lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return all_finite(A_" + id + ", " +
+                    std::to_string(s.n * s.n) + ") ? 1 : 2;");
     ops_.solve_flops += s.spd ? chol_solve_flops(s.n, s.k) : lu_solve_flops(s.n, s.k);
   }
 

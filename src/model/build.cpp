@@ -6,6 +6,7 @@
 #include <functional>
 #include <set>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "planar_library.hpp"
 
@@ -59,7 +60,11 @@ class Builder {
     declare_node(file.statements, "", SourcePos{file.path, 1, 1}, nullptr, 0);
     if (diags_.has_errors()) return std::nullopt;
     // Pass B: expressions (everything is declared now).
-    for (size_t n = 0; n < m_.nodes.size(); ++n) fill_node(static_cast<int>(n));
+    for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      checkpoint("building", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))), m_.nodes[n].pos, n,
+                 m_.nodes.size());
+      fill_node(static_cast<int>(n));
+    }
     if (diags_.has_errors()) return std::nullopt;
     solve_coordinate_rates();
     if (diags_.has_errors()) return std::nullopt;

@@ -2,6 +2,7 @@
 // The recursive modular algorithm (thesis Table 4.1), leaves to root, at order 2.
 #include <fmt/format.h>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/model/expr_convert.hpp"
 
 #include <Eigen/Dense>
@@ -58,6 +59,8 @@ class Deriver {
     const std::vector<int> clone_from =
         eom_.options.reuse_components ? component_clones() : std::vector<int>(m_.nodes.size(), -1);
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      checkpoint("deriving", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))), m_.nodes[n].pos, n,
+                 m_.nodes.size());
       if (clone_from[n] >= 0) {
         clone(static_cast<int>(n), clone_from[n]);
       } else if (!process(static_cast<int>(n))) {

@@ -26,7 +26,15 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
 
 double Probe::eval(const GiNaC::ex& e) const {
   try {
-    GiNaC::ex v = GiNaC::evalf(e.subs(values_));
+    // Substitute only the symbols e holds: GiNaC's subs tries every key of the map at
+    // every node, so the whole map would make each evaluation O(size * variables).
+    GiNaC::exmap used;
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const auto v = values_.find(*it);
+      if (v != values_.end()) used.insert(*v);
+    }
+    GiNaC::ex v = GiNaC::evalf(used.empty() ? e : e.subs(used, GiNaC::subs_options::no_pattern));
     if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::numeric_limits<double>::quiet_NaN();
     const auto& n = GiNaC::ex_to<GiNaC::numeric>(v);
     if (!n.is_real()) return std::numeric_limits<double>::quiet_NaN();
@@ -51,9 +59,11 @@ bool is_state_free(const GiNaC::ex& e, const model::Model& model) {
   // Any other symbol must be a parameter or a formal.
   for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
     if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(*it).get_name();
     bool known = false;
-    for (const auto& p : model.params) known = known || it->is_equal(p.sym);
-    for (const auto& [name, f] : model.formals) known = known || it->is_equal(f.sym);
+    const auto f = model.formals.find(name);
+    known = f != model.formals.end() && it->is_equal(f->second.sym);
+    for (std::size_t i = 0; !known && i < model.params.size(); ++i) known = it->is_equal(model.params[i].sym);
     if (!known) return false;
   }
   return true;

@@ -34,9 +34,9 @@ TEST_CASE("generated/ equals what the CLI produces now", "[golden]") {
     auto r = run(std::string(MBSC_BINARY) + " generate " + quote(model.string()) + " -o " + quote(out.string()));
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
-    for (const char* ext : {".hpp", ".cpp"}) {
-      const fs::path fresh = out / name / (name + ext);
-      const fs::path golden = root / "generated" / name / (name + ext);
+    for (const std::string file : {name + ".hpp", name + ".cpp", std::string(".mbsc-generated")}) {
+      const fs::path fresh = out / name / file;
+      const fs::path golden = root / "generated" / name / file;
       REQUIRE(fs::exists(golden));
       CHECK(slurp(fresh) == slurp(golden));
     }

@@ -20,6 +20,7 @@ struct WorkArgs {
 
 struct CheckArgs {
   std::string model;
+  std::map<std::string, double> frozen;  // --freeze: check the model as it would be generated
   WorkArgs work;
 };
 int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err);
