@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages mbsc needs to build and test (root, or sudo available).
+# `install_deps.sh sanitize` adds clang with its sanitizer and libFuzzer runtimes.
 set -euo pipefail
 pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2)
+if [ "${1:-}" = sanitize ]; then pkgs+=(clang libclang-rt-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

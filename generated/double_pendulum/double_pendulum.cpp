@@ -114,7 +114,10 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[2] = {
       p[2]*(c0*r_b1_u + r_b1_v*s0),
       (r_b2_v*s1 - c1*e_b2_u*p[1])*p[3]};
-  if (chol_solve<2, 1>(A_0, B_0) != 0) return all_finite(A_0, 4) ? 1 : 2;
+  if (chol_solve<2, 1>(A_0, B_0) != 0) {
+    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11]};
+    return all_finite(A_0, 4) && all_finite(in_, 13) ? 1 : 2;
+  }
   const double b1_v = (c0*t0 + B_0[0]*s0)*p[2];
   const double b2_v = B_0[1]*p[3]*s1 + b1_v + t2;
   const double b1_u = (c0*B_0[0] - t0*s0)*p[2];

@@ -162,7 +162,10 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(2, A_0, B_0) != 0) {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15]};
+    return all_finite(A_0, 1) && all_finite(in_, 20) ? 1 : 2;
+  }
   const double t3 = p[1]*s0*B_0[0];
   const double t4 = t3 - s1*p[0];
   const double t5 = 0.25*(p[0]*p[0]*p[2]);
@@ -175,7 +178,10 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       B_0[0]*B_0[0]*p[5] + p[3] + t4*t4*p[6] + t5*s1*s1 + 0.25*p[4]*t6*t6 + 0.25*p[4]*t7*t7 + t5*c1*c1};
   double B_1[1] = {
       0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1 - B_0[1]*p[5]*B_0[0] - -((t8 + t9 + t0*p[0]*c1)*p[6] + u[1])*t4 + 0.25*t6*p[4]*(2.0*t0*p[0]*c1 + t8 + t9) - s1*t5*t0*c1 - 0.25*t7*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + u[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) ? 1 : 2;
+  if (chol_1x1(1, A_1, B_1) != 0) {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15]};
+    return all_finite(A_1, 1) && all_finite(in_, 20) ? 1 : 2;
+  }
   const double crank_u = -0.5*(s1*B_1[0] + t0*c1)*p[0];
   const double crank_v = 0.5*(B_1[0]*c1 - s1*t0)*p[0];
   const double t10 = -t0*p[0]*c1;
@@ -214,7 +220,10 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*x[10]*x[10]*p[0] + x[13]*x[13]*p[1]*s0};
-  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(2, A_0, B_0) != 0) {
+    const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
+    return all_finite(A_0, 1) && all_finite(in_, 11) ? 1 : 2;
+  }
   const double t0 = p[1]*s0*B_0[0];
   const double t1 = t0 - s1*p[0];
   const double t2 = 0.25*(p[0]*p[0]*p[2]);
@@ -238,7 +247,10 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(2, A_0, B_0) != 0) {
+    const double in_[13] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[10], x[13]};
+    return all_finite(A_0, 1) && all_finite(in_, 13) ? 1 : 2;
+  }
   const double t3 = -p[1]*B_0[1]*s0;
   const double t4 = c0*t1*p[1];
   const double t5 = p[1]*s0*B_0[0];

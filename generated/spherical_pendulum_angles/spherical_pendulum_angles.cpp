@@ -112,7 +112,10 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[2] = {
       -(s0*r_bob_u + c0*p[0]*s1*e_bob_w + c1*c0*e_bob_v*p[0])*p[1],
       -s0*(c1*e_bob_w - e_bob_v*s1)*(p[0]*p[1])};
-  if (chol_solve<2, 1>(A_0, B_0) != 0) return all_finite(A_0, 4) ? 1 : 2;
+  if (chol_solve<2, 1>(A_0, B_0) != 0) {
+    const double in_[10] = {p[0], p[1], p[2], x[3], x[4], x[5], x[6], x[7], x[8], x[9]};
+    return all_finite(A_0, 4) && all_finite(in_, 10) ? 1 : 2;
+  }
   const double bob_w = -(t0 - c0*B_0[0]*s1 - c1*s0*B_0[1] + t1)*p[1];
   const double bob_v = (t2 + c1*c0*B_0[0] - s0*B_0[1]*s1 + t3)*p[1];
   const double bob_u = -(s0*B_0[0] + c0*t4)*p[1];

@@ -186,7 +186,10 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(3, A_0, B_0) != 0) {
+    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(A_0, 1) && all_finite(in_, 8) ? 1 : 2;
+  }
   const double t0 = p[0]*B_0[1]*B_0[0];
   const double t1 = B_0[2] + p[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -196,7 +199,10 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_1[2] = {
       -t1*p[0]*B_0[0],
       -t1*p[0]*B_0[1]};
-  if (chol_solve<2, 1>(A_1, B_1) != 0) return all_finite(A_1, 4) ? 1 : 2;
+  if (chol_solve<2, 1>(A_1, B_1) != 0) {
+    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(A_1, 4) && all_finite(in_, 8) ? 1 : 2;
+  }
   const double bob_u = -B_1[0]*B_0[0] - B_0[2] - B_0[1]*B_1[1];
   const double v2 = 2.0*x[4]*B_1[0] + 2.0*x[3]*bob_u + 2.0*x[5]*B_1[1];
   OUT[0] = x[3];
@@ -216,7 +222,10 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(3, A_0, B_0) != 0) {
+    const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(A_0, 1) && all_finite(in_, 7) ? 1 : 2;
+  }
   OUT[0] = (B_0[0]*B_0[0] + 1.0)*p[0];
   const double t0 = p[0]*B_0[1]*B_0[0];
   OUT[1] = t0;
@@ -232,7 +241,10 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) ? 1 : 2;
+  if (solve_1x1(3, A_0, B_0) != 0) {
+    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(A_0, 1) && all_finite(in_, 8) ? 1 : 2;
+  }
   const double t0 = B_0[2] + p[2];
   OUT[0] = -t0*p[0]*B_0[0];
   OUT[1] = -t0*p[0]*B_0[1];

@@ -241,7 +241,10 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t30, t31, 0.0, 0.5*t27*(t19*c6 + t32) + t33 + t3 + t34 + t35 + 2.0*t6*s2,
       t23, 0.0, t36, 0.5*t27*(t28 - c6) + t4 + t25 + 2.0*c4*t12 + t29 + t37,
       t30, 0.0, t38, 0.5*t27*(t32 - t19*c6) + t33 + t3 + t39 + t35 + 2.0*s4*t12};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) ? 1 : 2;
+  if (lu_solve<4, 4>(A_0, B_0) != 0) {
+    const double in_[37] = {p[0], p[1], p[2], p[3], p[4], p[5], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
+    return all_finite(A_0, 16) && all_finite(in_, 37) ? 1 : 2;
+  }
   const double t40 = B_0[0]*s0 + t23;
   const double t41 = s1*s0 + c0*c1;
   const double t42 = t30 - B_0[0]*c0;
@@ -320,7 +323,10 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t40*t86 - B_0[15]*B_0[12]*p[1] - 2.0*s1*e_HA_proximal_u*p[4] - t89*B_0[4] - t93*B_0[8] - t42*t95 - t48*t99*p[0] + t46*t103*p[0] - c2*t104*B_0[4] - t105*B_0[8]*s4 - 2.0*t41*p[4]*B_0[3] - B_0[0]*t106 + 2.0*s1*t85*p[4] - 2.0*t94*p[4]*c1 - s2*B_0[4]*t107 + t108*B_0[8]*c4 + 2.0*p[4]*c1*e_HA_proximal_v + u[0],
       t108*B_0[9]*c4 - t105*B_0[9]*s4 - B_0[9]*t93 + c0*t95*B_0[1] + t99*t61*p[0] + 2.0*s3*t87*p[4] - B_0[1]*t106 - t104*t52 + u[1] + 2.0*p[4]*e_HB_proximal_v*c3 - t89*B_0[5] - t57*t103*p[0] + B_0[1]*t86*s0 + t54*t107 - B_0[15]*B_0[13]*p[1] - 2.0*t88*p[4]*c3 + 2.0*B_0[7]*t53*p[4] - 2.0*s3*e_HB_proximal_u*p[4],
       t108*t72 - t99*p[0]*t70 - B_0[2]*t106 - 2.0*t75*p[4]*B_0[11] - t89*B_0[6] - c2*t104*B_0[6] - s2*B_0[6]*t107 + B_0[2]*c0*t95 + t105*t76 + 2.0*c5*p[4]*e_HC_proximal_v - 2.0*t92*p[4]*s5 + B_0[2]*t86*s0 + u[2] - B_0[15]*B_0[14]*p[1] - 2.0*e_HC_proximal_u*p[4]*s5 - B_0[10]*t93 - 2.0*c5*t90*p[4] + t103*p[0]*t71};
-  if (chol_solve<3, 1>(A_1, B_1) != 0) return all_finite(A_1, 9) ? 1 : 2;
+  if (chol_solve<3, 1>(A_1, B_1) != 0) {
+    const double in_[37] = {p[0], p[1], p[2], p[3], p[4], p[5], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
+    return all_finite(A_1, 9) && all_finite(in_, 37) ? 1 : 2;
+  }
   const double HA_distal_w = -B_0[3] - B_0[2]*B_1[2] - B_0[0]*B_1[0] - B_1[1]*B_0[1];
   const double t109 = -2.0*s1*B_1[0];
   const double HA_distal_u = t100 + HA_distal_w*s0 + t109 + c0*t0;
@@ -440,7 +446,10 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
       t16, t17, 0.0, 0.5*t13*(t1*c2 + t18) + t19 + t20 - 2.0*s5*t12 + t21 + 2.0*t9*s1,
       t5, 0.0, t22, 0.5*t13*(t14 - c2) + t8 + t11 + 2.0*c3*t23 + t15 - 2.0*c6*t24,
       t16, 0.0, t25, 0.5*t13*(t18 - t1*c2) + t19 + t20 - 2.0*t24*s6 + t21 + 2.0*s3*t23};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) ? 1 : 2;
+  if (lu_solve<4, 4>(A_0, B_0) != 0) {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(A_0, 16) && all_finite(in_, 20) ? 1 : 2;
+  }
   const double t26 = B_0[0]*s0 + t5;
   const double t27 = s4*s0 + c0*c4;
   const double t28 = t16 - B_0[0]*c0;
@@ -566,7 +575,10 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
       t27, t28, 0.0, 0.5*t24*(t17*c6 + t29) + t30 + t3 - 2.0*s3*t8 + t31 + 2.0*t6*s2,
       t21, 0.0, t32, 0.5*t24*(t25 - c6) + t4 + t23 + 2.0*c4*t12 + t26 + t33,
       t27, 0.0, t34, 0.5*t24*(t29 - t17*c6) + t30 + t3 - 2.0*t14*s5 + t31 + 2.0*s4*t12};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) ? 1 : 2;
+  if (lu_solve<4, 4>(A_0, B_0) != 0) {
+    const double in_[22] = {p[0], p[1], p[2], p[3], p[4], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(A_0, 16) && all_finite(in_, 22) ? 1 : 2;
+  }
   const double t35 = t4 + B_0[3]*s0 + t5;
   const double t36 = -p[4] - p[2];
   const double t37 = t35*t36 + e_HA_proximal_u*p[4] + p[4]*B_0[3]*s0;

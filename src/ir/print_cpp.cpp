@@ -113,10 +113,21 @@ class Printer {
                              : s.n == 2 && !s.spd ? "lu_solve_2x2(" + std::to_string(s.k) + ", "
                                                   : std::string(s.spd ? "chol_solve<" : "lu_solve<") + std::to_string(s.n) +
                                                         ", " + std::to_string(s.k) + ">(";
-    // A failed solve is status 1 (singular) unless its matrix is not finite: then the
-    // inputs were (a NaN parameter, an infinite state), and the status says so (2).
-    lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return all_finite(A_" + id + ", " +
-                    std::to_string(s.n * s.n) + ") ? 1 : 2;");
+    // A failed solve is status 1 (singular) unless its matrix or an input the function
+    // reads is not finite (a NaN parameter, an infinite state, 1/inf = 0 on a pivot):
+    // then it is 2, like a non-finite result. Checked on this failure path only. (in_
+    // cannot meet a variable: generated names have no trailing '_', see identifiers.hpp.)
+    const std::string finite_matrix = "all_finite(A_" + id + ", " + std::to_string(s.n * s.n) + ")";
+    if (prog_.live_inputs.empty()) {
+      lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return " + finite_matrix + " ? 1 : 2;");
+    } else {
+      lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) {");
+      lines.push_back("    const double in_[" + std::to_string(prog_.live_inputs.size()) + "] = {" +
+                      join(prog_.live_inputs, ", ") + "};");
+      lines.push_back("    return " + finite_matrix + " && all_finite(in_, " + std::to_string(prog_.live_inputs.size()) +
+                      ") ? 1 : 2;");
+      lines.push_back("  }");
+    }
     ops_.solve_flops += s.spd ? chol_solve_flops(s.n, s.k) : lu_solve_flops(s.n, s.k);
   }
 

@@ -54,6 +54,7 @@ struct Program {
   std::vector<Statement> statements;
   int nout = 0;
   std::vector<std::string> used_args;  // subset of t, x, u, p, in that order
+  std::vector<std::string> live_inputs;  // texts of the inputs the function reads ("x[3]", "p[0]"), sorted
 };
 
 /// Marks temporaries (shared nodes, Define values, sin/cos, repeated-multiplication bases,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <climits>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <tuple>
@@ -294,10 +295,12 @@ class Scheduler {
   void collect_used_args() {
     bool used[4] = {false, false, false, false};
     static const char* const kArgs[4] = {"t", "x", "u", "p"};
+    prog_.live_inputs.clear();
     for (std::size_t i = 0; i < dag_.size(); ++i) {
       const Node& nd = dag_.node(static_cast<NodeId>(i));
       if (!live_[i] || nd.kind != NodeKind::Input) continue;
       const std::string& text = dag_.input_text(nd.ref);
+      prog_.live_inputs.push_back(text);
       for (std::size_t b = 0; b < text.size();) {
         const auto ident = [&](std::size_t j) {
           const char c = text[j];
@@ -315,6 +318,15 @@ class Scheduler {
         b = e;
       }
     }
+    // Natural order: p[2] before p[10] (the array, then the index).
+    auto key = [](const std::string& text) {
+      const auto open = text.find('[');
+      if (open == std::string::npos) return std::make_pair(text, -1L);
+      return std::make_pair(text.substr(0, open), std::strtol(text.c_str() + open + 1, nullptr, 10));
+    };
+    std::sort(prog_.live_inputs.begin(), prog_.live_inputs.end(),
+              [&](const std::string& a, const std::string& b) { return key(a) < key(b); });
+    prog_.live_inputs.erase(std::unique(prog_.live_inputs.begin(), prog_.live_inputs.end()), prog_.live_inputs.end());
     prog_.used_args.clear();
     for (int a = 0; a < 4; ++a)
       if (used[a]) prog_.used_args.emplace_back(kArgs[a]);

@@ -654,6 +654,8 @@ class Builder {
     }
     // Group definitions by the node of their speed.
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
+      checkpoint("solving the speed definitions of", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))),
+                 m_.nodes[n].pos, n, m_.nodes.size());
       std::vector<int> unknown;
       for (int q : m_.nodes[n].coords)
         if (!done[q]) unknown.push_back(q);

@@ -162,11 +162,11 @@ TEST_CASE("lower: solve emission, flops and ordering", "[ir]") {
   INFO(f.body);
   CHECK(has(f.body, "  // solve A_0 X = B_0 (3x3, 2 columns): block B*\n  double A_0[9] = {"));
   CHECK(has(f.body, "  double B_0[6] = {"));
-  CHECK(has(f.body, "  if (lu_solve<3, 2>(A_0, B_0) != 0) return all_finite(A_0, 9) ? 1 : 2;"));
+  CHECK(has(f.body, "  if (lu_solve<3, 2>(A_0, B_0) != 0) {\n    const double in_[4] = {p[0], p[1], x[0], x[1]};\n    return all_finite(A_0, 9) && all_finite(in_, 4) ? 1 : 2;\n  }"));
   CHECK(has(f.body, "B_0[5]*x[0]"));
   CHECK(f.body.find("lu_solve") < f.body.find("OUT[0]"));
   // sin/cos of a solve result right after the solve.
-  CHECK(has(f.body, "? 1 : 2;\n  const double s0 = std::sin(B_0[1]);\n  const double c0 = std::cos(B_0[1]);\n"));
+  CHECK(has(f.body, "? 1 : 2;\n  }\n  const double s0 = std::sin(B_0[1]);\n  const double c0 = std::cos(B_0[1]);\n"));
   CHECK(f.ops.solve_flops == 27);  // 27/3 + 9*2
 }
 

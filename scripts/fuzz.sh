@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Fuzzes the model front end (lexer, loops, parser, model builder; small models also
+# derived and generated) with libFuzzer for FUZZ_SECONDS (default 60) on FUZZ_JOBS
+# workers (default 1), from a corpus seeded with every model in models/ and tests/data/.
+# Expects the build of scripts/sanitize.sh (BUILD, default build-sanitize); builds it
+# when missing. A crash, leak, sanitizer report or timeout fails the run, leaving the
+# input that caused it in $BUILD/fuzz-findings/. Long campaigns: docs/robustness.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${BUILD:-build-sanitize}
+SECONDS_TO_RUN=${FUZZ_SECONDS:-60}
+JOBS=${FUZZ_JOBS:-1}
+if [ ! -x "$BUILD/tests/fuzz/model_fuzzer" ]; then
+  FUZZ_SECONDS=0 BUILD="$BUILD" bash scripts/sanitize.sh
+fi
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
+export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+[ "$SECONDS_TO_RUN" -gt 0 ] || exit 0
+root=$PWD
+cd "$BUILD"
+mkdir -p fuzz-corpus fuzz-findings
+# Seeds: every model file of the repository (the corpus is kept: it grows from run to run).
+find "$root/models" "$root/tests/data" -name '*.mbs' -size -16k -exec cp -n {} fuzz-corpus/ \;
+args=(-dict="$root/tests/fuzz/mbs.dict" -max_len=16384 -timeout=20 -rss_limit_mb=4096
+      -max_total_time="$SECONDS_TO_RUN" -artifact_prefix=fuzz-findings/ -print_final_stats=1)
+# Several workers share the corpus; each logs to fuzz-<n>.log in the build folder.
+if [ "$JOBS" -gt 1 ]; then args+=(-jobs="$JOBS" -workers="$JOBS"); fi
+./tests/fuzz/model_fuzzer "${args[@]}" fuzz-corpus

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# The sanitizer job: builds mbsc and the whole test suite with clang's AddressSanitizer
+# and UndefinedBehaviorSanitizer (plus libFuzzer's coverage instrumentation), runs the
+# suite, then fuzzes the model front end for FUZZ_SECONDS (default 60) with the same
+# build. Any sanitizer report, test failure or fuzzer finding fails the job.
+# Installs what is missing (clang, libclang-rt-14-dev). Used by .ci/run; see
+# docs/robustness.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install_deps.sh sanitize
+BUILD=${BUILD:-build-sanitize}
+# -O0: the sanitizers see the most, and clang compiles GiNaC-heavy code twice as fast
+# as at -O1. Line tables only, for readable stack traces at little cost.
+FLAGS="-O0 -gline-tables-only -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all"
+export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
+# CLN allocates a small table once and never frees it: that library's one-time
+# allocation is suppressed, nothing else (tests/lsan.supp).
+export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+CC=clang CXX=clang++ cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Sanitize -DMBSC_BUILD_TESTS=ON -DMBSC_BUILD_APPS=OFF \
+  -DMBSC_FUZZ=ON -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
+cmake --build "$BUILD" -j"$(nproc)"
+ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)"
+FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh

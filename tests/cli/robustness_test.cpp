@@ -1,0 +1,386 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Hostile and mistaken input that cannot live in tests/data/bad as a plain file (it is
+// huge, binary, made of many files, or about the command line and the output folder).
+// The contract for each: a clear error (file:line:col where there is a line), exit code
+// 1, nothing written, within seconds. Every command runs under `timeout`, so a hang
+// fails the test instead of stalling the suite.
+#include <sys/stat.h>
+
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = std::string("timeout 120 ") + MBSC_BINARY;
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+const std::string kBody = "body b : particle2d { mass 1 }\n";
+
+/// Everything below `dir`, as relative paths (to see that nothing else was written).
+std::vector<std::string> listing(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("generate never destroys a folder it did not write", "[cli][robust][output]") {
+  const fs::path dir = fresh_dir("out_safety");
+  write(dir / "src.mbs", "model src\n" + kBody);
+  // The user's own src/ with their code in it.
+  fs::create_directories(dir / "src");
+  write(dir / "src" / "main.cpp", "int main() {}\n");
+  const std::string cmd = kMbsc + " generate " + quote((dir / "src.mbs").string()) + " -o " + quote(dir.string());
+
+  auto r = run(cmd);
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("was not written by mbsc") != std::string::npos);
+  CHECK(r.output.find("--force") != std::string::npos);
+  CHECK(slurp(dir / "src" / "main.cpp") == "int main() {}\n");
+  CHECK(listing(dir) == std::vector<std::string>{"src", "src.mbs", "src/main.cpp"});
+
+  // --force writes mbsc's files into it and removes nothing.
+  r = run(cmd + " --force");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(slurp(dir / "src" / "main.cpp") == "int main() {}\n");
+  CHECK(fs::exists(dir / "src" / "src.hpp"));
+  CHECK(fs::exists(dir / "src" / "src.cpp"));
+  CHECK(fs::exists(dir / "src" / ".mbsc-generated"));
+
+  // Now the folder carries the marker: generating again replaces only mbsc's files.
+  write(dir / "src" / "src.cpp", "stale");
+  r = run(cmd);
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(slurp(dir / "src" / "src.cpp") != "stale");
+  CHECK(slurp(dir / "src" / "main.cpp") == "int main() {}\n");
+  CHECK(listing(dir) ==
+        std::vector<std::string>{"src", "src.mbs", "src/.mbsc-generated", "src/main.cpp", "src/src.cpp", "src/src.hpp"});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("generate replaces exactly the files its marker lists", "[cli][robust][output]") {
+  const fs::path dir = fresh_dir("out_marker");
+  write(dir / "m.mbs", "model m\n" + kBody);
+  const std::string cmd = kMbsc + " generate " + quote((dir / "m.mbs").string()) + " -o " + quote(dir.string());
+  REQUIRE(run(cmd).exit_code == 0);
+  const std::string marker = slurp(dir / "m" / ".mbsc-generated");
+  CHECK(marker.find("\nm.hpp\nm.cpp\n") != std::string::npos);
+  // A file an earlier version wrote (listed) goes; files the user added (not listed)
+  // and entries that would leave the folder are left alone.
+  write(dir / "m" / "old.cpp", "old");
+  write(dir / "m" / "mine.cpp", "mine");
+  write(dir / "keep.txt", "keep");
+  write(dir / "m" / ".mbsc-generated", marker + "old.cpp\n../keep.txt\n/etc/passwd\n");
+  auto r = run(cmd);
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(dir / "m" / "old.cpp"));
+  CHECK(slurp(dir / "m" / "mine.cpp") == "mine");
+  CHECK(slurp(dir / "keep.txt") == "keep");
+  CHECK(slurp(dir / "m" / ".mbsc-generated") == marker);
+  // No temporary folder is left next to it.
+  for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find("mbsc-tmp") == std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("generate refuses a target that is a file or a link", "[cli][robust][output]") {
+  const fs::path dir = fresh_dir("out_kinds");
+  write(dir / "m.mbs", "model m\n" + kBody);
+  const std::string cmd = kMbsc + " generate " + quote((dir / "m.mbs").string()) + " -o " + quote(dir.string());
+  write(dir / "m", "a file the user wrote");
+  for (const char* extra : {"", " --force"}) {
+    auto r = run(cmd + extra);
+    INFO(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("exists and is not a folder") != std::string::npos);
+    CHECK(slurp(dir / "m") == "a file the user wrote");
+  }
+  fs::remove(dir / "m");
+  fs::create_directories(dir / "elsewhere");
+  fs::create_directory_symlink(dir / "elsewhere", dir / "m");
+  auto r = run(cmd);
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("symbolic link") != std::string::npos);
+  CHECK(fs::is_empty(dir / "elsewhere"));
+  // An output folder that is a file.
+  write(dir / "file", "x");
+  r = run(kMbsc + " generate " + quote((dir / "m.mbs").string()) + " -o " + quote((dir / "file").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(slurp(dir / "file") == "x");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("long flat sums are fine; nesting and operand counts have limits", "[cli][robust]") {
+  const fs::path dir = fresh_dir("long_expr");
+  // 60 000 terms used to overflow the stack: a flat sum is linear work now.
+  std::string sum = "1";
+  for (int i = 1; i < 60000; ++i) sum += "+1";
+  write(dir / "sum.mbs", "model s\nparameter a = " + sum + "\nbody b : particle2d { mass a }\n");
+  auto r = run(kMbsc + " check " + quote((dir / "sum.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 0);
+
+  std::string many = "x";
+  for (int i = 1; i < 100002; ++i) many += "*x";
+  write(dir / "many.mbs", "model s\ncoordinate x\nspeed u = x'\noutput y = " + many + "\n");
+  r = run(kMbsc + " check " + quote((dir / "many.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("many.mbs:4:") != std::string::npos);
+  CHECK(r.output.find("more than 100000 operands in one product") != std::string::npos);
+
+  for (const std::string& deep : {std::string(100000, '(') + "1" + std::string(100000, ')'), std::string(100000, '-') + "1",
+                                  "2" + std::string(50000, '^') + "2"}) {
+    write(dir / "deep.mbs", "model s\nparameter a = " + deep + "\n" + kBody);
+    r = run(kMbsc + " check " + quote((dir / "deep.mbs").string()));
+    INFO(r.output.substr(0, 2000));
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("deep.mbs:2:") != std::string::npos);
+  }
+  // The same inside a loop bound and an index (the loop expander has its own evaluator).
+  write(dir / "loop.mbs", "model s\nfor i = 1 to " + std::string(100000, '-') + "1 { }\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "loop.mbs").string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("nests more than") != std::string::npos);
+  write(dir / "index.mbs", "model s\noutput y = x[" + std::string(100000, '(') + "1" + std::string(100000, ')') + "]\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "index.mbs").string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("index.mbs:2:") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("reading is bounded: devices, pipes, huge and unreadable files", "[cli][robust][read]") {
+  const fs::path dir = fresh_dir("reading");
+  auto r = run(kMbsc + " check /dev/zero");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("/dev/zero: error: cannot read file '/dev/zero': is not a regular file") != std::string::npos);
+
+  // A named pipe with no writer: opening it must not wait.
+  REQUIRE(::mkfifo((dir / "pipe.mbs").c_str(), 0600) == 0);
+  write(dir / "m.mbs", "model m\ninclude \"pipe.mbs\"\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:2:1: error: cannot read file") != std::string::npos);
+
+  // A file larger than the limit, included.
+  {
+    std::ofstream big(dir / "big.mbs", std::ios::binary);
+    const std::string line(1023, '#');
+    for (int i = 0; i < 17 * 1024; ++i) big << line << '\n';
+  }
+  write(dir / "m.mbs", "model m\ninclude \"big.mbs\"\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:2:1: error: cannot read file") != std::string::npos);
+  CHECK(r.output.find("is larger than the limit of 16 MiB") != std::string::npos);
+
+  // A read error is an error, never an empty file.
+  r = run(kMbsc + " check /proc/self/mem");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("cannot read file '/proc/self/mem'") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("includes are bounded in total, not only in depth", "[cli][robust][read]") {
+  const fs::path dir = fresh_dir("include_bomb");
+  // 41 files, each including the next one twice: 2^40 splices without a total budget.
+  for (int i = 0; i < 40; ++i)
+    write(dir / ("f" + std::to_string(i) + ".mbs"),
+          "include \"f" + std::to_string(i + 1) + ".mbs\"\ninclude \"f" + std::to_string(i + 1) + ".mbs\"\n");
+  write(dir / "f40.mbs", "# empty\n");
+  write(dir / "m.mbs", "model m\n" + kBody + "include \"f0.mbs\"\n");
+  auto r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("more than 10000 includes spliced in all") != std::string::npos);
+  // One message, not one per remaining include.
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') <= 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("file names and strings with control bytes never reach the terminal raw", "[cli][robust][read]") {
+  const fs::path dir = fresh_dir("control_bytes");
+  write(dir / "nul.mbs", std::string("model m\ninclude \"a\0b.mbs\"\n", 26) + kBody);
+  auto r = run(kMbsc + " check " + quote((dir / "nul.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("nul.mbs:2:9: error: control character '\\x00' in a string") != std::string::npos);
+
+  write(dir / "esc.mbs", "model m\ninclude \"\x1b]0;pwned\x07\x1b[2J.mbs\"\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "esc.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("esc.mbs:2:9: error: control character '\\x1B' in a string") != std::string::npos);
+  CHECK(r.output.find('\x1b') == std::string::npos);
+  CHECK(r.output.find('\x07') == std::string::npos);
+
+  // A file whose own name holds an escape: the message escapes it.
+  const fs::path odd = dir / "odd\x1b[31m.mbs";
+  write(odd, "model m\nbody b : particle2d { mass -1 }\n");
+  r = run(kMbsc + " check " + quote(odd.string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("odd\\x1B[31m.mbs:2:28: error: mass of body 'b' is not positive") != std::string::npos);
+  CHECK(r.output.find('\x1b') == std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a UTF-8 byte-order mark is accepted and changes nothing", "[cli][robust][read]") {
+  const fs::path dir = fresh_dir("bom");
+  const std::string model = slurp(fs::path(MBSC_SOURCE_DIR) / "models" / "double_pendulum.mbs");
+  write(dir / "double_pendulum.mbs", "\xEF\xBB\xBF" + model);
+  auto r = run(kMbsc + " generate " + quote((dir / "double_pendulum.mbs").string()) + " -o " + quote((dir / "out").string()));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // Same code as the golden, but for the banner's hash of the source text.
+  auto body = [](const std::string& text) { return text.substr(text.find('\n')); };
+  CHECK(body(slurp(dir / "out" / "double_pendulum" / "double_pendulum.cpp")) ==
+        body(slurp(fs::path(MBSC_SOURCE_DIR) / "generated" / "double_pendulum" / "double_pendulum.cpp")));
+  // Columns are not shifted by it.
+  write(dir / "bad.mbs", "\xEF\xBB\xBFmodel m\nbody b : particle2d { mass zz }\n");
+  r = run(kMbsc + " check " + quote((dir / "bad.mbs").string()));
+  CHECK(r.output.find("bad.mbs:2:28: error: unknown name 'zz'") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("--freeze takes finite numbers only, and frozen values are checked like defaults", "[cli][robust][flags]") {
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/double_pendulum.mbs");
+  const fs::path out = fresh_dir("freeze");
+  for (const char* bad : {"g=nan", "g=inf", "g=-inf", "g=1e400", "g=1e-400", "g=0x10", "g=", "g=1,5"}) {
+    auto r = run(kMbsc + " generate " + model + " -o " + quote(out.string()) + " --freeze " + bad);
+    INFO(bad << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("--freeze expects name=value with a finite number") != std::string::npos);
+    CHECK(r.output.find("internal error") == std::string::npos);
+  }
+  // The language rejects a negative mass; so does a frozen one, at the mass statement.
+  auto r = run(kMbsc + " generate " + model + " -o " + quote(out.string()) + " --freeze m1=-1");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("double_pendulum.mbs:10:29: error: mass of body 'b1' is not positive (-1), with --freeze m1=-1") !=
+        std::string::npos);
+  r = run(kMbsc + " check " + model + " --freeze m2=0");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("mass of body 'b2' is not positive (0), with --freeze m2=0") != std::string::npos);
+  CHECK(fs::is_empty(out));
+  fs::remove_all(out);
+}
+
+TEST_CASE("a frozen value that makes an expression undefined is an error at it", "[cli][robust][flags]") {
+  const fs::path dir = fresh_dir("freeze_zero");
+  write(dir / "m.mbs", "model m\nparameter l = 1\ncoordinate th\nspeed w = th'\nforce w : -1/l\n" + kBody);
+  auto r = run(kMbsc + " generate " + quote((dir / "m.mbs").string()) + " -o " + quote((dir / "out").string()) +
+               " --freeze l=0");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:5:1: error: the force on 'w' is undefined with --freeze l=0") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("--name must make a usable C++ namespace, and rescues a model name that does not", "[cli][robust][flags]") {
+  const fs::path dir = fresh_dir("names");
+  write(dir / "int.mbs", "model int\n" + kBody);
+  for (const char* bad : {"int", "std", "a__b", "_Abc", "NAN", "1x", "a-b", "../up"}) {
+    auto r = run(kMbsc + " generate " + quote((dir / "int.mbs").string()) + " -o " + quote((dir / "out").string()) +
+                 " --name '" + bad + "'");
+    INFO(bad << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("--name") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out"));
+    CHECK_FALSE(fs::exists(dir / "up"));
+  }
+  auto r = run(kMbsc + " generate " + quote((dir / "int.mbs").string()) + " -o " + quote((dir / "out").string()) +
+               " --name integer_model");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(fs::exists(dir / "out" / "integer_model" / "integer_model.hpp"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the symbolic-work budget stops a model that is too big, naming what it was doing", "[cli][robust][budget]") {
+  const fs::path out = fresh_dir("budget");
+  const std::string chain = quote(std::string(MBSC_SOURCE_DIR) + "/models/parallelogram_chain.mbs");
+  // N = 150 windows takes minutes; one second of budget ends it within the grace period.
+  auto r = run(kMbsc + " generate " + chain + " --freeze N=150 --budget 1 --quiet -o " + quote(out.string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("parallelogram_chain.mbs:") != std::string::npos);
+  CHECK(r.output.find("error: the symbolic work took more than the time budget of 1 s while ") != std::string::npos);
+  CHECK(r.output.find("--budget SECONDS") != std::string::npos);
+  CHECK(fs::is_empty(out));
+  // --progress shows the stage and the count of elements.
+  r = run(kMbsc + " check " + chain + " --freeze N=150 --budget 2.5 --progress");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("mbsc: ") != std::string::npos);
+  CHECK((r.output.find(" deriving [") != std::string::npos || r.output.find(" building [") != std::string::npos));
+  // --quiet wins over --progress; nothing on a pipe by default.
+  r = run(kMbsc + " check " + chain + " --freeze N=150 --budget 1.5 --progress --quiet");
+  CHECK(r.output.find("mbsc: ") == std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("the memory budget stops a runaway expansion at once", "[cli][robust][budget]") {
+  const fs::path dir = fresh_dir("memory");
+  // Solving this speed definition for th' normalizes w/(a + ... + th)^40, which GiNaC
+  // expands: hundreds of millions of terms, gigabytes within seconds.
+  write(dir / "m.mbs",
+        "model memory_hungry\nparameter a = 1, b = 1, c = 1, d = 1, e = 1, f = 1, g = 1, h = 1\n"
+        "subsystem s : custom {\n  coordinate th\n  speed w = (a + b + c + d + e + f + g + h + th)^40*th'\n"
+        "  force w : -w'\n}\n");
+  auto r = run(kMbsc + " generate " + quote((dir / "m.mbs").string()) + " --max-memory 200 --quiet -o " +
+               quote((dir / "out").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:3:11: error: the symbolic work took more than the memory budget of 200 MiB while solving "
+                      "the speed definitions of subsystem 's'") != std::string::npos);
+  CHECK(r.output.find("--max-memory MIB") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("big legitimate inputs stay well inside the limits", "[cli][robust][budget]") {
+  const fs::path dir = fresh_dir("big_ok");
+  std::string params = "model many_parameters\n";
+  for (int i = 0; i < 10000; ++i) params += "parameter p" + std::to_string(i) + " = " + std::to_string(i) + ".5\n";
+  write(dir / "p.mbs", params + "body b : particle2d { mass p9999 }\n");
+  auto r = run(kMbsc + " check " + quote((dir / "p.mbs").string()) + " --budget 20");
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 0);
+  std::string free = "model free_particles\nparameter m = 1, g = 9.81\ngravity (0, -g)\nfor i = 1 to 300 { body b[i] : particle2d { mass m } }\n";
+  write(dir / "f.mbs", free);
+  r = run(kMbsc + " check " + quote((dir / "f.mbs").string()) + " --budget 20");
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 0);
+  fs::remove_all(dir);
+}
