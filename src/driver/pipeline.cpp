@@ -51,14 +51,20 @@ std::optional<model::Model> load_model(const std::string& path, Diagnostics& dia
   if (!file) return std::nullopt;
   auto m = model::build(*file, diags, overrides);
   if (!m) return std::nullopt;
-  // The name becomes a C++ namespace and a file stem: `check` refuses what `generate` could not write.
-  if (const std::string why = ir::namespace_name_problem(m->name); generated_name.empty() && !why.empty()) {
-    diags.error(m->name_pos, fmt::format("model name '{}' {}; the generated code is named after it (rename the "
-                                         "model, or give another name with --name)", m->name, why));
-    return std::nullopt;
-  }
+  if (!check_model_name(*m, generated_name, diags)) return std::nullopt;
   m->source_text_hash = text_hash(file->main_source);
   return m;
+}
+
+bool check_model_name(const model::Model& m, const std::string& generated_name, Diagnostics& diags) {
+  // The name becomes a C++ namespace and a file stem: `check` refuses what `generate` could not write.
+  if (!generated_name.empty()) return true;  // --name, checked by the command line
+  const std::string why = ir::namespace_name_problem(m.name);
+  if (why.empty()) return true;
+  diags.error(m.name_pos, fmt::format("model name '{}' {}; the generated code is named after it (rename the model, or "
+                                      "give another name with --name)",
+                                      m.name, why));
+  return false;
 }
 
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e) {

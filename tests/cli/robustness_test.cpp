@@ -344,6 +344,12 @@ TEST_CASE("the symbolic-work budget stops a model that is too big, naming what i
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("mbsc: ") != std::string::npos);
   CHECK((r.output.find(" deriving [") != std::string::npos || r.output.find(" building [") != std::string::npos));
+  // On a terminal (script(1) gives the command one) the line is redrawn in place, and
+  // cleared before the error is printed.
+  r = run("script -qec \"" + kMbsc + " check " + chain + " --freeze N=150 --budget 2.5\" /dev/null");
+  INFO(r.output);
+  CHECK(r.output.find("\r\x1b[K" "mbsc: ") != std::string::npos);
+  CHECK(r.output.find("\r\x1b[K" + std::string(MBSC_SOURCE_DIR) + "/models/parallelogram_chain.mbs") != std::string::npos);
   // --quiet wins over --progress; nothing on a pipe by default.
   r = run(kMbsc + " check " + chain + " --freeze N=150 --budget 1.5 --progress --quiet");
   CHECK(r.output.find("mbsc: ") == std::string::npos);

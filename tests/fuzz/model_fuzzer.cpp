@@ -7,6 +7,8 @@
 // Build and run: scripts/fuzz.sh (docs/robustness.md).
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "fuzz_budget.hpp"
@@ -27,13 +29,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     auto file = mbsc::parse::parse_text(text, "fuzz.mbs", diags);
     if (!file) return 0;
     auto model = mbsc::model::build(*file, diags);
-    if (!model) return 0;
+    if (!model || !mbsc::driver::check_model_name(*model, "", diags)) return 0;
     // Derive and generate small models only: a mutated model can be a legitimately
     // big one, and then the time goes to GiNaC, not to finding bugs.
     if (model->coords.size() + model->speeds.size() > 24 || model->constraints.size() > 12) return 0;
     mbsc::sym::Options options;
     auto eom = mbsc::sym::derive(*model, options, diags);
     if (!eom) return 0;
+    for (int k = 1; k < model->partition_count(); ++k) {  // as `check` does: every alternative set
+      options.partition = k;
+      if (!mbsc::sym::derive(*model, options, diags)) return 0;
+    }
     mbsc::driver::GenerateOptions generate_options;
     auto generated = mbsc::driver::generate(*model, *eom, generate_options, diags);
     if (!generated) return 0;
@@ -41,6 +47,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const mbsc::BudgetExceeded&) {
     // The budget ran out at a checkpoint: the command line reports this as an error.
   }
-  (void)diags.format();
+  // The stages turn unexpected exceptions into "internal error" diagnostics (exit 2 in
+  // the command line): for the fuzzer those are findings, like crashes.
+  const std::string report = diags.format();
+  if (report.find("internal error") != std::string::npos) {
+    std::fprintf(stderr, "%s", report.c_str());
+    std::abort();
+  }
   return 0;
 }

@@ -47,6 +47,10 @@ std::optional<model::Model> load_model(const std::string& path, Diagnostics& dia
                                       const std::map<std::string, double>& overrides = {},
                                       const std::string& generated_name = "");
 
+/// False (reported at `model NAME`) when the model's name cannot name the generated
+/// C++ namespace and files, unless `generated_name` (--name) replaces it.
+bool check_model_name(const model::Model& m, const std::string& generated_name, Diagnostics& diags);
+
 /// Expression with component formals and frozen parameters substituted.
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e);
 

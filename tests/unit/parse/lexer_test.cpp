@@ -108,3 +108,26 @@ TEST_CASE("lexer: tokens are described for messages", "[parse][lexer]") {
   CHECK(describe(toks[5]) == "newline");
   CHECK(describe(toks[6]) == "end of file");
 }
+
+TEST_CASE("lexer: number literals a double cannot hold are errors at their token", "[parse][lexer]") {
+  CHECK(dump(lex("1e308 1.7976931348623157e308 2.2250738585072014e-308 0e99999999999999999999", "f")) ==
+        "num:1e308@1:1 num:1.7976931348623157e308@1:7 num:2.2250738585072014e-308@1:30 "
+        "num:0e99999999999999999999@1:54 END@1:76");
+  CHECK(dump(lex("1e309", "f")) == "bad:number '1e309' is too large for a double (at most about 1.8e308)@1:1 END@1:6");
+  CHECK(dump(lex("x 1e-400", "f")) ==
+        "id:x@1:1 bad:number '1e-400' is too small for a double (nonzero, but below about 2.2e-308)@1:3 END@1:9");
+  // Subnormal values are refused too: below the smallest normal double.
+  CHECK(dump(lex("4e-320", "f")).find("too small for a double") != std::string::npos);
+  const std::string long_literal = "0." + std::string(120, '1');
+  CHECK(dump(lex(long_literal, "f")).find("is longer than 100 characters") != std::string::npos);
+}
+
+TEST_CASE("lexer: strings refuse control characters; a byte-order mark is skipped", "[parse][lexer]") {
+  CHECK(dump(lex(std::string("include \"a\0b\"", 13), "f")) ==
+        "kw:include@1:1 bad:control character '\\x00' in a string@1:9 END@1:14");
+  CHECK(dump(lex("include \"a\x1b[2Jb\"", "f")) ==
+        "kw:include@1:1 bad:control character '\\x1B' in a string@1:9 END@1:17");
+  CHECK(dump(lex("\xEF\xBB\xBFmodel m", "f")) == "kw:model@1:1 id:m@1:7 END@1:8");
+  // Only at the very start: elsewhere it is an unexpected character.
+  CHECK(dump(lex("m \xEF\xBB\xBF", "f")).find("bad:unexpected character") != std::string::npos);
+}

@@ -242,3 +242,22 @@ output e = left.upper.x ; output energy
     CHECK(file.has_value() == !diags.has_errors());
   }
 }
+
+TEST_CASE("parser: long sums are flat; deep nesting and huge operand counts are errors", "[parse][errors]") {
+  std::string sum = "output y = 1";
+  for (int i = 0; i < 20000; ++i) sum += i % 2 ? " + a" : " - b";
+  mbsc::Diagnostics diags;
+  auto file = mbsc::parse::parse_text(sum + "\n", "t.mbs", diags);
+  REQUIRE(file.has_value());
+  const auto& e = file->statements.at(0)->value;
+  CHECK(e->kind == mbsc::ast::Expr::Kind::Sum);
+  CHECK(e->args.size() == 20001);
+  CHECK(e->text.size() == 20000);
+  CHECK(e->text.substr(0, 4) == "-+-+");
+
+  mbsc::Diagnostics deep;
+  CHECK_FALSE(mbsc::parse::parse_text("output y = " + std::string(300, '(') + "1" + std::string(300, ')') + "\n", "t.mbs",
+                                      deep)
+                  .has_value());
+  CHECK(deep.format().find("nesting too deep (more than 200 levels)") != std::string::npos);
+}
