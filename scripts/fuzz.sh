@@ -2,6 +2,7 @@
 # Fuzzes the model front end (lexer, loops, parser, model builder; small models also
 # derived and generated) with libFuzzer for FUZZ_SECONDS (default 60) on FUZZ_JOBS
 # workers (default 1), from a corpus seeded with every model in models/ and tests/data/.
+# FUZZ_SEED fixes libFuzzer's random seed (CI does, so that its short run is repeatable).
 # Expects the build of scripts/sanitize.sh (BUILD, default build-sanitize); builds it
 # when missing. A crash, leak, sanitizer report or timeout fails the run, leaving the
 # input that caused it in $BUILD/fuzz-findings/. Long campaigns: docs/robustness.md.
@@ -10,6 +11,10 @@ cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build-sanitize}
 SECONDS_TO_RUN=${FUZZ_SECONDS:-60}
 JOBS=${FUZZ_JOBS:-1}
+SEED=${FUZZ_SEED:-0}
+for v in "$SECONDS_TO_RUN" "$JOBS" "$SEED"; do
+  case "$v" in '' | *[!0-9]*) echo "fuzz.sh: FUZZ_SECONDS, FUZZ_JOBS and FUZZ_SEED must be whole numbers" >&2; exit 2 ;; esac
+done
 if [ ! -x "$BUILD/tests/fuzz/model_fuzzer" ]; then
   FUZZ_SECONDS=0 BUILD="$BUILD" bash scripts/sanitize.sh
 fi
@@ -26,4 +31,5 @@ args=(-dict="$root/tests/fuzz/mbs.dict" -max_len=16384 -timeout=20 -rss_limit_mb
       -max_total_time="$SECONDS_TO_RUN" -artifact_prefix=fuzz-findings/ -print_final_stats=1)
 # Several workers share the corpus; each logs to fuzz-<n>.log in the build folder.
 if [ "$JOBS" -gt 1 ]; then args+=(-jobs="$JOBS" -workers="$JOBS"); fi
+if [ "$SEED" -gt 0 ]; then args+=(-seed="$SEED"); fi
 ./tests/fuzz/model_fuzzer "${args[@]}" fuzz-corpus

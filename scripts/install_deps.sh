@@ -3,7 +3,7 @@
 # `install_deps.sh sanitize` adds clang with its sanitizer and libFuzzer runtimes.
 set -euo pipefail
 pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2)
-if [ "${1:-}" = sanitize ]; then pkgs+=(clang libclang-rt-14-dev); fi
+if [ "${1:-}" = sanitize ]; then pkgs+=(clang-14 libclang-rt-14-dev); fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

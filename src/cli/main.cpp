@@ -129,23 +129,35 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 1;
   }
-  if (*c) {
-    check.work = check_work.args();
-    if (!add_freezes(check_freeze, check.frozen)) return 1;
-    return mbsc::driver::run_check(check, std::cout, std::cerr);
+  auto dispatch = [&]() -> int {
+    if (*c) {
+      check.work = check_work.args();
+      if (!add_freezes(check_freeze, check.frozen)) return 1;
+      return mbsc::driver::run_check(check, std::cout, std::cerr);
+    }
+    if (*p) {
+      print.work = print_work.args();
+      print.what = split_list(what);
+      for (const auto& o : split_list(print_outputs)) print.functions.insert(o);
+      print.minimal_state = print_state == "minimal";
+      if (!add_freezes(print_freeze, print.frozen)) return 1;
+      return mbsc::driver::run_print(print, std::cout, std::cerr);
+    }
+    for (const auto& o : split_list(outputs)) gen.functions.insert(o);
+    gen.minimal_state = state == "minimal";
+    gen.multipliers = formulation == "multipliers";
+    gen.work = gen_work.args();
+    if (!add_freezes(freeze, gen.frozen)) return 1;
+    return mbsc::driver::run_generate(gen, std::cout, std::cerr);
+  };
+  // The stages report what a user did wrong as diagnostics; what escapes them is ours.
+  try {
+    return dispatch();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "mbsc: error: out of memory (lower the model's size, or raise --max-memory if the machine has more)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "mbsc: internal error: " << mbsc::printable(e.what()) << "\n";
+    return 2;
   }
-  if (*p) {
-    print.work = print_work.args();
-    print.what = split_list(what);
-    for (const auto& o : split_list(print_outputs)) print.functions.insert(o);
-    print.minimal_state = print_state == "minimal";
-    if (!add_freezes(print_freeze, print.frozen)) return 1;
-    return mbsc::driver::run_print(print, std::cout, std::cerr);
-  }
-  for (const auto& o : split_list(outputs)) gen.functions.insert(o);
-  gen.minimal_state = state == "minimal";
-  gen.multipliers = formulation == "multipliers";
-  gen.work = gen_work.args();
-  if (!add_freezes(freeze, gen.frozen)) return 1;
-  return mbsc::driver::run_generate(gen, std::cout, std::cerr);
 }

@@ -60,11 +60,34 @@ bool write_file(const fs::path& p, const std::string& text) {
   return static_cast<bool>(f);
 }
 
-/// Removes the files this call wrote into its temporary folder, then the folder.
+/// The name a replaced file is kept under, in the temporary folder, until the new
+/// files are all in place.
+std::string backup_name(const std::string& name) { return ".old." + name; }
+
+/// Removes the files a write may have put into a temporary folder (its own and the
+/// backups), then the folder itself; nothing else (it only goes when it is empty).
 void discard(const fs::path& tmp, const std::vector<OutputFile>& files) {
   std::error_code ec;
-  for (const auto& f : files) fs::remove(tmp / f.name, ec);
-  fs::remove(tmp, ec);  // only succeeds when empty
+  for (const auto& f : files) {
+    fs::remove(tmp / f.name, ec);
+    fs::remove(tmp / backup_name(f.name), ec);
+  }
+  fs::remove(tmp, ec);
+}
+
+/// Temporary folders of earlier runs for this name that were interrupted (Ctrl-C during
+/// the write): `.NAME.mbsc-tmp-XXXXXX` folders holding only files mbsc writes.
+void discard_stale(const fs::path& out_dir, const std::string& name, const std::vector<OutputFile>& files) {
+  std::error_code ec;
+  const std::string prefix = "." + name + ".mbsc-tmp-";
+  std::vector<fs::path> stale;
+  for (fs::directory_iterator it(out_dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (entry.size() == prefix.size() + 6 && entry.compare(0, prefix.size(), prefix) == 0 &&
+        fs::is_directory(it->symlink_status()))
+      stale.push_back(it->path());
+  }
+  for (const auto& dir : stale) discard(dir, files);
 }
 
 std::string shown(const fs::path& p) { return printable(p.string()); }
@@ -122,11 +145,12 @@ bool write_output_folder(const std::string& out_dir_text, const std::string& nam
 
   // Write everything into a fresh temporary folder next to the target.
   fs::create_directories(out_dir, ec);
-  if (ec || !fs::is_directory(out_dir)) {
+  if (ec || !fs::is_directory(out_dir, ec)) {
     error = fmt::format("mbsc: error: cannot create folder '{}': {}", shown(out_dir),
                         ec ? ec.message() : std::string("a file of that name exists"));
     return false;
   }
+  discard_stale(out_dir, name, files);
   std::string pattern = (out_dir / ("." + name + ".mbsc-tmp-XXXXXX")).string();
   if (!::mkdtemp(pattern.data())) {
     error = fmt::format("mbsc: error: cannot create a temporary folder in '{}': {}", shown(out_dir), std::strerror(errno));
@@ -155,15 +179,37 @@ bool write_output_folder(const std::string& out_dir_text, const std::string& nam
     }
     return true;
   }
+  // The files being replaced move into the temporary folder first, so that a failure
+  // half-way can put every one of them back (all or nothing).
+  std::vector<std::string> backed_up, moved_in;
+  auto roll_back = [&] {
+    std::error_code ignore;
+    for (const auto& f : moved_in) fs::remove(target / f, ignore);
+    for (const auto& f : backed_up) fs::rename(tmp / backup_name(f), target / f, ignore);
+    discard(tmp, files);
+  };
+  for (const auto& f : files) {
+    if (!fs::exists(fs::symlink_status(target / f.name, ec))) continue;
+    fs::rename(target / f.name, tmp / backup_name(f.name), ec);
+    if (ec) {
+      const std::string why = ec.message();
+      roll_back();
+      error = fmt::format("mbsc: error: cannot replace '{}': {}", shown(target / f.name), why);
+      return false;
+    }
+    backed_up.push_back(f.name);
+  }
   for (const auto& f : files) {
     fs::rename(tmp / f.name, target / f.name, ec);
     if (ec) {
-      discard(tmp, files);
-      error = fmt::format("mbsc: error: cannot write '{}': {}", shown(target / f.name), ec.message());
+      const std::string why = ec.message();
+      roll_back();
+      error = fmt::format("mbsc: error: cannot write '{}': {}", shown(target / f.name), why);
       return false;
     }
+    moved_in.push_back(f.name);
   }
-  fs::remove(tmp, ec);
+  discard(tmp, files);  // the backups, then the folder
   // Files mbsc wrote last time and not now (another --name, fewer outputs): remove them,
   // and nothing else.
   std::set<std::string> now;

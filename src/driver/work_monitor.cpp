@@ -2,8 +2,11 @@
 #include "mbsc/driver/work_monitor.hpp"
 
 #include <fmt/format.h>
+#include <poll.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace mbsc::driver {
@@ -13,10 +16,14 @@ namespace {
 /// Seconds a GiNaC call may run past the time budget before the process is ended.
 double grace_seconds(double budget) { return std::max(2.0, 0.1 * budget); }
 
-/// Writes straight to fd 2: the watcher thread must not share std::cerr's buffer.
-void write_stderr(const std::string& text) {
+/// Writes straight to fd 2 (the watcher thread must not share std::cerr's buffer), and
+/// only while fd 2 takes it within `wait_ms`: a terminal stopped with Ctrl-S or a pipe
+/// nobody reads must not stop the watcher, whose job is to end runaway work.
+void write_stderr(const std::string& text, int wait_ms = 0) {
   std::size_t off = 0;
   while (off < text.size()) {
+    struct pollfd p {2, POLLOUT, 0};
+    if (::poll(&p, 1, wait_ms) != 1 || !(p.revents & POLLOUT)) return;
     const ssize_t n = ::write(2, text.data() + off, text.size() - off);
     if (n <= 0) return;
     off += static_cast<std::size_t>(n);
@@ -27,13 +34,35 @@ void write_stderr(const std::string& text) {
 
 std::size_t resident_mib() {
   std::FILE* f = std::fopen("/proc/self/statm", "r");
-  if (!f) return 0;
   unsigned long size = 0, resident = 0;
-  const int got = std::fscanf(f, "%lu %lu", &size, &resident);
-  std::fclose(f);
-  if (got != 2) return 0;
-  const long page = ::sysconf(_SC_PAGESIZE);
-  return static_cast<std::size_t>(resident) * static_cast<std::size_t>(page > 0 ? page : 4096) >> 20;
+  const int got = f ? std::fscanf(f, "%lu %lu", &size, &resident) : 0;
+  if (f) std::fclose(f);
+  if (got == 2) {
+    const long page = ::sysconf(_SC_PAGESIZE);
+    return static_cast<std::size_t>(resident) * static_cast<std::size_t>(page > 0 ? page : 4096) >> 20;
+  }
+  // No /proc: the peak resident size (never below the current one) keeps the check on.
+  struct rusage usage {};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::size_t>(usage.ru_maxrss) >> 10;  // KiB on Linux
+}
+
+std::size_t default_memory_mib() {
+  std::size_t limit = 8192;
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  std::size_t available = pages > 0 && page > 0 ? (static_cast<std::size_t>(pages) * static_cast<std::size_t>(page)) >> 20 : 0;
+  // A container's limit: cgroup v2, else v1 ("max" or a huge number when unlimited).
+  for (const char* file : {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+    std::FILE* f = std::fopen(file, "r");
+    if (!f) continue;
+    unsigned long long bytes = 0;
+    const int got = std::fscanf(f, "%llu", &bytes);
+    std::fclose(f);
+    if (got == 1 && bytes > 0 && (bytes >> 20) < available) available = static_cast<std::size_t>(bytes >> 20);
+    break;
+  }
+  if (available > 0) limit = std::min(limit, std::max<std::size_t>(available / 4 * 3, 256));
+  return limit;
 }
 
 WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode)
@@ -82,20 +111,26 @@ std::string WorkMonitor::budget_message(const Activity& a, bool memory) const {
 }
 
 void WorkMonitor::watch() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  while (!stopping_) {
-    wake_.wait_for(lock, std::chrono::milliseconds(50));
-    if (stopping_) break;
+  for (;;) {
+    Activity now;
+    {
+      // The lock only guards current_ and stopping_; nothing is written while holding it,
+      // so a checkpoint never waits for stderr.
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait_for(lock, std::chrono::milliseconds(50));
+      if (stopping_) return;
+      now = current_;
+    }
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const bool memory = budget_.memory_mib > 0 && resident_mib() > budget_.memory_mib;
     if (memory || elapsed > budget_.seconds + grace_seconds(budget_.seconds)) {
       // The main thread is inside one long call: end the process from here. No output
       // file exists yet (the command writes only after stopping the monitor).
       clear_line();
-      write_stderr(printable(to_string(current_.pos)) + ": error: " + printable(budget_message(current_, memory)) + "\n");
+      write_stderr(printable(to_string(now.pos)) + ": error: " + printable(budget_message(now, memory)) + "\n", 500);
       ::_exit(1);
     }
-    if (show_ && elapsed >= 1.0) draw(current_, elapsed);
+    if (show_ && elapsed >= 1.0) draw(now, elapsed);
   }
 }
 

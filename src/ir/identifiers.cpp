@@ -43,12 +43,20 @@ bool is_cpp_keyword(const std::string& s) {
 
 // Macros of <cmath>/<math.h>/<cerrno> that a local variable name must not meet.
 bool is_std_macro_name(const std::string& s) {
-  static constexpr const char* kExact[] = {"INFINITY", "NAN",      "DOMAIN", "SING",  "OVERFLOW",
-                                           "UNDERFLOW", "TLOSS",   "PLOSS",  "errno", "math_errhandling",
-                                           "EDOM",      "ERANGE",  "EILSEQ", "assert"};
+  // <cstring>, <cstdint> and GCC's GNU-mode predefines (linux, unix) too: the generated
+  // .cpp includes those headers, and CMake compiles as gnu++17 by default.
+  static constexpr const char* kExact[] = {"INFINITY", "NAN",    "DOMAIN", "SING",  "OVERFLOW", "UNDERFLOW",
+                                           "TLOSS",    "PLOSS",  "errno",  "math_errhandling",    "EDOM",
+                                           "ERANGE",   "EILSEQ", "assert", "NULL",  "EOF",      "linux",
+                                           "unix",     "i386",   "offsetof"};
   for (const char* e : kExact)
     if (s == e) return true;
-  static constexpr const char* kPrefixes[] = {"M_", "FP_", "HUGE_VAL", "MATH_ERR", "__"};
+  static constexpr const char* kPrefixes[] = {"M_",         "FP_",        "HUGE_VAL",   "MATH_ERR",  "__",
+                                              "INT8_",      "INT16_",     "INT32_",     "INT64_",    "INTMAX_",
+                                              "INTPTR_",    "UINT8_",     "UINT16_",    "UINT32_",   "UINT64_",
+                                              "UINTMAX_",   "UINTPTR_",   "INT_LEAST",  "INT_FAST",  "UINT_LEAST",
+                                              "UINT_FAST",  "SIZE_",      "PTRDIFF_",   "WCHAR_",    "WINT_",
+                                              "SIG_ATOMIC_"};
   for (const char* p : kPrefixes)
     if (s.compare(0, std::strlen(p), p) == 0) return true;
   return false;
@@ -67,7 +75,7 @@ std::string namespace_name_problem(const std::string& name) {
   if (is_cpp_keyword(name)) return "is a C++ keyword";
   if (name.find("__") != std::string::npos) return "contains '__' (reserved in C++)";
   if (name[0] == '_') return "starts with '_' (reserved in C++)";
-  if (is_std_macro_name(name)) return "is a macro name of the C++ standard library";
+  if (is_std_macro_name(name)) return "is a macro of the C++ standard library or of the compiler";
   // The generated code says std::sin, mbsc_gen::..., and lives in mbsc_gen::NAME: a
   // namespace of either name inside mbsc_gen would capture those lookups.
   if (name == "std" || name == "mbsc_gen") return "is a namespace the generated code uses";

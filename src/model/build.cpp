@@ -5,8 +5,11 @@
 
 #include <functional>
 #include <set>
+#include <stdexcept>
 
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/diag/limits.hpp"
+#include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "planar_library.hpp"
 
@@ -103,9 +106,14 @@ class Builder {
             ExprConverter conv = converter(-1);
             auto e = conv.convert(*s->value);
             if (e) {
-              GiNaC::ex numeric_value = substitute_param_defaults(*e);
-              if (!evaluate_number(numeric_value, value))
-                diags_.error(s->value->pos, fmt::format("default value of parameter '{}' is not a number", s->name));
+              try {
+                const GiNaC::ex numeric_value = substitute_param_defaults(*e);
+                if (!evaluate_number(numeric_value, value))
+                  diags_.error(s->value->pos, fmt::format("default value of parameter '{}' is not a number", s->name));
+              } catch (const std::exception& ex) {
+                diags_.error(s->value->pos,
+                             fmt::format("default value of parameter '{}' is not a number: {}", s->name, ex.what()));
+              }
             }
           }
           table_[s->name] = Entry{Entry::Param, static_cast<int>(m_.params.size()), v.sym};
@@ -140,6 +148,7 @@ class Builder {
     }
     if (m_.name.empty()) diags_.error(SourcePos{file_of(stmts), 1, 1}, "missing 'model NAME' statement");
     if (gravity_stmt_) {
+      m_.gravity_pos = gravity_stmt_->pos;
       ExprConverter conv = converter(-1);
       for (const auto& g : gravity_stmt_->exprs) {
         auto e = conv.convert(*g);
@@ -184,6 +193,7 @@ class Builder {
 
   /// e with every parameter replaced by its value: the default, or (with_frozen) the
   /// --freeze value. Only the symbols e holds are looked up (10 000 parameters stay linear).
+  /// Throws std::runtime_error when the result would be undefined or too large to fold.
   GiNaC::ex substitute_param_defaults(const GiNaC::ex& e, bool with_frozen = false) const {
     if (GiNaC::is_a<GiNaC::numeric>(e)) return e;
     GiNaC::exmap sub;
@@ -196,7 +206,12 @@ class Builder {
       sub[p.sym] = frozen != frozen_.end() ? exact_decimal(frozen->second)
                                            : GiNaC::ex(m_.param_defaults[static_cast<std::size_t>(entry->second.index)]);
     }
-    return sub.empty() ? e : e.subs(sub);
+    if (sub.empty()) return e;
+    // Guarded: `parameter a = 3, n = 1e12` with `mass a^n` must not fold 3^(10^12).
+    std::string why;
+    auto out = guarded_subs(e, sub, why);
+    if (!out) throw std::runtime_error(why);
+    return *out;
   }
 
   // ---- pass A: declare nodes and their variables (post-order) ----
@@ -206,6 +221,17 @@ class Builder {
       diags_.error(pos, fmt::format("subsystem '{}' nests too deeply (recursive component?)", prefix));
       return -1;
     }
+    // Components that each hold two instances of the next one double the tree at every
+    // level: bound the count, not only the depth.
+    if (++declared_nodes_ > limits::kMaxNodes) {
+      if (declared_nodes_ == limits::kMaxNodes + 1)
+        diags_.error(pos, fmt::format("the model has more than {} subsystems (components instantiated many times "
+                                      "over?); stopped at '{}'",
+                                      limits::kMaxNodes, prefix));
+      return -1;
+    }
+    checkpoint("declaring", fmt::format("subsystem '{}'", prefix.empty() ? std::string("<top>") : prefix), pos,
+               declared_nodes_, 0);
     Node node;
     node.name = prefix;
     node.pos = pos;
@@ -319,6 +345,7 @@ class Builder {
       m_.coords.push_back(v);
       m_.nodes[node].coords.push_back(i);
       coord_dot_.push_back(GiNaC::symbol(full + "'"));
+      coord_dot_index_[full + "'"] = i;
       table_[full] = Entry{Entry::Coord, i, v.sym};
       return i;
     }
@@ -653,23 +680,34 @@ class Builder {
       done[q] = true;
     }
     // Group definitions by the node of their speed.
+    std::vector<std::vector<const Definition*>> defs_of(m_.nodes.size());
+    for (const auto& d : definitions_) defs_of[static_cast<std::size_t>(m_.speeds[d.speed].node)].push_back(&d);
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
       checkpoint("solving the speed definitions of", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))),
                  m_.nodes[n].pos, n, m_.nodes.size());
       std::vector<int> unknown;
       for (int q : m_.nodes[n].coords)
         if (!done[q]) unknown.push_back(q);
-      std::vector<const Definition*> defs;
-      for (const auto& d : definitions_)
-        if (m_.speeds[d.speed].node == static_cast<int>(n)) defs.push_back(&d);
+      const std::vector<const Definition*>& defs = defs_of[n];
       if (unknown.empty() && defs.empty()) continue;
-      // Rates of coordinates outside this node may appear in definitions: those are known.
-      GiNaC::exmap known;
-      for (size_t q = 0; q < m_.coords.size(); ++q)
-        if (done[q]) known[coord_dot_[q]] = m_.coord_rates[q];
+      // Rates of coordinates outside this node may appear in definitions: those are known
+      // (only the ones a definition holds are substituted: linear in the model's size).
+      auto with_known_rates = [&](const GiNaC::ex& v) {
+        GiNaC::exmap known;
+        for (GiNaC::const_preorder_iterator it = v.preorder_begin(); it != v.preorder_end(); ++it) {
+          if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+          const auto q = coord_dot_index_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
+          if (q != coord_dot_index_.end() && done[static_cast<std::size_t>(q->second)] &&
+              it->is_equal(coord_dot_[static_cast<std::size_t>(q->second)]))
+            known[*it] = m_.coord_rates[static_cast<std::size_t>(q->second)];
+        }
+        return known.empty() ? v : v.subs(known, GiNaC::subs_options::no_pattern);
+      };
+      std::vector<GiNaC::ex> values;
+      for (const auto* d : defs) values.push_back(with_known_rates(d->value));
       GiNaC::lst eqs, vars;
       for (int q : unknown) vars.append(coord_dot_[q]);
-      for (const auto* d : defs) eqs.append(GiNaC::ex(m_.speeds[d->speed].sym) == d->value.subs(known));
+      for (std::size_t k = 0; k < defs.size(); ++k) eqs.append(GiNaC::ex(m_.speeds[defs[k]->speed].sym) == values[k]);
       if (defs.size() != unknown.size()) {
         if (defs.size() < unknown.size()) {
           for (size_t i = 0; i < unknown.size(); ++i) {
@@ -691,18 +729,38 @@ class Builder {
       }
       // Each definition must be linear in the unknown rates.
       bool linear = true;
-      for (const auto* d : defs)
+      for (std::size_t k = 0; k < defs.size(); ++k)
         for (int q : unknown)
-          if (!d->value.subs(known).diff(coord_dot_[q], 2).is_zero()) {
-            diags_.error(d->pos, fmt::format("definition of speed '{}' is not linear in the coordinate rates", m_.speeds[d->speed].name));
+          if (!values[k].diff(coord_dot_[q], 2).is_zero()) {
+            diags_.error(defs[k]->pos, fmt::format("definition of speed '{}' is not linear in the coordinate rates",
+                                                   m_.speeds[defs[k]->speed].name));
             linear = false;
           }
       if (!linear) continue;
       GiNaC::ex sol;
-      try {
-        sol = GiNaC::lsolve(eqs, vars);
-      } catch (const std::exception&) {
-        sol = GiNaC::lst{};
+      if (unknown.size() == 1) {
+        // One rate: s = c q' + r gives q' = (s - r) / c directly (lsolve would normalize,
+        // expanding a coefficient such as (a + b + ... + th)^40 term by term).
+        const GiNaC::ex qd = coord_dot_[unknown[0]];
+        const GiNaC::ex c = values[0].diff(GiNaC::ex_to<GiNaC::symbol>(qd));
+        if (!c.is_zero())
+          sol = GiNaC::lst{qd == (GiNaC::ex(m_.speeds[defs[0]->speed].sym) - values[0].subs(qd == 0)) / c};
+        else
+          sol = GiNaC::lst{};
+      } else {
+        bool small = true;
+        for (const auto& v : values) small = small && expanded_terms(v) <= limits::kMaxExpandedTerms;
+        if (!small) {
+          diags_.error(defs.front()->pos, fmt::format("the speed definitions of subsystem '{}' are too large to solve for "
+                                                      "the coordinate rates symbolically",
+                                                      m_.label(static_cast<int>(n))));
+          continue;
+        }
+        try {
+          sol = GiNaC::lsolve(eqs, vars);
+        } catch (const std::exception&) {
+          sol = GiNaC::lst{};
+        }
       }
       if (sol.nops() != unknown.size()) {
         diags_.error(defs.front()->pos, fmt::format("the speed definitions of subsystem '{}' cannot be solved for the coordinate rates",
@@ -710,7 +768,7 @@ class Builder {
         continue;
       }
       for (size_t i = 0; i < unknown.size(); ++i) {
-        m_.coord_rates[unknown[i]] = sol.op(i).rhs().normal();
+        m_.coord_rates[unknown[i]] = normal_if_small(sol.op(i).rhs());
         done[unknown[i]] = true;
       }
     }
@@ -720,11 +778,20 @@ class Builder {
   void substitute_coordinate_rates() {
     GiNaC::exmap rates;
     for (size_t q = 0; q < m_.coords.size(); ++q) rates[coord_dot_[q]] = m_.coord_rates[q];
-    for (auto& c : m_.constraints) {
-      c.residual = c.residual.subs(rates);
-      check_constraint(c);
-    }
-    for (auto& f : m_.forces) f.value = f.value.subs(rates);
+    // Guarded: a rate with a number in it, put into a power, is folded by GiNaC.
+    auto put_rates = [&](GiNaC::ex& e, const SourcePos& pos, const std::string& what) {
+      std::string why;
+      auto out = guarded_subs(e, rates, why);
+      if (!out) {
+        diags_.error(pos, fmt::format("{} cannot be written with the coordinate rates: {}", what, why));
+        return false;
+      }
+      e = *out;
+      return true;
+    };
+    for (auto& c : m_.constraints)
+      if (put_rates(c.residual, c.pos, fmt::format("constraint '{}'", c.name))) check_constraint(c);
+    for (auto& f : m_.forces) put_rates(f.value, f.pos, fmt::format("the force on '{}'", m_.speeds[f.speed].name));
   }
 
   void check_constraint(const Constraint& c) {
@@ -758,17 +825,28 @@ class Builder {
   /// --freeze values (which the message names, since the file alone looks right).
   void check_masses() {
     GiNaC::exmap formals;
-    for (auto& [name, f] : m_.formals) formals[f.sym] = substitute_param_defaults(f.value, true);
+    for (auto& [name, f] : m_.formals) {
+      try {
+        formals[f.sym] = substitute_param_defaults(f.value, true);
+      } catch (const std::exception&) {
+        // Left symbolic: the masses that use it are not checked here (derive reports it).
+      }
+    }
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
       const Node& node = m_.nodes[n];
       auto check = [&](const GiNaC::ex& e, const SourcePos& pos, const char* what) {
         GiNaC::ex with_formals = e, v;
         try {
-          if (!formals.empty()) with_formals = e.subs(formals).subs(formals);
+          for (int pass = 0; pass < 2 && !formals.empty(); ++pass) {
+            std::string why;
+            const auto next = guarded_subs(with_formals, formals, why);
+            if (!next) throw std::runtime_error(why);
+            with_formals = *next;
+          }
           v = substitute_param_defaults(with_formals, true);
-        } catch (const std::exception&) {
-          diags_.error(pos, fmt::format("{} of body '{}' is undefined at these parameter values{}", what, node.name,
-                                        frozen_note(with_formals)));
+        } catch (const std::exception& ex) {
+          diags_.error(pos, fmt::format("{} of body '{}' is undefined at these parameter values{} ({})", what, node.name,
+                                        frozen_note(with_formals), ex.what()));
           return;
         }
         double d;
@@ -819,6 +897,8 @@ class Builder {
   SourcePos parametrization_pos_;
   std::vector<Pending> pending_;
   std::vector<GiNaC::symbol> coord_dot_;
+  std::map<std::string, int> coord_dot_index_;  // "x'" -> its coordinate
+  std::size_t declared_nodes_ = 0;                // subsystems declared so far (limits::kMaxNodes)
   std::map<int, GiNaC::ex> builtin_rates_;
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "mbsc/diag/limits.hpp"
+#include "mbsc/model/exact_guard.hpp"
 
 namespace mbsc::model {
 
@@ -93,18 +94,6 @@ GiNaC::ex apply_function(const std::string& f, const std::vector<GiNaC::ex>& a) 
 }  // namespace
 
 namespace {
-
-/// Bits of the larger of the numerator and the denominator of an exact rational (0 for
-/// a float), over the real and imaginary parts.
-std::size_t exact_bits(const GiNaC::numeric& n) {
-  std::size_t bits = 0;
-  for (const GiNaC::numeric& part : {n.real(), n.imag()}) {
-    if (!part.is_rational()) continue;
-    bits = std::max<std::size_t>(bits, static_cast<std::size_t>(part.numer().int_length()));
-    bits = std::max<std::size_t>(bits, static_cast<std::size_t>(part.denom().int_length()));
-  }
-  return bits;
-}
 
 /// Why an exact real constant is out of what a double holds, or nullptr.
 const char* out_of_double_range(const GiNaC::numeric& n) {
@@ -200,16 +189,18 @@ std::optional<GiNaC::ex> ExprConverter::power(const GiNaC::ex& base, const GiNaC
       diags.error(pos, fmt::format("0^{} is undefined", x.is_real() ? fmt::format("{}", safe_double(x)) : "z"));
       return std::nullopt;
     }
-    const bool unit = b.is_equal(GiNaC::numeric(1)) || b.is_equal(GiNaC::numeric(-1)) || b.is_zero();
-    if (!unit && x.is_real()) {
-      const double bits = static_cast<double>(std::max<std::size_t>(exact_bits(b), 1)) * std::fabs(safe_double(x));
-      if (!(bits <= static_cast<double>(limits::kMaxExactBits))) {
-        diags.error(pos, fmt::format("this power of exact numbers would need about {:.3g} bits (at most {}); write it "
-                                     "with exp and log, e.g. exp(x*log(b)), to have it evaluated in floating point",
-                                     bits, limits::kMaxExactBits));
-        return std::nullopt;
-      }
-    }
+  }
+  if (!is_constant(base) && GiNaC::is_a<GiNaC::numeric>(exponent) &&
+      !(std::fabs(safe_double(GiNaC::ex_to<GiNaC::numeric>(exponent))) <= limits::kMaxExponent)) {
+    diags.error(pos, fmt::format("the exponent of this power is larger than {:g} in magnitude", limits::kMaxExponent));
+    return std::nullopt;
+  }
+  // (3*x)^n is 3^n x^n for GiNaC, and (a^r)^n is a^(r n): any numbers in the base count.
+  if (const std::string why = power_problem(base, exponent); !why.empty()) {
+    diags.error(pos, fmt::format("this power cannot be folded exactly: {}; write it with exp and log, e.g. "
+                                 "exp(x*log(b)), to have it evaluated in floating point",
+                                 why));
+    return std::nullopt;
   }
   return apply(pos, "^", [&] { return GiNaC::pow(base, exponent); });
 }
@@ -311,6 +302,10 @@ std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
         terms.push_back(i > 0 && e.text.at(i - 1) == '-' ? -*v : *v);
       }
       if (!ok) return std::nullopt;
+      if (const std::string why = sum_problem(terms); !why.empty()) {
+        diags.error(e.pos, "this sum cannot be folded exactly: " + why);
+        return std::nullopt;
+      }
       return apply(e.pos, "sum", [&] { return GiNaC::ex(GiNaC::add(terms)); });
     }
     case K::Product: {
@@ -335,6 +330,10 @@ std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
         }
       }
       if (!ok) return std::nullopt;
+      if (const std::string why = product_problem(factors); !why.empty()) {
+        diags.error(e.pos, "this product cannot be folded exactly: " + why);
+        return std::nullopt;
+      }
       return apply(e.pos, "product", [&] { return GiNaC::ex(GiNaC::mul(factors)); });
     }
     case K::Binary: {

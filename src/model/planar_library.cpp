@@ -1,5 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "planar_library.hpp"
+#include "mbsc/model/exact_guard.hpp"
+#include "mbsc/model/expr_convert.hpp"
+
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -60,14 +64,33 @@ void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex&
     return;
   }
   // A direction of length zero defines no line (checked with the parameters' defaults).
-  GiNaC::exmap defaults;
-  for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
-  const GiNaC::ex len2 = GiNaC::evalf((dx * dx + dy * dy).subs(defaults));
-  if (GiNaC::is_a<GiNaC::numeric>(len2) && GiNaC::ex_to<GiNaC::numeric>(len2).to_double() == 0.0) {
+  if (at_defaults(dx * dx + dy * dy) == 0.0) {
     diags_.error(pos, fmt::format("axis '{}' has a zero direction vector", full));
     return;
   }
   axes_[full] = Axis{node, px, py, dx, dy};
+}
+
+double PlanarLibrary::at_defaults(const GiNaC::ex& e) const {
+  try {
+    if (param_index_.size() != m_.params.size()) {
+      param_index_.clear();
+      for (std::size_t i = 0; i < m_.params.size(); ++i) param_index_[m_.params[i].name] = i;
+    }
+    GiNaC::exmap used;  // only the parameters e holds: linear in the model's size
+    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const auto p = param_index_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
+      if (p != param_index_.end() && it->is_equal(m_.params[p->second].sym))
+        used[m_.params[p->second].sym] = m_.param_defaults[p->second];
+    }
+    double value = std::numeric_limits<double>::quiet_NaN();
+    return evaluate_number(GiNaC::evalf(e.subs(used, GiNaC::subs_options::no_pattern)), value)
+               ? value
+               : std::numeric_limits<double>::quiet_NaN();
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 }
 
 // ---- poses ----
@@ -144,7 +167,7 @@ std::pair<GiNaC::ex, GiNaC::ex> PlanarLibrary::world(int node, const GiNaC::ex& 
     const auto n = nodes_of(node);
     if (n.size() < 2) return {px, py};  // a point of the body failed (reported)
     for (const auto& k : n)
-      if ((k.bx - px).expand().is_zero() && (k.by - py).expand().is_zero()) return {k.x, k.y};
+      if (expand_if_small(k.bx - px).is_zero() && expand_if_small(k.by - py).is_zero()) return {k.x, k.y};
     const auto d = rotate(node, px - n[0].bx, py - n[0].by);
     return {n[0].x + d.first, n[0].y + d.second};
   }
@@ -292,10 +315,7 @@ void PlanarLibrary::finish_nodal(int node) {
   const auto n = nodes_of(node);
   if (n.size() < 2) return;  // fewer than two nodes: reported where the body is declared
   const GiNaC::ex ddx = n[1].bx - n[0].bx, ddy = n[1].by - n[0].by, l2 = ddx * ddx + ddy * ddy;
-  GiNaC::exmap defaults;
-  for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
-  const GiNaC::ex l2_value = GiNaC::evalf(l2.subs(defaults));
-  if (GiNaC::is_a<GiNaC::numeric>(l2_value) && GiNaC::ex_to<GiNaC::numeric>(l2_value).to_double() == 0.0) {
+  if (at_defaults(l2) == 0.0) {
     diags_.error(b.pos, fmt::format("rigid2d_nodal body '{}': its first two points coincide (they set its frame)", b.name));
     return;
   }
@@ -451,12 +471,9 @@ void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::s
     return;
   }
   {
-    GiNaC::exmap defaults;
-    for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
-    const GiNaC::ex gap = GiNaC::evalf((*e.value2 - *e.value).subs(defaults));
-    if (GiNaC::is_a<GiNaC::numeric>(gap) && !(GiNaC::ex_to<GiNaC::numeric>(gap).to_double() > 0.0)) {
-      diags_.error(e.option2_pos, fmt::format("{}: the ring's radius must exceed the disc's (ring - radius = {})", what,
-                                              GiNaC::ex_to<GiNaC::numeric>(gap).to_double()));
+    const double gap = at_defaults(*e.value2 - *e.value);
+    if (!(gap > 0.0)) {
+      diags_.error(e.option2_pos, fmt::format("{}: the ring's radius must exceed the disc's (ring - radius = {})", what, gap));
       return;
     }
   }

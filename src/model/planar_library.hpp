@@ -57,6 +57,10 @@ class PlanarLibrary {
   void finish_nodal(int node);
 
  private:
+  /// e at the parameters' defaults, in floating point (no exact folding); NaN when it
+  /// does not evaluate to a finite real number. For checks of geometry only.
+  double at_defaults(const GiNaC::ex& e) const;
+  mutable std::map<std::string, std::size_t> param_index_;  // parameter name -> index, for at_defaults
   struct Frame;  // a body's pose: origin of its mass centre, angle, speeds
   struct Point {
     int node;

@@ -4,6 +4,7 @@
 #include <system_error>
 #include <utility>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/parse/source_file.hpp"
@@ -37,6 +38,7 @@ class IncludeResolver {
     ast::File file;
     if (!parse_source(text, path, diags_, file, overrides_)) ok_ = false;
     structural_.insert(file.structural.begin(), file.structural.end());
+    total_tokens_ += file.token_count;
     stack_.push_back(identity(path));
     for (const auto& st : file.statements) {
       if (st->kind != ast::Statement::Kind::Include) {
@@ -61,6 +63,13 @@ class IncludeResolver {
         budget_exhausted_ = true;
         continue;
       }
+      if (total_tokens_ > limits::kMaxTotalTokens) {
+        report(st->pos, "the model and its includes expand to more than " +
+                            std::to_string(limits::kMaxTotalTokens >> 20) + " Mi tokens in all");
+        budget_exhausted_ = true;
+        continue;
+      }
+      checkpoint("reading", "file '" + st->name + "'", st->pos, splices_, 0);
       std::string included, why;
       if (!read_source_file(target, included, why, limits::kMaxFileBytes)) {
         report(st->pos, "cannot read file '" + target + "': " + why);
@@ -102,6 +111,7 @@ class IncludeResolver {
   std::vector<fs::path> stack_;  // files being expanded, outermost first
   std::size_t splices_ = 0;      // include statements expanded so far
   std::size_t total_bytes_ = 0;  // text read so far
+  std::size_t total_tokens_ = 0;  // tokens after loop expansion so far
   bool budget_exhausted_ = false;
   bool ok_ = true;
 };

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -29,6 +30,7 @@ class Expander {
       : t_(t), diags_(d), overrides_(overrides), structural_(structural) {}
 
   std::vector<Token> run() {
+    match_brackets();
     collect_parameters();
     std::vector<Token> out;
     if (!expand(0, t_.size() - 1, {}, out)) return t_;  // errors reported; the parse stops
@@ -85,14 +87,42 @@ class Expander {
     emit(out, {TokenKind::RParen, ")", pos});
   }
 
-  /// The index of the token closing the bracket or brace opened at `open`, or npos.
-  std::size_t closing(std::size_t open, std::size_t end, TokenKind o, TokenKind c) const {
-    int depth = 0;
-    for (std::size_t i = open; i < end; ++i) {
-      if (t_[i].kind == o) ++depth;
-      if (t_[i].kind == c && --depth == 0) return i;
+  /// Adds `steps` tokens of scanning to the work done; false (reported once) past the limit.
+  bool spend(std::size_t steps, const Token& at) {
+    work_ += steps;
+    if (work_ <= 4 * limits::kMaxExpandedTokens) return true;
+    if (!too_long_)
+      diags_.error(at.pos, fmt::format("the loops of this file take more than {} steps to expand",
+                                       4 * limits::kMaxExpandedTokens));
+    too_long_ = true;
+    return false;
+  }
+
+  /// Pairs every '[' with its ']' and every '{' with its '}' once (each kind on its own,
+  /// as a scan from the opening token would), so that a loop nested in loops is not
+  /// rescanned on every repetition of the outer ones.
+  void match_brackets() {
+    match_.assign(t_.size(), std::string::npos);
+    std::vector<std::size_t> brackets, braces;
+    for (std::size_t i = 0; i < t_.size(); ++i) {
+      const TokenKind k = t_[i].kind;
+      if (k == TokenKind::LBracket) brackets.push_back(i);
+      if (k == TokenKind::LBrace) braces.push_back(i);
+      if (k == TokenKind::RBracket && !brackets.empty()) {
+        match_[brackets.back()] = i;
+        brackets.pop_back();
+      }
+      if (k == TokenKind::RBrace && !braces.empty()) {
+        match_[braces.back()] = i;
+        braces.pop_back();
+      }
     }
-    return std::string::npos;
+  }
+
+  /// The index of the token closing the bracket or brace opened at `open` before `end`, or npos.
+  std::size_t closing(std::size_t open, std::size_t end) const {
+    const std::size_t c = match_[open];
+    return c < end ? c : std::string::npos;
   }
 
   bool expand(std::size_t b, std::size_t e, const Env& env, std::vector<Token>& out) {
@@ -106,11 +136,12 @@ class Expander {
         continue;
       }
       if (tok.kind == TokenKind::Ident && i + 1 < e && t_[i + 1].kind == TokenKind::LBracket) {
-        const std::size_t close = closing(i + 1, e, TokenKind::LBracket, TokenKind::RBracket);
+        const std::size_t close = closing(i + 1, e);
         if (close == std::string::npos) {
           diags_.error(t_[i + 1].pos, fmt::format("'[' after '{}' is not closed with ']'", tok.text));
           return false;
         }
+        if (!spend(close - i, tok)) return false;
         auto v = evaluate(i + 2, close, env, fmt::format("index of '{}'", tok.text), t_[i + 1].pos);
         if (!v) return false;
         emit(out, {TokenKind::Ident, fmt::format("{}_{}", tok.text, *v), tok.pos});
@@ -162,11 +193,14 @@ class Expander {
       diags_.error(kw.pos, fmt::format("loop over '{}': expected '{{' after the last value", var));
       return std::string::npos;
     }
-    const std::size_t close = closing(open, e, TokenKind::LBrace, TokenKind::RBrace);
+    const std::size_t close = closing(open, e);
     if (close == std::string::npos) {
       diags_.error(t_[open].pos, fmt::format("loop over '{}': '{{' is not closed with '}}'", var));
       return std::string::npos;
     }
+    // The head (FIRST to LAST) is scanned and evaluated on every repetition of the loops
+    // around it: count that work too, or a long head in a long loop would take forever.
+    if (!spend(open - i, kw)) return std::string::npos;
     auto first = evaluate(i + 3, to, env, fmt::format("first value of '{}'", var), t_[i + 2].pos);
     auto last = first ? evaluate(to + 1, open, env, fmt::format("last value of '{}'", var), t_[to].pos) : std::nullopt;
     if (!first || !last) return std::string::npos;
@@ -175,7 +209,8 @@ class Expander {
                                        kMaxIterations));
       return std::string::npos;
     }
-    if (*last >= *first && (expanded_ += *last - *first + 1) > kMaxExpanded) {
+    // A loop that runs no time still counts once: skipping it is work too.
+    if ((expanded_ += std::max(1L, *last - *first + 1)) > kMaxExpanded) {
       diags_.error(kw.pos, fmt::format("loop over '{}': the loops expand to more than {} repetitions in all", var,
                                        kMaxExpanded));
       return std::string::npos;
@@ -315,7 +350,9 @@ class Expander {
   const std::map<std::string, double>& overrides_;
   std::map<std::string, double>& structural_;
   std::map<std::string, double> params_;
+  std::vector<std::size_t> match_;  // index of the matching ']' or '}' of each '[' and '{'
   long expanded_ = 0;  // repetitions made so far, over all loops
+  std::size_t work_ = 0;  // tokens of loop heads and indices scanned so far
   int loop_depth_ = 0;   // `for` loops open around the tokens being expanded
   bool too_long_ = false;  // the output reached limits::kMaxExpandedTokens (reported)
   // State of the expression being evaluated.

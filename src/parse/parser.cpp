@@ -716,7 +716,10 @@ class Parser {
   // postfix := primary ("'")*            (a prime only right after a name or a prime)
   ExprPtr parse_postfix() {
     ExprPtr e = parse_primary();
+    int primes = 0;  // each prime is a level of the tree: bounded like any nesting
     while (at(TK::Prime)) {
+      if (++primes + depth_ > max_nesting)
+        fail(peek().pos, "nesting too deep (more than " + std::to_string(max_nesting) + " levels)");
       if (last_.kind != TK::Ident && last_.kind != TK::Prime)
         fail(peek().pos, "a prime (time derivative) can only follow a name, found it after " + after_last());
       take();
@@ -783,6 +786,7 @@ bool parse_source(const std::string& text, const std::string& file, Diagnostics&
                   const std::map<std::string, double>& overrides) {
   const int errors_before = diags.error_count();
   auto tokens = expand_loops(lex(text, file), diags, overrides, out.structural);
+  out.token_count = tokens.size();
   if (diags.error_count() != errors_before) return false;
   Parser parser(std::move(tokens), diags);
   out.path = file;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Partition of B's columns into independent (#) and dependent (⋆) speeds.
 #include "mbsc/sym/complement.hpp"
+#include "mbsc/model/exact_guard.hpp"
 
 #include <fmt/format.h>
 
@@ -80,7 +81,7 @@ void classify(const ComplementInput& in, const Eigen::MatrixXd& Bn, const std::v
     GiNaC::matrix Bs(nd, nd);
     for (int i = 0; i < nd; ++i)
       for (int k = 0; k < nd; ++k) Bs(i, k) = B(i, dep_cols[k]);
-    GiNaC::ex det = Bs.determinant().normal();
+    GiNaC::ex det = model::normal_if_small(Bs.determinant());
     if (!det.is_zero() && is_state_free(det, *in.model)) p.symbolic = true;
   }
 }

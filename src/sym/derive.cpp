@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
 
 #include <Eigen/Dense>
@@ -524,7 +525,7 @@ class Deriver {
     GiNaC::matrix inv = Bs.inverse();
     for (int k = 0; k < nd; ++k) {
       GiNaC::ex acc = 0;
-      for (int i = 0; i < nd; ++i) acc += inv(k, i).normal() * rhs(i, 0);
+      for (int i = 0; i < nd; ++i) acc += model::normal_if_small(inv(k, i)) * rhs(i, 0);
       sol[p.dependent[k]] = acc;
     }
     return sol;
@@ -677,16 +678,16 @@ bool frozen_values_defined(const model::Model& m, const std::map<std::string, do
   for (const auto& [name, f] : m.formals) formals[f.sym] = f.value;
   bool ok = true;
   auto check = [&](const GiNaC::ex& e, const SourcePos& pos, const std::string& what) {
-    try {
-      GiNaC::ex v = e;
-      for (int pass = 0; pass < 4 && !formals.empty(); ++pass) v = v.subs(formals);
-      (void)v.subs(values);
-    } catch (const std::exception& ex) {
-      std::string names;
-      for (const auto& [name, value] : frozen) names += fmt::format(" {}={}", name, value);
-      diags.error(pos, fmt::format("{} is undefined with --freeze{} ({})", what, names, ex.what()));
-      ok = false;
-    }
+    // Guarded (model/exact_guard.hpp): a frozen exponent must not make GiNaC fold 3^(10^12).
+    std::string why;
+    std::optional<GiNaC::ex> v = e;
+    for (int pass = 0; pass < 4 && !formals.empty() && v; ++pass) v = model::guarded_subs(*v, formals, why);
+    if (v) v = model::guarded_subs(*v, values, why);
+    if (v) return;
+    std::string names;
+    for (const auto& [name, value] : frozen) names += fmt::format(" {}={}", name, value);
+    diags.error(pos, fmt::format("{} is undefined with --freeze{} ({})", what, names, why));
+    ok = false;
   };
   for (const auto& c : m.constraints) check(c.residual, c.pos, fmt::format("constraint '{}'", c.name));
   for (const auto& f : m.forces) check(f.value, f.pos, fmt::format("the force on '{}'", m.speeds[f.speed].name));
@@ -700,7 +701,7 @@ bool frozen_values_defined(const model::Model& m, const std::map<std::string, do
   }
   for (std::size_t q = 0; q < m.coord_rates.size(); ++q)
     check(m.coord_rates[q], m.coords[q].pos, fmt::format("the rate of coordinate '{}'", m.coords[q].name));
-  for (const auto& g : m.gravity) check(g, m.nodes.empty() ? SourcePos{} : m.nodes.back().pos, "gravity");
+  for (const auto& g : m.gravity) check(g, m.gravity_pos, "gravity");
   return ok;
 }
 
@@ -711,7 +712,8 @@ std::optional<Eom> derive(const model::Model& model, const Options& options, Dia
     bool found = false;
     for (const auto& p : model.params) found = found || p.name == name;
     if (!found) {
-      diags.error(SourcePos{}, fmt::format("--freeze: model '{}' has no parameter '{}'", model.name, name));
+      diags.error(SourcePos{model.nodes.empty() ? std::string() : model.nodes.back().pos.file, 0, 0},
+                  fmt::format("--freeze: model '{}' has no parameter '{}'", model.name, name));
       return std::nullopt;
     }
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Symbolic elimination on state-free pivots (see pivot_elimination.hpp).
 #include "mbsc/sym/pivot_elimination.hpp"
+#include "mbsc/model/exact_guard.hpp"
 
 #include <cmath>
 
@@ -40,7 +41,7 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
       if (k == best_i || row_done[k] || row.c[best_j].is_zero()) continue;
       const GiNaC::ex f = row.c[best_j] / p;
       for (std::size_t l = 0; l < n_vars; ++l)
-        if (!var_done[l] && l != best_j && !pivot_row.c[l].is_zero()) row.c[l] = (row.c[l] - f * pivot_row.c[l]).expand();
+        if (!var_done[l] && l != best_j && !pivot_row.c[l].is_zero()) row.c[l] = model::expand_if_small(row.c[l] - f * pivot_row.c[l]);
       row.c[best_j] = 0;
       row.rest = row.rest - f * pivot_row.rest;
     }

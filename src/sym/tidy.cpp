@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/tidy.hpp"
+#include "mbsc/model/exact_guard.hpp"
 
 #include <algorithm>
 #include <string>
@@ -42,7 +43,8 @@ GiNaC::ex pythagoras(const GiNaC::ex& e) {
   for (const auto& [name, sq] : squares) {
     const GiNaC::ex u = sq.op(0).op(0);
     if (!best.has(GiNaC::pow(GiNaC::sin(u), 2))) continue;
-    const GiNaC::ex candidate = GiNaC::collect_common_factors(best.subs(sq == 1 - GiNaC::pow(GiNaC::sin(u), 2)).expand());
+    const GiNaC::ex candidate =
+        GiNaC::collect_common_factors(model::expand_if_small(best.subs(sq == 1 - GiNaC::pow(GiNaC::sin(u), 2))));
     const int size = size_of(candidate);
     if (size < best_size) {
       best = candidate;

@@ -103,6 +103,15 @@ TEST_CASE("generate replaces exactly the files its marker lists", "[cli][robust]
   CHECK(slurp(dir / "m" / ".mbsc-generated") == marker);
   // No temporary folder is left next to it.
   for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename().string().find("mbsc-tmp") == std::string::npos);
+  // One left by an interrupted run is cleared, unless it holds something mbsc never writes.
+  fs::create_directories(dir / ".m.mbsc-tmp-a1B2c3");
+  write(dir / ".m.mbsc-tmp-a1B2c3" / "m.cpp", "half");
+  fs::create_directories(dir / ".m.mbsc-tmp-zzzzzz");
+  write(dir / ".m.mbsc-tmp-zzzzzz" / "notes.txt", "mine");
+  r = run(cmd);
+  CHECK(r.exit_code == 0);
+  CHECK_FALSE(fs::exists(dir / ".m.mbsc-tmp-a1B2c3"));
+  CHECK(slurp(dir / ".m.mbsc-tmp-zzzzzz" / "notes.txt") == "mine");
   fs::remove_all(dir);
 }
 
@@ -224,6 +233,21 @@ TEST_CASE("includes are bounded in total, not only in depth", "[cli][robust][rea
   CHECK(r.output.find("more than 10000 includes spliced in all") != std::string::npos);
   // One message, not one per remaining include.
   CHECK(std::count(r.output.begin(), r.output.end(), '\n') <= 3);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("component instances are bounded in number, not only in depth", "[cli][robust]") {
+  const fs::path dir = fresh_dir("component_bomb");
+  // Each component holds two instances of the one before: 2^40 subsystems.
+  std::string text = "model comps\ncomponent C0() { body p : particle2d { mass 1 } }\n";
+  for (int i = 1; i <= 40; ++i)
+    text += "component C" + std::to_string(i) + "() { subsystem a : C" + std::to_string(i - 1) + "()\n subsystem b : C" +
+            std::to_string(i - 1) + "() }\n";
+  write(dir / "m.mbs", text + "subsystem top : C40()\n");
+  auto r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:2:23: error: the model has more than 100000 subsystems") != std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -356,22 +380,56 @@ TEST_CASE("the symbolic-work budget stops a model that is too big, naming what i
   fs::remove_all(out);
 }
 
-TEST_CASE("the memory budget stops a runaway expansion at once", "[cli][robust][budget]") {
+TEST_CASE("the memory budget stops the work at once", "[cli][robust][budget]") {
   const fs::path dir = fresh_dir("memory");
-  // Solving this speed definition for th' normalizes w/(a + ... + th)^40, which GiNaC
-  // expands: hundreds of millions of terms, gigabytes within seconds.
-  write(dir / "m.mbs",
-        "model memory_hungry\nparameter a = 1, b = 1, c = 1, d = 1, e = 1, f = 1, g = 1, h = 1\n"
-        "subsystem s : custom {\n  coordinate th\n  speed w = (a + b + c + d + e + f + g + h + th)^40*th'\n"
-        "  force w : -w'\n}\n");
-  auto r = run(kMbsc + " generate " + quote((dir / "m.mbs").string()) + " --max-memory 200 --quiet -o " +
+  // 1000 free particles: a legitimate model whose derivation needs over 100 MiB today.
+  write(dir / "m.mbs", "model free_particles\nparameter m = 1, g = 9.81\ngravity (0, -g)\n"
+                       "for i = 1 to 1000 { body b[i] : particle2d { mass m } }\n");
+  auto r = run(kMbsc + " generate " + quote((dir / "m.mbs").string()) + " --max-memory 100 --quiet -o " +
                quote((dir / "out").string()));
   INFO(r.output);
   CHECK(r.exit_code == 1);
-  CHECK(r.output.find("m.mbs:3:11: error: the symbolic work took more than the memory budget of 200 MiB while solving "
-                      "the speed definitions of subsystem 's'") != std::string::npos);
+  CHECK(r.output.find("m.mbs:") != std::string::npos);
+  CHECK(r.output.find("error: the symbolic work took more than the memory budget of 100 MiB while ") != std::string::npos);
   CHECK(r.output.find("--max-memory MIB") != std::string::npos);
   CHECK_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("large exact constants are refused before GiNaC computes them", "[cli][robust]") {
+  const fs::path dir = fresh_dir("exact");
+  // A product of 100 000 factors of 1e300 would fold to a 1e8-bit constant.
+  std::string product = "1e300";
+  for (int i = 1; i < 100000; ++i) product += "*1e300";
+  write(dir / "p.mbs", "model m\nparameter a = " + product + "\n" + kBody);
+  auto r = run(kMbsc + " check " + quote((dir / "p.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("p.mbs:2:15: error: this product cannot be folded exactly") != std::string::npos);
+  // Many different denominators in one sum: their product is the common denominator.
+  std::string sum = "1/2";
+  for (int i = 3; i < 40000; i += 2) sum += "+1/" + std::to_string(i);
+  write(dir / "s.mbs", "model m\nparameter a = " + sum + "\n" + kBody);
+  r = run(kMbsc + " check " + quote((dir / "s.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("s.mbs:2:15: error: this sum cannot be folded exactly") != std::string::npos);
+  // A frozen exponent reaches the same guard.
+  write(dir / "f.mbs", "model m\nparameter a = 3, n = 2\ncoordinate x\nspeed u = x'\nforce u : -a^n*x\n" + kBody);
+  r = run(kMbsc + " generate " + quote((dir / "f.mbs").string()) + " --freeze a=3 --freeze n=1e12 -o " +
+          quote((dir / "out").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("f.mbs:5:1: error: the force on 'u' is undefined with --freeze a=3 n=1000000000000 (its exact "
+                      "value would need about") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  // A coefficient with a huge expansion is solved without expanding it.
+  write(dir / "e.mbs", "model wide_speed\nparameter a = 1, b = 1, c = 1, d = 1, e = 1, f = 1, g = 1, h = 1\n"
+                       "subsystem s : custom {\n  coordinate th\n  speed w = (a + b + c + d + e + f + g + h + th)^40*th'\n"
+                       "  force w : -w'\n}\n");
+  r = run(kMbsc + " generate " + quote((dir / "e.mbs").string()) + " --budget 30 -o " + quote((dir / "out").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
   fs::remove_all(dir);
 }
 
@@ -388,5 +446,24 @@ TEST_CASE("big legitimate inputs stay well inside the limits", "[cli][robust][bu
   r = run(kMbsc + " check " + quote((dir / "f.mbs").string()) + " --budget 20");
   INFO(r.output.substr(0, 2000));
   CHECK(r.exit_code == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("every name the namespace check lets through compiles, even where it meets the code's own", "[cli][robust][flags]") {
+  const fs::path dir = fresh_dir("name_clash");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/four_bar.mbs");
+  // Names of the generated code's helpers, arguments, standard functions and types.
+  for (const std::string name : {"sin", "rhs", "lu_solve", "all_finite", "OUT", "size_t", "memcpy", "in_"}) {
+    INFO(name);
+    auto r = run(kMbsc + " generate " + model + " --name " + name + " -q -o " + quote(dir.string()));
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    write(dir / "main.cpp", "#include \"" + name + "/" + name + ".hpp\"\nint main() {\n  double x[64] = {0}, p[64] = {0}, o[64];\n"
+                            "  return mbsc_gen::" + name + "::rhs(0, x, nullptr, p, o) >= 0 ? 0 : 1;\n}\n");
+    r = run("g++ -std=gnu++17 -Wall -Wextra -Werror -I" + quote(dir.string()) + " " + quote((dir / "main.cpp").string()) + " " +
+            quote((dir / name / (name + ".cpp")).string()) + " -o " + quote((dir / "main").string()));
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+  }
   fs::remove_all(dir);
 }

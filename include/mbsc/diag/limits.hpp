@@ -26,10 +26,20 @@ constexpr int kMaxNesting = 200;
 constexpr int kMaxLoopNesting = 32;
 /// Tokens of one file after its `for` loops are expanded.
 constexpr std::size_t kMaxExpandedTokens = std::size_t{4} << 20;
+/// Tokens of the model and all its includes after expansion (includes counted each time).
+constexpr std::size_t kMaxTotalTokens = std::size_t{16} << 20;
+/// Subsystems (nodes and leaves, component instances included) of one model.
+constexpr std::size_t kMaxNodes = 100000;
 /// Operands of one sum or product written in a model (a + b + ... or a * b * ...).
 constexpr std::size_t kMaxOperands = 100000;
 /// Bits of the numerator or denominator of an exact constant while folding constants
 /// (2^65536 is about 10^19728; a double reaches 10^308).
 constexpr std::size_t kMaxExactBits = 65536;
+/// Magnitude of a numeric exponent of a non-constant base (x^1000). Substitutions may
+/// later put numbers into the base, (w/3)^n = 3^-n w^n, which GiNaC folds exactly.
+constexpr double kMaxExponent = 1000;
+/// Terms an expansion may write out where the compiler expands to simplify (more: the
+/// expression is kept as it is).
+constexpr double kMaxExpandedTerms = 20000;
 
 }  // namespace mbsc::limits

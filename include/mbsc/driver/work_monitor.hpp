@@ -23,9 +23,14 @@
 
 namespace mbsc::driver {
 
+/// The default memory budget: 8192 MiB, or three quarters of the memory this process may
+/// use if that is less (the machine's, or its container's cgroup limit), so that the
+/// budget, not the kernel's out-of-memory killer, stops a runaway.
+std::size_t default_memory_mib();
+
 struct WorkBudget {
-  double seconds = 300;           // --budget
-  std::size_t memory_mib = 8192;  // --max-memory
+  double seconds = 300;                         // --budget
+  std::size_t memory_mib = default_memory_mib();  // --max-memory
 };
 
 enum class ProgressMode {

@@ -115,6 +115,7 @@ struct Model {
   std::vector<Variable> inputs;
   GiNaC::symbol time{"t"};
   std::vector<GiNaC::ex> gravity;  // 2 or 3 components, empty when none
+  SourcePos gravity_pos;           // of the `gravity` statement
   std::map<std::string, Formal> formals;  // by symbol name
   int root() const { return static_cast<int>(nodes.size()) - 1; }
   /// A node's name for messages: its dotted path, or "<top>" for the root.

@@ -120,6 +120,8 @@ struct File {
   std::map<std::string, double> structural;
   /// The text of the model file itself (parse_file), for the banner hash.
   std::string main_source;
+  /// Tokens after loop expansion, over every file read (the include budget counts them).
+  std::size_t token_count = 0;
 };
 
 }  // namespace mbsc::ast

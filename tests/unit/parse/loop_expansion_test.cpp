@@ -111,3 +111,21 @@ TEST_CASE("loop mistakes are reported at their token", "[parse][loop]") {
   CHECK_THAT(error_of("for i = 1 to 9000 {\n for j = 1 to 9000 {\n }\n}\n"),
              Catch::Contains("more than 100000 repetitions in all"));
 }
+
+TEST_CASE("the work of expanding loops is bounded, whatever the loops' shape", "[parse][loop]") {
+  // Loops that run no time still count toward the repetitions.
+  CHECK_THAT(error_of("for a = 1 to 10000 { for b = 1 to 9 { for c = 1 to 0 { } } }\n"),
+             Catch::Contains("expand to more than 100000 repetitions"));
+  // A long loop head repeated by an outer loop: the scanning is counted.
+  std::string head = "1";
+  for (int i = 0; i < 20000; ++i) head += "+0";
+  CHECK_THAT(error_of("for a = 1 to 9000 { for b = " + head + " to 1 { } }\n"),
+             Catch::Contains("take more than 16777216 steps to expand"));
+  // Long indices likewise.
+  CHECK_THAT(error_of("for a = 1 to 9000 { output y[a] = x[" + head + "] }\n"),
+             Catch::Contains("take more than 16777216 steps to expand"));
+  // The output itself is bounded (4 Mi tokens).
+  std::string body;
+  for (int i = 0; i < 1000; ++i) body += "a ";
+  CHECK_THAT(error_of("for a = 1 to 9000 { " + body + "}\n"), Catch::Contains("to more than 4194304 tokens"));
+}

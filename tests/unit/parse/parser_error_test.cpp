@@ -261,3 +261,9 @@ TEST_CASE("parser: long sums are flat; deep nesting and huge operand counts are 
                   .has_value());
   CHECK(deep.format().find("nesting too deep (more than 200 levels)") != std::string::npos);
 }
+
+TEST_CASE("parser: a chain of primes is bounded like any nesting", "[parse][errors]") {
+  mbsc::Diagnostics diags;
+  CHECK_FALSE(mbsc::parse::parse_text("output o = t" + std::string(100000, '\'') + "\n", "t.mbs", diags).has_value());
+  CHECK(diags.format().find("nesting too deep") != std::string::npos);
+}
