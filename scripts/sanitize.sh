@@ -13,7 +13,7 @@ BUILD=${BUILD:-build-sanitize}
 # -O0: the sanitizers see the most, and clang compiles GiNaC-heavy code twice as fast
 # as at -O1. Line tables only, for readable stack traces at little cost.
 FLAGS="-O0 -gline-tables-only -fno-omit-frame-pointer -fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all"
-export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1
+export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:quarantine_size_mb=64
 # CLN allocates a small table once and never frees it: that library's one-time
 # allocation is suppressed, nothing else (tests/lsan.supp).
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
