@@ -223,6 +223,37 @@ std::optional<GiNaC::ex> ExprConverter::apply(const SourcePos& pos, const std::s
   return result;
 }
 
+std::optional<GiNaC::ex> ExprConverter::chain(const ast::Expr& e) {
+  // One GiNaC sum or product built from all the operands at once (n log n, not n^2),
+  // after an estimate of the exact constant it folds to.
+  const bool product = e.kind == ast::Expr::Kind::Product;
+  GiNaC::exvector operands;
+  operands.reserve(e.args.size());
+  bool ok = true;
+  for (std::size_t i = 0; i < e.args.size(); ++i) {
+    auto v = convert(*e.args[i]);
+    if (!v) {
+      ok = false;
+      continue;
+    }
+    const char op = i > 0 ? e.text.at(i - 1) : '+';
+    if (op == '/' && v->is_zero()) {
+      diags.error(e.args[i]->pos, "division by zero");
+      ok = false;
+      continue;
+    }
+    operands.push_back(op == '-' ? -*v : op == '/' ? GiNaC::pow(*v, -1) : *v);
+  }
+  if (!ok) return std::nullopt;
+  const char* what = product ? "product" : "sum";
+  if (const std::string why = product ? product_problem(operands) : sum_problem(operands); !why.empty()) {
+    diags.error(e.pos, fmt::format("this {} cannot be folded exactly: {}", what, why));
+    return std::nullopt;
+  }
+  return apply(e.pos, what,
+               [&] { return product ? GiNaC::ex(GiNaC::mul(operands)) : GiNaC::ex(GiNaC::add(operands)); });
+}
+
 std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
   using K = ast::Expr::Kind;
   switch (e.kind) {
@@ -288,54 +319,9 @@ std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
       if (!v) return std::nullopt;
       return e.text == "-" ? -*v : *v;
     }
-    case K::Sum: {
-      // One GiNaC sum built from all the terms at once (n log n, not n^2).
-      GiNaC::exvector terms;
-      terms.reserve(e.args.size());
-      bool ok = true;
-      for (std::size_t i = 0; i < e.args.size(); ++i) {
-        auto v = convert(*e.args[i]);
-        if (!v) {
-          ok = false;
-          continue;
-        }
-        terms.push_back(i > 0 && e.text.at(i - 1) == '-' ? -*v : *v);
-      }
-      if (!ok) return std::nullopt;
-      if (const std::string why = sum_problem(terms); !why.empty()) {
-        diags.error(e.pos, "this sum cannot be folded exactly: " + why);
-        return std::nullopt;
-      }
-      return apply(e.pos, "sum", [&] { return GiNaC::ex(GiNaC::add(terms)); });
-    }
-    case K::Product: {
-      GiNaC::exvector factors;
-      factors.reserve(e.args.size());
-      bool ok = true;
-      for (std::size_t i = 0; i < e.args.size(); ++i) {
-        auto v = convert(*e.args[i]);
-        if (!v) {
-          ok = false;
-          continue;
-        }
-        if (i > 0 && e.text.at(i - 1) == '/') {
-          if (v->is_zero()) {
-            diags.error(e.args[i]->pos, "division by zero");
-            ok = false;
-            continue;
-          }
-          factors.push_back(GiNaC::pow(*v, -1));
-        } else {
-          factors.push_back(*v);
-        }
-      }
-      if (!ok) return std::nullopt;
-      if (const std::string why = product_problem(factors); !why.empty()) {
-        diags.error(e.pos, "this product cannot be folded exactly: " + why);
-        return std::nullopt;
-      }
-      return apply(e.pos, "product", [&] { return GiNaC::ex(GiNaC::mul(factors)); });
-    }
+    case K::Sum:
+    case K::Product:
+      return chain(e);
     case K::Binary: {
       auto l = convert(*e.args.at(0));
       auto r = convert(*e.args.at(1));

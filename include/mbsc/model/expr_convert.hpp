@@ -23,6 +23,8 @@ struct ExprConverter {
   std::optional<GiNaC::ex> convert(const ast::Expr& e);
 
  private:
+  /// A flat Sum or Product node.
+  std::optional<GiNaC::ex> chain(const ast::Expr& e);
   /// Runs one GiNaC operation; its exceptions (log(0), tan(pi/2)) and constants folded
   /// beyond limits::kMaxExactBits or a double's range become errors at `pos`.
   std::optional<GiNaC::ex> apply(const SourcePos& pos, const std::string& what, const std::function<GiNaC::ex()>& op);
