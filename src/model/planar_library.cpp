@@ -3,6 +3,7 @@
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -471,8 +472,9 @@ void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::s
     return;
   }
   {
+    // Only a gap that evaluates (at the defaults) is checked, as before at_defaults.
     const double gap = at_defaults(*e.value2 - *e.value);
-    if (!(gap > 0.0)) {
+    if (!std::isnan(gap) && !(gap > 0.0)) {
       diags_.error(e.option2_pos, fmt::format("{}: the ring's radius must exceed the disc's (ring - radius = {})", what, gap));
       return;
     }
