@@ -119,6 +119,9 @@ class Builder {
           table_[s->name] = Entry{Entry::Param, static_cast<int>(m_.params.size()), v.sym};
           m_.params.push_back(v);
           m_.param_defaults.push_back(value);
+          param_values_[v.sym] = value;
+          const auto frozen = frozen_.find(s->name);
+          param_values_frozen_[v.sym] = frozen != frozen_.end() ? GiNaC::ex(exact_decimal(frozen->second)) : GiNaC::ex(value);
           break;
         }
         case Kind::Input: {
@@ -192,24 +195,14 @@ class Builder {
   }
 
   /// e with every parameter replaced by its value: the default, or (with_frozen) the
-  /// --freeze value. Only the symbols e holds are looked up (10 000 parameters stay linear).
-  /// Throws std::runtime_error when the result would be undefined or too large to fold.
+  /// --freeze value. Guarded (exact_guard.hpp), and only the symbols e holds are looked
+  /// up: `parameter a = 3, n = 1e12` with `mass a^n` must not fold 3^(10^12), and 10 000
+  /// parameters stay linear. Throws std::runtime_error when the result would be undefined
+  /// or too large to fold.
   GiNaC::ex substitute_param_defaults(const GiNaC::ex& e, bool with_frozen = false) const {
     if (GiNaC::is_a<GiNaC::numeric>(e)) return e;
-    GiNaC::exmap sub;
-    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-      const auto entry = table_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
-      if (entry == table_.end() || entry->second.kind != Entry::Param || !GiNaC::ex(entry->second.sym).is_equal(*it)) continue;
-      const auto& p = m_.params[static_cast<std::size_t>(entry->second.index)];
-      const auto frozen = with_frozen ? frozen_.find(p.name) : frozen_.end();
-      sub[p.sym] = frozen != frozen_.end() ? exact_decimal(frozen->second)
-                                           : GiNaC::ex(m_.param_defaults[static_cast<std::size_t>(entry->second.index)]);
-    }
-    if (sub.empty()) return e;
-    // Guarded: `parameter a = 3, n = 1e12` with `mass a^n` must not fold 3^(10^12).
     std::string why;
-    auto out = guarded_subs(e, sub, why);
+    auto out = guarded_subs(e, with_frozen ? param_values_frozen_ : param_values_, why);
     if (!out) throw std::runtime_error(why);
     return *out;
   }
@@ -345,7 +338,6 @@ class Builder {
       m_.coords.push_back(v);
       m_.nodes[node].coords.push_back(i);
       coord_dot_.push_back(GiNaC::symbol(full + "'"));
-      coord_dot_index_[full + "'"] = i;
       table_[full] = Entry{Entry::Coord, i, v.sym};
       return i;
     }
@@ -675,9 +667,11 @@ class Builder {
   void solve_coordinate_rates() {
     m_.coord_rates.assign(m_.coords.size(), GiNaC::ex(0));
     std::vector<bool> done(m_.coords.size(), false);
+    GiNaC::exmap known_rates;  // q0' -> its rate, for the coordinates solved so far
     for (auto& [q, rate] : builtin_rates_) {
       m_.coord_rates[q] = rate;
       done[q] = true;
+      known_rates[coord_dot_[q]] = rate;
     }
     // Group definitions by the node of their speed.
     std::vector<std::vector<const Definition*>> defs_of(m_.nodes.size());
@@ -690,21 +684,9 @@ class Builder {
         if (!done[q]) unknown.push_back(q);
       const std::vector<const Definition*>& defs = defs_of[n];
       if (unknown.empty() && defs.empty()) continue;
-      // Rates of coordinates outside this node may appear in definitions: those are known
-      // (only the ones a definition holds are substituted: linear in the model's size).
-      auto with_known_rates = [&](const GiNaC::ex& v) {
-        GiNaC::exmap known;
-        for (GiNaC::const_preorder_iterator it = v.preorder_begin(); it != v.preorder_end(); ++it) {
-          if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-          const auto q = coord_dot_index_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
-          if (q != coord_dot_index_.end() && done[static_cast<std::size_t>(q->second)] &&
-              it->is_equal(coord_dot_[static_cast<std::size_t>(q->second)]))
-            known[*it] = m_.coord_rates[static_cast<std::size_t>(q->second)];
-        }
-        return known.empty() ? v : v.subs(known, GiNaC::subs_options::no_pattern);
-      };
+      // Rates of coordinates outside this node may appear in definitions: those are known.
       std::vector<GiNaC::ex> values;
-      for (const auto* d : defs) values.push_back(with_known_rates(d->value));
+      for (const auto* d : defs) values.push_back(subs_present(d->value, known_rates));
       GiNaC::lst eqs, vars;
       for (int q : unknown) vars.append(coord_dot_[q]);
       for (std::size_t k = 0; k < defs.size(); ++k) eqs.append(GiNaC::ex(m_.speeds[defs[k]->speed].sym) == values[k]);
@@ -770,6 +752,7 @@ class Builder {
       for (size_t i = 0; i < unknown.size(); ++i) {
         m_.coord_rates[unknown[i]] = normal_if_small(sol.op(i).rhs());
         done[unknown[i]] = true;
+        known_rates[coord_dot_[unknown[i]]] = m_.coord_rates[unknown[i]];
       }
     }
   }
@@ -888,6 +871,8 @@ class Builder {
 
   Diagnostics& diags_;
   const std::map<std::string, double>& frozen_;  // --freeze values (parameter name -> value)
+  GiNaC::exmap param_values_;         // each parameter's default
+  GiNaC::exmap param_values_frozen_;  // its --freeze value, else its default
   Model m_;
   PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
   std::map<std::string, Entry> table_;
@@ -897,7 +882,6 @@ class Builder {
   SourcePos parametrization_pos_;
   std::vector<Pending> pending_;
   std::vector<GiNaC::symbol> coord_dot_;
-  std::map<std::string, int> coord_dot_index_;  // "x'" -> its coordinate
   std::size_t declared_nodes_ = 0;                // subsystems declared so far (limits::kMaxNodes)
   std::map<int, GiNaC::ex> builtin_rates_;
   std::vector<Definition> definitions_;

@@ -16,19 +16,7 @@ namespace {
 constexpr double kLimit = static_cast<double>(limits::kMaxExactBits);
 
 /// |x| of a real number as a double, saturating (the exponents here may be huge).
-double magnitude(const GiNaC::numeric& x) {
-  if (!x.is_real()) return 0.0;
-  if (x.is_rational()) {
-    const long log2 = static_cast<long>(x.numer().int_length()) - static_cast<long>(x.denom().int_length());
-    if (log2 > 1000) return HUGE_VAL;
-    if (log2 < -1000) return 0.0;
-  }
-  try {
-    return std::fabs(x.to_double());
-  } catch (const std::exception&) {
-    return HUGE_VAL;
-  }
-}
+double magnitude(const GiNaC::numeric& x) { return x.is_real() ? std::fabs(approx_double(x)) : 0.0; }
 
 std::string too_large(double bits) {
   return fmt::format("its exact value would need about {:.3g} bits (at most {})", bits, limits::kMaxExactBits);
@@ -44,6 +32,32 @@ std::size_t exact_bits(const GiNaC::numeric& n) {
     bits = std::max<std::size_t>(bits, static_cast<std::size_t>(part.denom().int_length()));
   }
   return bits;
+}
+
+long binary_exponent(const GiNaC::numeric& n) {
+  if (!n.is_rational()) return 0;
+  return static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
+}
+
+double approx_double(const GiNaC::numeric& n) {
+  const GiNaC::numeric x = n.real();
+  if (binary_exponent(x) > 1100) return x.is_negative() ? -HUGE_VAL : HUGE_VAL;
+  if (binary_exponent(x) < -1100) return 0.0;
+  try {
+    return x.to_double();
+  } catch (const std::exception&) {
+    return x.is_negative() ? -HUGE_VAL : HUGE_VAL;
+  }
+}
+
+GiNaC::ex subs_present(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  GiNaC::exmap used;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+    const auto v = values.find(*it);
+    if (v != values.end()) used.insert(*v);
+  }
+  return used.empty() ? e : e.subs(used, GiNaC::subs_options::no_pattern);
 }
 
 double growth_bits(const GiNaC::ex& e) {

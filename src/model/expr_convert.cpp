@@ -98,12 +98,8 @@ namespace {
 /// Why an exact real constant is out of what a double holds, or nullptr.
 const char* out_of_double_range(const GiNaC::numeric& n) {
   if (!n.is_real() || n.is_zero()) return nullptr;
-  if (n.is_rational()) {
-    // log2|n| within a bit, without converting a huge rational to a double.
-    const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
-    if (log2 > 1025) return "too large for a double";
-    if (log2 < -1023) return "too small for a double";
-  }
+  if (binary_exponent(n) > 1025) return "too large for a double";
+  if (binary_exponent(n) < -1023) return "too small for a double";
   try {
     const double d = n.to_double();
     if (!std::isfinite(d)) return "too large for a double";
@@ -139,8 +135,7 @@ std::string call_text(const std::string& f, const std::vector<GiNaC::ex>& args) 
 /// "about 1e+600" for a message about a constant a double cannot hold.
 std::string magnitude_text(const GiNaC::numeric& n) {
   if (!n.is_rational()) return "";
-  const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
-  return fmt::format(" (about 1e{:+d})", static_cast<long>(std::lround(static_cast<double>(log2) * 0.30103)));
+  return fmt::format(" (about 1e{:+d})", std::lround(static_cast<double>(binary_exponent(n)) * 0.30103));
 }
 
 /// True when e holds no symbol (only numbers, pi and functions of them).
@@ -166,19 +161,6 @@ bool ExprConverter::check_folded(const GiNaC::ex& e, const SourcePos& pos) {
   return true;
 }
 
-double ExprConverter::safe_double(const GiNaC::numeric& n) {
-  try {
-    if (n.is_rational()) {
-      const long log2 = static_cast<long>(n.numer().int_length()) - static_cast<long>(n.denom().int_length());
-      if (log2 > 1100) return HUGE_VAL * (n.is_negative() ? -1 : 1);
-      if (log2 < -1100) return 0.0;
-    }
-    return n.real().to_double();
-  } catch (const std::exception&) {
-    return NAN;
-  }
-}
-
 std::optional<GiNaC::ex> ExprConverter::power(const GiNaC::ex& base, const GiNaC::ex& exponent, const SourcePos& pos) {
   // Exact numbers to an exact power are evaluated at once by GiNaC: 2^(2^40) or
   // 10^1000000000 would be computed digit by digit. Refuse what would be too large.
@@ -186,12 +168,12 @@ std::optional<GiNaC::ex> ExprConverter::power(const GiNaC::ex& base, const GiNaC
     const auto& b = GiNaC::ex_to<GiNaC::numeric>(base);
     const auto& x = GiNaC::ex_to<GiNaC::numeric>(exponent);
     if (b.is_zero() && !(x.is_real() && x.is_positive())) {
-      diags.error(pos, fmt::format("0^{} is undefined", x.is_real() ? fmt::format("{}", safe_double(x)) : "z"));
+      diags.error(pos, fmt::format("0^{} is undefined", x.is_real() ? fmt::format("{}", approx_double(x)) : "z"));
       return std::nullopt;
     }
   }
   if (!is_constant(base) && GiNaC::is_a<GiNaC::numeric>(exponent) &&
-      !(std::fabs(safe_double(GiNaC::ex_to<GiNaC::numeric>(exponent))) <= limits::kMaxExponent)) {
+      !(std::fabs(approx_double(GiNaC::ex_to<GiNaC::numeric>(exponent))) <= limits::kMaxExponent)) {
     diags.error(pos, fmt::format("the exponent of this power is larger than {:g} in magnitude", limits::kMaxExponent));
     return std::nullopt;
   }

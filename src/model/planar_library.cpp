@@ -74,21 +74,13 @@ void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex&
 
 double PlanarLibrary::at_defaults(const GiNaC::ex& e) const {
   try {
-    if (param_index_.size() != m_.params.size()) {
-      param_index_.clear();
-      for (std::size_t i = 0; i < m_.params.size(); ++i) param_index_[m_.params[i].name] = i;
-    }
-    GiNaC::exmap used;  // only the parameters e holds: linear in the model's size
-    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-      const auto p = param_index_.find(GiNaC::ex_to<GiNaC::symbol>(*it).get_name());
-      if (p != param_index_.end() && it->is_equal(m_.params[p->second].sym))
-        used[m_.params[p->second].sym] = m_.param_defaults[p->second];
+    if (defaults_.size() != m_.params.size()) {  // the parameters are all declared before any geometry
+      defaults_.clear();
+      for (std::size_t i = 0; i < m_.params.size(); ++i) defaults_[m_.params[i].sym] = m_.param_defaults[i];
     }
     double value = std::numeric_limits<double>::quiet_NaN();
-    return evaluate_number(GiNaC::evalf(e.subs(used, GiNaC::subs_options::no_pattern)), value)
-               ? value
-               : std::numeric_limits<double>::quiet_NaN();
+    return evaluate_number(GiNaC::evalf(subs_present(e, defaults_)), value) ? value
+                                                                             : std::numeric_limits<double>::quiet_NaN();
   } catch (const std::exception&) {
     return std::numeric_limits<double>::quiet_NaN();
   }

@@ -60,7 +60,7 @@ class PlanarLibrary {
   /// e at the parameters' defaults, in floating point (no exact folding); NaN when it
   /// does not evaluate to a finite real number. For checks of geometry only.
   double at_defaults(const GiNaC::ex& e) const;
-  mutable std::map<std::string, std::size_t> param_index_;  // parameter name -> index, for at_defaults
+  mutable GiNaC::exmap defaults_;  // each parameter's default, for at_defaults
   struct Frame;  // a body's pose: origin of its mass centre, angle, speeds
   struct Point {
     int node;

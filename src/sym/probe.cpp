@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/probe.hpp"
 
+#include "mbsc/model/exact_guard.hpp"
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -26,15 +28,8 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
 
 double Probe::eval(const GiNaC::ex& e) const {
   try {
-    // Substitute only the symbols e holds: GiNaC's subs tries every key of the map at
-    // every node, so the whole map would make each evaluation O(size * variables).
-    GiNaC::exmap used;
-    for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-      const auto v = values_.find(*it);
-      if (v != values_.end()) used.insert(*v);
-    }
-    GiNaC::ex v = GiNaC::evalf(used.empty() ? e : e.subs(used, GiNaC::subs_options::no_pattern));
+    // Only the symbols e holds (model::subs_present): linear in the model's size.
+    GiNaC::ex v = GiNaC::evalf(model::subs_present(e, values_));
     if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::numeric_limits<double>::quiet_NaN();
     const auto& n = GiNaC::ex_to<GiNaC::numeric>(v);
     if (!n.is_real()) return std::numeric_limits<double>::quiet_NaN();

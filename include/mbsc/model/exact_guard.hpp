@@ -17,6 +17,19 @@ namespace mbsc::model {
 /// over its real and imaginary parts.
 std::size_t exact_bits(const GiNaC::numeric& n);
 
+/// log2 |n| within a bit for an exact rational (bits of the numerator minus bits of the
+/// denominator), without converting it to a double; 0 for anything else.
+long binary_exponent(const GiNaC::numeric& n);
+
+/// The real part of n as a double, saturating: +-HUGE_VAL past about 2^1100 (and when
+/// CLN cannot convert), 0 below about 2^-1100. For estimates and messages.
+double approx_double(const GiNaC::numeric& n);
+
+/// e with the values of the symbols it holds, and only those, put in. GiNaC's own subs
+/// tries every key of the map at every node of e, so with a map of all a model's
+/// parameters or variables each call would cost the model's size.
+GiNaC::ex subs_present(const GiNaC::ex& e, const GiNaC::exmap& values);
+
 /// How many bits the exact numbers in e grow by per unit of an exponent, were e raised
 /// to a power: a number's bits, a number's power's bits times its exponent, the sum over
 /// a product's factors; 0 for anything else (a sum to a power stays unexpanded).

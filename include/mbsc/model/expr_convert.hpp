@@ -32,7 +32,6 @@ struct ExprConverter {
   std::optional<GiNaC::ex> power(const GiNaC::ex& base, const GiNaC::ex& exponent, const SourcePos& pos);
   /// False (reported) when e's folded numeric coefficient is too large or out of double range.
   bool check_folded(const GiNaC::ex& e, const SourcePos& pos);
-  static double safe_double(const GiNaC::numeric& n);
 };
 
 /// Exact rational for a decimal literal ("0.15" -> 3/20, "1e-3" -> 1/1000, "-2.5").
