@@ -3,8 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +14,7 @@
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
+#include "mbsc/parse/parse.hpp"
 
 namespace mbsc::driver {
 namespace fs = std::filesystem;
@@ -27,11 +26,10 @@ bool parse_assignment(const std::string& text, std::string& name, double& value)
   const std::string v = text.substr(eq + 1);
   if (v.empty() || v.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;  // no nan, inf, hex
   char* end = nullptr;
-  errno = 0;
   value = std::strtod(v.c_str(), &end);
-  if (!end || *end != '\0' || !std::isfinite(value)) return false;
-  // Underflow to 0 or a subnormal: 1e-400 is not what the user meant either.
-  return !(errno == ERANGE && std::fabs(value) < 2.2250738585072014e-308);
+  if (!end || *end != '\0') return false;
+  // The range a model's literals have (1e400 and 1e-400 are errors there too).
+  return parse::literal_out_of_double_range(v.substr(v[0] == '+' || v[0] == '-' ? 1 : 0)) == nullptr;
 }
 
 namespace {

@@ -3,13 +3,13 @@
 #include "lexer.hpp"
 
 #include <array>
-#include <cerrno>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 #include "mbsc/diag/limits.hpp"
+#include "mbsc/parse/parse.hpp"
 
 namespace mbsc::parse {
 
@@ -118,22 +118,11 @@ class Lexer {
       add(TokenKind::Invalid, "number '" + shorten(lit) + "' is longer than " + std::to_string(limits::kMaxNumberChars) +
                                   " characters",
           pos);
-    } else if (const char* why = out_of_double_range(lit)) {
+    } else if (const char* why = literal_out_of_double_range(lit)) {
       add(TokenKind::Invalid, "number '" + lit + "' " + why, pos);
     } else {
       add(TokenKind::Number, std::move(lit), pos);
     }
-  }
-
-  /// Model numbers are exact, but the generated code computes in double: a literal a
-  /// double cannot hold is a mistake (and 1e999999999 would be a huge exact integer).
-  static const char* out_of_double_range(const std::string& lit) {
-    errno = 0;
-    const double v = std::strtod(lit.c_str(), nullptr);
-    if (std::isinf(v)) return "is too large for a double (at most about 1.8e308)";
-    const bool nonzero = lit.find_first_of("123456789") < lit.find_first_of("eE");
-    if (nonzero && std::fabs(v) < DBL_MIN) return "is too small for a double (nonzero, but below about 2.2e-308)";
-    return nullptr;
   }
 
   /// A long literal shown in a message: its start and its length.
@@ -154,13 +143,11 @@ class Lexer {
     }
     std::string body = text_.substr(start, i_ - start);
     // Control bytes (a NUL would cut a file name short; escapes would reach a terminal).
-    for (std::size_t k = 0; k < body.size(); ++k) {
-      const unsigned char u = static_cast<unsigned char>(body[k]);
+    for (const char c : body) {
+      const unsigned char u = static_cast<unsigned char>(c);
       if (u < 0x20 || u == 0x7F) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\x%02X", static_cast<unsigned>(u));
         advance();  // closing quote
-        add(TokenKind::Invalid, std::string("control character '") + buf + "' in a string", pos);
+        add(TokenKind::Invalid, "control character '" + printable(std::string(1, c)) + "' in a string", pos);
         return;
       }
     }
@@ -229,6 +216,16 @@ class Lexer {
 }  // namespace
 
 std::vector<Token> lex(const std::string& text, const std::string& file) { return Lexer(text, file).run(); }
+
+const char* literal_out_of_double_range(const std::string& literal) {
+  // Model numbers are exact, but the generated code computes in double: a literal a
+  // double cannot hold is a mistake (and 1e999999999 would be a huge exact integer).
+  const double v = std::strtod(literal.c_str(), nullptr);
+  if (std::isinf(v)) return "is too large for a double (at most about 1.8e308)";
+  const bool nonzero = literal.find_first_of("123456789") < literal.find_first_of("eE");
+  if (nonzero && std::fabs(v) < DBL_MIN) return "is too small for a double (nonzero, but below about 2.2e-308)";
+  return nullptr;
+}
 
 bool is_statement_keyword(const std::string& word) {
   for (const char* k : statement_keywords)

@@ -17,6 +17,10 @@ namespace mbsc::parse {
 std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags,
                                     const std::map<std::string, double>& overrides = {});
 
+/// Why a number literal (digits, '.', exponent, no sign) is outside what a double holds
+/// ("is too large for a double ..."), or nullptr. The lexer's rule, shared by --freeze.
+const char* literal_out_of_double_range(const std::string& literal);
+
 /// Reads and parses a file, splicing top-level `include "x.mbs"` statements in place
 /// (paths relative to the including file). A missing file or a cyclic include is an
 /// error at the include statement. Returns nullopt on any error.
