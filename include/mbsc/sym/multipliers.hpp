@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// The dependent-coordinate formulation with Lagrange multipliers and Baumgarte
-/// stabilization (AMESim paper [P] eqs 22-23, methodology.md §1E), from the same model
+/// stabilization (AMESim paper [P] eqs 22-23, docs/references.md), from the same model
 /// as the modular method (`mbsc generate --formulation multipliers`):
 ///   My q1' - A^T lambda = hy                          (every leaf's own forces, all speeds)
 ///   A q1' = -(b + 2 alpha (A q1 + a) + beta^2 g)      (f'' + 2 alpha f' + beta^2 f = 0)

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The repository's docs stand alone: every relative link in README.md, docs/*.md and the
+// shipped models resolves to a file inside the repository, and nothing cites a path
+// outside it (design notes that a reader of the repository cannot open).
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<fs::path> documents(const fs::path& root) {
+  std::vector<fs::path> files{root / "README.md"};
+  for (const char* dir : {"docs", "models"})
+    for (const auto& e : fs::directory_iterator(root / dir))
+      if (e.path().extension() == ".md" || e.path().extension() == ".mbs") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// True when `target` (relative to `from`'s folder) stays inside `root`.
+bool inside(const fs::path& root, const fs::path& from, const std::string& target) {
+  const fs::path resolved = fs::weakly_canonical(from.parent_path() / target);
+  const std::string r = fs::weakly_canonical(root).string() + "/";
+  return resolved.string().rfind(r, 0) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("docs: relative links resolve inside the repository", "[docs]") {
+  const fs::path root(MBSC_SOURCE_DIR);
+  const std::regex link(R"(\]\(([^)#\s]+)(#[^)]*)?\))");  // [text](target#anchor)
+  int checked = 0;
+  for (const auto& file : documents(root)) {
+    const std::string text = slurp(file);
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), link); it != std::sregex_iterator(); ++it) {
+      const std::string target = (*it)[1];
+      if (target.find("://") != std::string::npos || target.rfind("mailto:", 0) == 0) continue;
+      INFO(file.string() << " links to " << target);
+      CHECK(inside(root, file, target));
+      CHECK(fs::exists(file.parent_path() / target));
+      ++checked;
+    }
+  }
+  CHECK(checked > 10);
+}
+
+TEST_CASE("docs: no citation of files outside the repository", "[docs]") {
+  const fs::path root(MBSC_SOURCE_DIR);
+  // A path that climbs out of the repository (`../x/...` from the root or from docs/
+  // climbing twice) or names the design notes the docs grew from.
+  const std::regex outside(R"((^|[\s`(])(\.\./)+(shared|seeds|design)\b|methodology\.md|architecture\.md)");
+  for (const auto& file : documents(root)) {
+    const std::string text = slurp(file);
+    std::smatch m;
+    INFO(file.string());
+    CHECK_FALSE(std::regex_search(text, m, outside));
+  }
+}
