@@ -86,6 +86,49 @@ void classify(const ComplementInput& in, const Eigen::MatrixXd& Bn, const std::v
   }
 }
 
+/// B at the model's reference configuration, when that is a configuration of this node:
+/// every position constraint of its rows holds there and B evaluates to finite numbers
+/// (a row that reads a child's numeric solve does not evaluate there). Else nothing.
+std::optional<Eigen::MatrixXd> at_reference(const ComplementInput& in) {
+  if (!in.reference) return std::nullopt;
+  const auto& B = *in.B;
+  const auto& m = *in.model;
+  for (int c : in.rows) {
+    const auto& con = m.constraints[static_cast<std::size_t>(c)];
+    if (con.level != model::Constraint::Level::Position) continue;
+    const double g = in.reference->eval(con.residual);
+    if (!(std::abs(g) <= 1e-9)) return std::nullopt;
+  }
+  Eigen::MatrixXd Br(B.rows(), B.cols());
+  for (unsigned i = 0; i < B.rows(); ++i)
+    for (unsigned j = 0; j < B.cols(); ++j) {
+      Br(i, j) = B(i, j).is_zero() ? 0.0 : in.reference->eval(B(i, j));
+      if (!std::isfinite(Br(i, j))) return std::nullopt;
+    }
+  return Br;
+}
+
+/// Warns when the dependent block of the chosen set is singular at the reference
+/// configuration: the generated rhs cannot solve for the dependent speeds there.
+void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
+                                   const Partition& p, Diagnostics& diags) {
+  Eigen::MatrixXd Bs(Br.rows(), static_cast<Eigen::Index>(dep_cols.size()));
+  for (std::size_t k = 0; k < dep_cols.size(); ++k) Bs.col(static_cast<Eigen::Index>(k)) = Br.col(dep_cols[k]);
+  if (numeric_rank(Bs) == Br.rows()) return;
+  const auto& m = *in.model;
+  const bool given = !in.requested.empty();
+  const bool any_works = numeric_rank(Br) == Br.rows();
+  // The top node's own position is the start of the file: name the model statement instead.
+  const SourcePos& node_pos = in.node == m.root() ? m.name_pos : m.nodes[static_cast<std::size_t>(in.node)].pos;
+  diags.warning(given ? in.requested_pos : node_pos,
+                fmt::format("the {}independent speeds ({}) of subsystem '{}' are singular at the reference configuration "
+                            "(parameter defaults, coordinates and t at 0): the constraints cannot be solved for {} there, "
+                            "so the generated rhs fails at that state; {}",
+                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), names(m, p.dependent),
+                            any_works ? "name a set that works there with `independent` (or add an `alternative`)"
+                                      : "no set works there (the constraints themselves are singular there)"));
+}
+
 }  // namespace
 
 std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics& diags) {
@@ -124,6 +167,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     rank = r;
   }
   const int ndof = ny - nr;
+  const std::optional<Eigen::MatrixXd> Br = at_reference(in);
   Partition p;
   std::vector<int> dep_cols;
   if (!in.requested.empty()) {
@@ -170,7 +214,11 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     if (static_cast<int>(picks.size()) == nr) {
       for (auto [row, c] : picks) dep_cols.push_back(c);
     } else {
-      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Bn);
+      // The best conditioned columns (greedy, by column-pivoted QR) at the reference
+      // configuration when B has full rank there, else at the generic probe point. A
+      // skate (-sin th u + cos th v = 0) starts at th = 0 and must not solve for u.
+      const bool reference_regular = Br && numeric_rank(*Br) == nr;
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(reference_regular ? *Br : Bn);
       for (int k = 0; k < nr; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
     }
     std::sort(dep_cols.begin(), dep_cols.end());
@@ -179,6 +227,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   }
   std::sort(dep_cols.begin(), dep_cols.end());
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
+  if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, diags);
   classify(in, Bn, dep_cols, p);
   return p;
 }
