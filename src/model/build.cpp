@@ -452,7 +452,7 @@ class Builder {
       if (it != table_.end()) matches.emplace_back(path, &it->second);
     }
     if (matches.empty()) {
-      diags_.error(pos, fmt::format("unknown name '{}'{}", path, did_you_mean(path, names_in_scope(node, false))));
+      diags_.error(pos, fmt::format("unknown name '{}'{}", path, suggestion(path, node, false)));
       return std::nullopt;
     }
     const auto& [full, found] = matches.front();
@@ -523,6 +523,13 @@ class Builder {
         }
         return GiNaC::ex(found.sym);
     }
+  }
+
+  /// " (did you mean ...?)" for an unknown name at `node`, or "". Only while diagnostics
+  /// are still shown: a file of 100 000 unknown names must not compare each with every name.
+  std::string suggestion(const std::string& written, int node, bool variables_only) const {
+    if (diags_.all().size() >= Diagnostics::kMaxShown) return "";
+    return did_you_mean(written, names_in_scope(node, variables_only));
   }
 
   /// The names that resolve when written at `node`: relative to each enclosing scope,
@@ -798,7 +805,7 @@ class Builder {
       }
       if (m_.nodes[n].parent < 0) break;
     }
-    diags_.error(p.pos, fmt::format("unknown variable '{}'{}", p.text, did_you_mean(p.text, names_in_scope(node, true))));
+    diags_.error(p.pos, fmt::format("unknown variable '{}'{}", p.text, suggestion(p.text, node, true)));
     return std::nullopt;
   }
 

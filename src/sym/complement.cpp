@@ -167,7 +167,9 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     rank = r;
   }
   const int ndof = ny - nr;
-  const std::optional<Eigen::MatrixXd> Br = at_reference(in);
+  // B at the reference configuration: for a given set (the warning) and for the automatic
+  // choice unless its pivots are numbers or parameters (regular everywhere).
+  std::optional<Eigen::MatrixXd> Br;
   Partition p;
   std::vector<int> dep_cols;
   if (!in.requested.empty()) {
@@ -205,6 +207,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
       return std::nullopt;
     }
     for (int s : in.requested) p.independent.push_back(s);
+    Br = at_reference(in);
   } else {
     // Automatic: a triangular choice with state-free pivots if one exists, else the
     // pivot columns of a column-pivoted QR of B at the probe point.
@@ -214,6 +217,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     if (static_cast<int>(picks.size()) == nr) {
       for (auto [row, c] : picks) dep_cols.push_back(c);
     } else {
+      Br = at_reference(in);
       // The best conditioned columns (greedy, by column-pivoted QR) at the reference
       // configuration when B has full rank there, else at the generic probe point. A
       // skate (-sin th u + cos th v = 0) starts at th = 0 and must not solve for u.
