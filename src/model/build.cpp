@@ -375,6 +375,11 @@ class Builder {
     std::vector<std::string> components, all = kinds;
     for (const auto& [name, stmt] : components_) components.push_back(name);
     all.insert(all.end(), components.begin(), components.end());
+    // A file of thousands of components lists the first few (alphabetically) and a count.
+    constexpr std::size_t kListed = 12;
+    const std::size_t more = components.size() > kListed ? components.size() - kListed : 0;
+    components.resize(components.size() - more);
+    if (more > 0) components.push_back(fmt::format("{} more", more));
     return fmt::format("subsystem '{}' has unknown kind or component '{}'{}; the leaf kinds are {}{}", subsystem, kind,
                        did_you_mean(kind, all), list_names(kinds),
                        components.empty() ? std::string(" (no component is defined)")
