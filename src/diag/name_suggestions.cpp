@@ -7,30 +7,37 @@ namespace mbsc {
 
 namespace {
 
-/// The edit distance, or any value above `limit` as soon as every entry of a row of the
-/// table is above it (the distance cannot come back down): a long list of candidates
-/// costs little more than their first few characters each.
+/// The edit distance when it is at most `limit`, else limit + 1. Only the band of the
+/// table within `limit` of its diagonal is filled (a cell outside it is over the limit
+/// anyway), and the work stops once two rows in a row are over the limit (a swap reads
+/// two rows back, so nothing later can come back under it): comparing a name with a
+/// long list, or two very long names, costs a few cells per character.
 std::size_t bounded_distance(const std::string& a, const std::string& b, std::size_t limit) {
   // Optimal string alignment: the Levenshtein table plus a swap of neighbours, kept in
-  // three rows (the swap looks two rows back).
-  const std::size_t n = a.size(), m = b.size();
-  std::vector<std::size_t> two_back(m + 1), prev(m + 1), cur(m + 1);
-  for (std::size_t j = 0; j <= m; ++j) prev[j] = j;
+  // three rows, every value saturated at cap.
+  const std::size_t n = a.size(), m = b.size(), cap = limit + 1;
+  if ((n > m ? n - m : m - n) > limit) return cap;
+  std::vector<std::size_t> two_back(m + 1, cap), prev(m + 1, cap), cur(m + 1, cap);
+  for (std::size_t j = 0; j <= std::min(m, limit); ++j) prev[j] = j;
+  std::size_t prev_min = 0;
   for (std::size_t i = 1; i <= n; ++i) {
-    cur[0] = i;
-    std::size_t row_min = cur[0];
-    for (std::size_t j = 1; j <= m; ++j) {
+    const std::size_t lo = i > limit ? i - limit : 1, hi = std::min(m, i + limit);
+    cur[lo - 1] = lo == 1 ? std::min(i, cap) : cap;  // the cells beside the band
+    if (hi < m) cur[hi + 1] = cap;
+    std::size_t row_min = cur[lo - 1];
+    for (std::size_t j = lo; j <= hi; ++j) {
       const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) cur[j] = std::min(cur[j], two_back[j - 2] + 1);
+      std::size_t v = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) v = std::min(v, two_back[j - 2] + 1);
+      cur[j] = std::min(v, cap);
       row_min = std::min(row_min, cur[j]);
     }
-    // A swap reaches back two rows, so stop only when this row and the one before it are both over.
-    if (row_min > limit && i > 1 && *std::min_element(prev.begin(), prev.end()) > limit) return limit + 1;
+    if (row_min >= cap && prev_min >= cap) return cap;
+    prev_min = row_min;
     two_back.swap(prev);
     prev.swap(cur);
   }
-  return prev[m];
+  return std::min(prev[m], cap);
 }
 
 }  // namespace

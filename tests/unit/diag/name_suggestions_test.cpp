@@ -4,6 +4,9 @@
 // the model builder attach to their "unknown ..." messages.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <random>
+
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
@@ -36,6 +39,8 @@ TEST_CASE("edit distance counts insertions, deletions, substitutions and neighbo
   CHECK(edit_distance("m4", "m3") == 1);             // substitution
   CHECK(edit_distance("tehta", "theta") == 1);       // swap of neighbours
   CHECK(edit_distance("kitten", "sitting") == 3);    // the textbook pair
+  CHECK(edit_distance("abcdef", "badcfe") == 3);     // three swaps
+  CHECK(edit_distance("ca", "abc") == 3);            // the restricted form: no edit of a swapped pair
   // Symmetric.
   CHECK(edit_distance("rigid2", "rigid2d") == edit_distance("rigid2d", "rigid2"));
 }
@@ -127,4 +132,44 @@ TEST_CASE("a misspelt keyword is an unknown statement inside a one-line body too
   const auto plain = errors_of("model m\nbody b : rigid2d { mass 1  J 1 }\n");
   REQUIRE(plain.size() == 1);
   CHECK(plain[0] == "2:28: expected end of statement after mass expression, found 'J'");
+}
+
+TEST_CASE("suggestions stay cheap for very long names", "[diag][suggest]") {
+  // Two names of 200 000 characters that differ at the end: the band keeps it linear.
+  const std::string a = std::string(200000, 'a') + "x", b = std::string(200000, 'a') + "y";
+  CHECK(closest_name(a, {b}) == std::optional<std::string>(b));
+  CHECK_FALSE(closest_name(a, {std::string(200000, 'a') + "pqrs"}));  // four edits
+  CHECK(edit_distance("aaaa", "aaaaaaaa") == 4);
+}
+
+namespace {
+/// The whole optimal-string-alignment table, written plainly: the reference for the
+/// banded, early-stopping distance.
+std::size_t full_table_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+}  // namespace
+
+TEST_CASE("the banded distance agrees with the whole table, and so does the suggestion", "[diag][suggest]") {
+  std::mt19937 rng(7);
+  auto word = [&rng] {
+    std::string w(rng() % 9, 'a');
+    for (auto& c : w) c = static_cast<char>('a' + rng() % 3);  // three letters: many near misses
+    return w;
+  };
+  for (int k = 0; k < 3000; ++k) {
+    const std::string a = word(), b = word();
+    INFO(a << " / " << b);
+    REQUIRE(edit_distance(a, b) == full_table_distance(a, b));
+    const bool close = a != b && full_table_distance(a, b) <= mbsc::typo_distance_limit(a.size());
+    REQUIRE(closest_name(a, {b}).has_value() == close);
+  }
 }
