@@ -86,19 +86,27 @@ void classify(const ComplementInput& in, const Eigen::MatrixXd& Bn, const std::v
   }
 }
 
+/// True when every position constraint of node n and its descendants holds at `at`.
+bool subtree_holds(const model::Model& m, int n, const Probe& at) {
+  const auto& node = m.nodes[static_cast<std::size_t>(n)];
+  for (int c : node.constraints) {
+    const auto& con = m.constraints[static_cast<std::size_t>(c)];
+    if (con.level == model::Constraint::Level::Position && !(std::abs(at.eval(con.residual)) <= 1e-9)) return false;
+  }
+  for (int child : node.children)
+    if (!subtree_holds(m, child, at)) return false;
+  return true;
+}
+
 /// B at the model's reference configuration, when that is a configuration of this node:
-/// every position constraint of its rows holds there and B evaluates to finite numbers
-/// (a row that reads a child's numeric solve does not evaluate there). Else nothing.
+/// every position constraint of its subtree holds there (B reads the children's
+/// dependent rates) and B evaluates to finite numbers (a row that reads a child's numeric
+/// solve does not evaluate there). Else nothing.
 std::optional<Eigen::MatrixXd> at_reference(const ComplementInput& in) {
   if (!in.reference) return std::nullopt;
   const auto& B = *in.B;
   const auto& m = *in.model;
-  for (int c : in.rows) {
-    const auto& con = m.constraints[static_cast<std::size_t>(c)];
-    if (con.level != model::Constraint::Level::Position) continue;
-    const double g = in.reference->eval(con.residual);
-    if (!(std::abs(g) <= 1e-9)) return std::nullopt;
-  }
+  if (!subtree_holds(m, in.node, *in.reference)) return std::nullopt;
   Eigen::MatrixXd Br(B.rows(), B.cols());
   for (unsigned i = 0; i < B.rows(); ++i)
     for (unsigned j = 0; j < B.cols(); ++j) {
