@@ -218,7 +218,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     Br = at_reference(in);
   } else {
     // Automatic: a triangular choice with state-free pivots if one exists, else the
-    // pivot columns of a column-pivoted QR of B at the probe point.
+    // pivot columns of a column-pivoted QR of B (below).
     std::vector<int> all(ny);
     for (int j = 0; j < ny; ++j) all[j] = j;
     auto picks = singleton_elimination(in, Bn, all, true);
