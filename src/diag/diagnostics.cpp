@@ -18,7 +18,14 @@ void Diagnostics::error(const SourcePos& pos, std::string message) {
   ++nerrors_;
 }
 
-void Diagnostics::warning(const SourcePos& pos, std::string message) { add(Severity::Warning, pos, std::move(message)); }
+void Diagnostics::warning(const SourcePos& pos, std::string message) {
+  // A stage that runs more than once (a derivation per independent set) warns once.
+  for (const auto& d : items_)
+    if (d.severity == Severity::Warning && d.message == message && d.pos.line == pos.line && d.pos.col == pos.col &&
+        d.pos.file == pos.file)
+      return;
+  add(Severity::Warning, pos, std::move(message));
+}
 
 void Diagnostics::note(const SourcePos& pos, std::string message) { add(Severity::Note, pos, std::move(message)); }
 

@@ -3,12 +3,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <functional>
 #include <set>
 #include <stdexcept>
 
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "planar_library.hpp"
@@ -32,6 +34,9 @@ namespace {
 using ast::Statement;
 using Kind = ast::Statement::Kind;
 
+/// `global.NAME` names a parameter or input from anywhere (a body's own `u` cannot hide it).
+constexpr const char* kGlobalScope = "global";
+
 std::string join(const std::string& prefix, const std::string& name) {
   return prefix.empty() ? name : prefix + "." + name;
 }
@@ -53,6 +58,12 @@ struct Pending {
 };
 
 class Builder {
+  /// What a name in the table stands for.
+  struct Entry {
+    enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal } kind;
+    int index;
+    GiNaC::symbol sym;
+  };
  public:
   Builder(Diagnostics& diags, const std::map<std::string, double>& frozen) : diags_(diags), frozen_(frozen) {}
 
@@ -61,6 +72,7 @@ class Builder {
     if (diags_.has_errors()) return std::nullopt;
     // Pass A: nodes and variables, post-order.
     declare_node(file.statements, "", SourcePos{file.path, 1, 1}, nullptr, 0);
+    check_gravity_size();
     if (diags_.has_errors()) return std::nullopt;
     // Pass B: expressions (everything is declared now).
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
@@ -160,6 +172,30 @@ class Builder {
     }
   }
 
+  /// The gravity vector must have the bodies' dimension: (gx, gy) when they are all planar,
+  /// (gx, gy, gz) when one is spatial. Planar and spatial bodies may be mixed: then gravity
+  /// has three components and the planar ones, moving in the x-y plane, feel (gx, gy).
+  void check_gravity_size() {
+    if (!gravity_stmt_) return;
+    const Node* planar = nullptr;
+    const Node* spatial = nullptr;
+    for (const auto& n : m_.nodes) {
+      if (!is_body(n.kind)) continue;
+      const Node*& first = n.kind == LeafKind::Particle3d ? spatial : planar;
+      if (!first) first = &n;
+    }
+    const std::size_t given = gravity_stmt_->exprs.size();
+    if (spatial && given == 2)
+      diags_.error(gravity_stmt_->pos,
+                   fmt::format("gravity has 2 components, but body '{}' is {} (spatial): write gravity (gx, gy, gz)",
+                               spatial->name, to_string(spatial->kind)));
+    else if (planar && !spatial && given == 3)
+      diags_.error(gravity_stmt_->pos,
+                   fmt::format("gravity has 3 components, but the bodies are planar ({} '{}' moves in the x-y plane, "
+                               "so gz would be ignored): write gravity (gx, gy)",
+                               to_string(planar->kind), planar->name));
+  }
+
   // ground { point NAME (x, y)  axis NAME (px, py) (dx, dy) }: fixed points and lines.
   void declare_ground(const Statement& g) {
     ExprConverter conv = converter(-1);
@@ -168,8 +204,12 @@ class Builder {
       std::vector<GiNaC::ex> v;
       for (const auto& e : s.exprs) {
         auto c = conv.convert(*e);
-        if (!c) return;
+        if (!c) break;
         v.push_back(*c);
+      }
+      if (v.size() != s.exprs.size()) {
+        if (s.kind == Kind::Point || s.kind == Kind::Axis) library_.add_failed(PlanarLibrary::kGround, s.name);
+        continue;
       }
       if (s.kind == Kind::Point) library_.add_point(PlanarLibrary::kGround, s.name, v[0], v[1], s.name_pos);
       else if (s.kind == Kind::Axis) library_.add_axis(PlanarLibrary::kGround, s.name, v[0], v[1], v[2], v[3], s.name_pos);
@@ -238,7 +278,7 @@ class Builder {
       } else if (components_.count(decl->kind_name)) {
         node.component = decl->kind_name;
       } else {
-        diags_.error(decl->kind_pos, fmt::format("subsystem '{}' has unknown kind or component '{}'", prefix, decl->kind_name));
+        diags_.error(decl->kind_pos, unknown_kind_message(prefix, decl->kind_name));
         return -1;
       }
     }
@@ -266,6 +306,12 @@ class Builder {
     for (const auto& s : own_body) {
       if (s->kind != Kind::Subsystem) continue;
       std::string child = join(prefix, s->name);
+      if (s->name == kGlobalScope) {
+        diags_.error(s->name_pos, fmt::format("'{0}' cannot name a subsystem: it names the model's global scope "
+                                              "('{0}.g' is the parameter g)",
+                                              kGlobalScope));
+        continue;
+      }
       if (!declare_local(child, s->name_pos, "subsystem")) continue;
       table_[child] = Entry{Entry::NodeName, 0, GiNaC::symbol()};
       int c = declare_node(s->body, child, s->name_pos, s.get(), depth + 1);
@@ -321,6 +367,25 @@ class Builder {
     return id;
   }
 
+  /// "unknown kind", with the close name if any, the leaf kinds and the components.
+  std::string unknown_kind_message(const std::string& subsystem, const std::string& kind) const {
+    std::vector<std::string> kinds;
+    for (LeafKind k : {LeafKind::Particle2d, LeafKind::Particle3d, LeafKind::Rigid2d, LeafKind::Rigid2dNodal, LeafKind::Custom})
+      kinds.push_back(to_string(k));
+    std::vector<std::string> components, all = kinds;
+    for (const auto& [name, stmt] : components_) components.push_back(name);
+    all.insert(all.end(), components.begin(), components.end());
+    // A file of thousands of components lists the first few (alphabetically) and a count.
+    constexpr std::size_t kListed = 12;
+    const std::size_t more = components.size() > kListed ? components.size() - kListed : 0;
+    components.resize(components.size() - more);
+    if (more > 0) components.push_back(fmt::format("{} more", more));
+    return fmt::format("subsystem '{}' has unknown kind or component '{}'{}; the leaf kinds are {}{}", subsystem, kind,
+                       did_you_mean(kind, all), list_names(kinds),
+                       components.empty() ? std::string(" (no component is defined)")
+                                          : fmt::format(", the components {}", list_names(components)));
+  }
+
   bool declare_local(const std::string& full, const SourcePos& pos, const char* what) {
     auto it = table_.find(full);
     if (it != table_.end()) {
@@ -358,26 +423,79 @@ class Builder {
     return conv;
   }
 
-  /// Finds `path` from the innermost scope (the node) outwards, then globals.
+  /// Finds `path` from the innermost scope (the node) outwards, then globals. `global.NAME`
+  /// names a parameter, input or t whatever the scope. A body's own variable does not
+  /// capture a parameter or input of the same name where it is not allowed (a speed in a
+  /// point's position: the parameter is meant); where both are allowed the name is
+  /// ambiguous and both spellings are offered.
   std::optional<GiNaC::ex> resolve(const std::string& path, const SourcePos& pos, int node, bool primed) {
-    const Entry* found = nullptr;
-    std::string full;
-    for (int n = node; n >= 0 && !found; n = m_.nodes[n].parent) {
-      full = join(m_.nodes[n].name, path);
+    const std::string global_prefix = std::string(kGlobalScope) + ".";
+    if (path.rfind(global_prefix, 0) == 0) {
+      const std::string name = path.substr(global_prefix.size());
+      const auto it = table_.find(name);
+      if (it == table_.end() || !is_global(it->second)) {
+        std::vector<std::string> globals;
+        for (const auto& [key, entry] : table_)
+          if (is_global(entry)) globals.push_back(key);
+        const auto close = closest_name(name, globals);
+        diags_.error(pos, fmt::format("no parameter or input '{}' for '{}'{}", name, path,
+                                      close ? fmt::format(" (did you mean '{}{}'?)", global_prefix, *close) : ""));
+        return std::nullopt;
+      }
+      return value_of(it->second, name, path, pos, primed);
+    }
+    // Every match, innermost first (the root's is the global or full-path one).
+    std::vector<std::pair<std::string, const Entry*>> matches;
+    for (int n = node; n >= 0; n = m_.nodes[n].parent) {
+      const std::string full = join(m_.nodes[n].name, path);
       auto it = table_.find(full);
-      if (it != table_.end()) found = &it->second;
+      if (it != table_.end() && (matches.empty() || matches.back().first != full)) matches.emplace_back(full, &it->second);
       if (m_.nodes[n].parent < 0) break;
     }
-    if (!found) {
+    if (matches.empty()) {
       auto it = table_.find(path);
-      if (it != table_.end()) found = &it->second;
-      full = path;
+      if (it != table_.end()) matches.emplace_back(path, &it->second);
     }
-    if (!found) {
-      diags_.error(pos, fmt::format("unknown name '{}'", path));
+    if (matches.empty()) {
+      diags_.error(pos, fmt::format("unknown name '{}'{}", path, suggestion(path, node, false)));
       return std::nullopt;
     }
-    switch (found->kind) {
+    const auto& [full, found] = matches.front();
+    const bool local_variable = found->kind == Entry::Coord || found->kind == Entry::Speed;
+    const auto global = std::find_if(matches.begin() + 1, matches.end(), [](const auto& m) { return is_global(*m.second); });
+    if (local_variable && global != matches.end()) {
+      const bool local_ok = allowed(*found, primed), global_ok = allowed(*global->second, primed);
+      if (!local_ok && global_ok) return value_of(*global->second, global->first, path, pos, primed);
+      if (local_ok && global_ok) {
+        diags_.error(pos, fmt::format("'{0}' is ambiguous here: the {1} '{2}' or the {3} '{0}'; write '{2}' for the {1} "
+                                      "or '{4}.{0}' for the {3}",
+                                      path, found->kind == Entry::Coord ? "coordinate" : "speed", full,
+                                      global_kind_name(*global->second), kGlobalScope));
+        return std::nullopt;
+      }
+    }
+    return value_of(*found, full, path, pos, primed);
+  }
+
+  static bool is_global(const Entry& e) { return e.kind == Entry::Param || e.kind == Entry::Input || e.kind == Entry::Time; }
+  static const char* global_kind_name(const Entry& e) {
+    return e.kind == Entry::Param ? "parameter" : e.kind == Entry::Input ? "input" : "time";
+  }
+
+  /// Whether the entry may be used here (the allow_ flags of the expression being converted).
+  bool allowed(const Entry& e, bool primed) const {
+    switch (e.kind) {
+      case Entry::NodeName: return false;
+      case Entry::Coord: return !primed || allow_coord_rate_;
+      case Entry::Speed: return primed ? allow_speed_rate_ : allow_speeds_;
+      default: return !primed;
+    }
+  }
+
+  /// The value of a resolved name, or the error that says why it is not allowed here.
+  std::optional<GiNaC::ex> value_of(const Entry& found, const std::string& full, const std::string& path,
+                                    const SourcePos& pos, bool primed) {
+    switch (found.kind) {
       case Entry::NodeName:
         diags_.error(pos, fmt::format("'{}' is a subsystem, not a value", full));
         return std::nullopt;
@@ -387,29 +505,59 @@ class Builder {
             diags_.error(pos, fmt::format("the rate {}' of coordinate '{}' is not allowed here", path, full));
             return std::nullopt;
           }
-          return GiNaC::ex(coord_dot_[found->index]);
+          return GiNaC::ex(coord_dot_[found.index]);
         }
-        return GiNaC::ex(found->sym);
+        return GiNaC::ex(found.sym);
       case Entry::Speed:
         if (primed) {
           if (!allow_speed_rate_) {
             diags_.error(pos, fmt::format("the acceleration {}' of speed '{}' is only allowed in forces", path, full));
             return std::nullopt;
           }
-          return GiNaC::ex(m_.speed_dots[found->index]);
+          return GiNaC::ex(m_.speed_dots[found.index]);
         }
         if (!allow_speeds_) {
           diags_.error(pos, fmt::format("speed '{}' is not allowed here (a position-level expression)", full));
           return std::nullopt;
         }
-        return GiNaC::ex(found->sym);
+        return GiNaC::ex(found.sym);
       default:
         if (primed) {
           diags_.error(pos, fmt::format("the derivative ' is only allowed on coordinates and speeds, not on '{}'", full));
           return std::nullopt;
         }
-        return GiNaC::ex(found->sym);
+        return GiNaC::ex(found.sym);
     }
+  }
+
+  /// " (did you mean ...?)" for an unknown name at `node`, or "". Only while diagnostics
+  /// are still shown: a file of 100 000 unknown names must not compare each with every name.
+  std::string suggestion(const std::string& written, int node, bool variables_only) const {
+    if (diags_.all().size() >= Diagnostics::kMaxShown) return "";
+    return did_you_mean(written, names_in_scope(node, variables_only));
+  }
+
+  /// The names that resolve when written at `node`: relative to each enclosing scope,
+  /// innermost first (then every full path and global, from the top), `pi` among them;
+  /// with `variables_only` just coordinates and speeds. For "did you mean" suggestions.
+  std::vector<std::string> names_in_scope(int node, bool variables_only) const {
+    std::vector<std::string> out;
+    std::set<std::string> seen;
+    auto add = [&](const std::string& name, const Entry& e) {
+      if (e.kind == Entry::NodeName) return;
+      if (variables_only && e.kind != Entry::Coord && e.kind != Entry::Speed) return;
+      if (seen.insert(name).second) out.push_back(name);
+    };
+    for (int n = node; n >= 0; n = m_.nodes[n].parent) {
+      const std::string& scope = m_.nodes[n].name;
+      if (scope.empty()) break;  // the root: below
+      const std::string prefix = scope + ".";
+      for (auto it = table_.lower_bound(prefix); it != table_.end() && it->first.rfind(prefix, 0) == 0; ++it)
+        add(it->first.substr(prefix.size()), it->second);
+    }
+    for (const auto& [name, e] : table_) add(name, e);
+    if (!variables_only && seen.insert("pi").second) out.push_back("pi");
+    return out;
   }
 
   std::optional<GiNaC::ex> convert(int node, const ast::ExprPtr& e, bool speeds, bool coord_rates, bool speed_rates) {
@@ -479,6 +627,7 @@ class Builder {
             diags_.error(s.pos, fmt::format("'inertia' is only allowed in rigid2d bodies ('{}' is {})", node.name, to_string(node.kind)));
             break;
           }
+          (s.kind == Kind::Mass ? mass_given_ : inertia_given_).insert(id);  // even if its value fails below
           auto e = convert(id, s.value, false, false, false);
           if (!e) break;
           if (s.kind == Kind::Mass) {
@@ -571,7 +720,10 @@ class Builder {
             if (!c) break;
             v.push_back(*c);
           }
-          if (v.size() != s.exprs.size()) break;
+          if (v.size() != s.exprs.size()) {
+            if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
+            break;
+          }
           if (s.kind == Kind::Point) library_.add_point(id, s.name, v[0], v[1], s.name_pos);
           else if (s.kind == Kind::Com) library_.set_com(id, v[0], v[1], s.pos);
           else library_.add_axis(id, s.name, v[0], v[1], v[2], v[3], s.name_pos);
@@ -616,8 +768,9 @@ class Builder {
         }
       }
     }
-    if (body_kind && !has_mass_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
-    if (is_rigid2d(node.kind) && !inertia_pos_.count(id))
+    // (A mass or inertia statement whose value failed is reported there, not as missing.)
+    if (body_kind && !mass_given_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
+    if (is_rigid2d(node.kind) && !inertia_given_.count(id))
       diags_.error(node.pos, fmt::format("{} body '{}' has no inertia", to_string(node.kind), node.name));
     // A nodal body is finished from all its points: not when one of them failed.
     if (node.kind == LeafKind::Rigid2dNodal && has_mass_.count(id) && inertia_pos_.count(id) &&
@@ -657,7 +810,7 @@ class Builder {
       }
       if (m_.nodes[n].parent < 0) break;
     }
-    diags_.error(p.pos, fmt::format("unknown variable '{}'", p.text));
+    diags_.error(p.pos, fmt::format("unknown variable '{}'{}", p.text, suggestion(p.text, node, true)));
     return std::nullopt;
   }
 
@@ -853,11 +1006,6 @@ class Builder {
     return names.empty() ? "" : ", with --freeze " + names;
   }
 
-  struct Entry {
-    enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal } kind;
-    int index;
-    GiNaC::symbol sym;
-  };
   struct Definition {
     int speed;
     GiNaC::ex value;
@@ -887,6 +1035,7 @@ class Builder {
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;
   std::set<int> has_mass_;
+  std::set<int> mass_given_, inertia_given_;  // bodies with a mass / inertia statement (valid or not)
   std::map<int, SourcePos> inertia_pos_;
   std::set<std::string> output_names_;
   bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "mbsc/diag/limits.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
 
 namespace mbsc::model {
@@ -262,7 +263,9 @@ std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
       for (const auto& f : kFunctions)
         if (e.text == f.name) info = &f;
       if (!info) {
-        diags.error(e.pos, fmt::format("unknown function '{}'", e.text));
+        std::vector<std::string> known;
+        for (const auto& f : kFunctions) known.push_back(f.name);
+        diags.error(e.pos, fmt::format("unknown function '{}'{}", e.text, did_you_mean(e.text, known)));
         return std::nullopt;
       }
       if (static_cast<int>(e.args.size()) != info->arity) {

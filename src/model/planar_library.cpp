@@ -41,6 +41,17 @@ void PlanarLibrary::add_point(int node, const std::string& name, const GiNaC::ex
   points_[full] = Point{node, ex, ey};
 }
 
+void PlanarLibrary::add_failed(int node, const std::string& name) {
+  failed_.insert(join(node == kGround ? "ground" : m_.nodes[node].name, name));
+}
+
+bool PlanarLibrary::failed(int owner, const std::string& path) const {
+  const auto dot = path.rfind('.');
+  if (dot == std::string::npos) return false;
+  const auto b = body(owner, path.substr(0, dot));
+  return b && failed_.count(join(*b == kGround ? "ground" : m_.nodes[*b].name, path.substr(dot + 1)));
+}
+
 void PlanarLibrary::set_com(int node, const GiNaC::ex& ex, const GiNaC::ex& ey, const SourcePos& pos) {
   if (!is_rigid2d(m_.nodes[node].kind)) {
     diags_.error(pos, fmt::format("'com' is only allowed in rigid2d bodies ('{}' is not one)", m_.label(node)));
@@ -250,6 +261,7 @@ std::optional<PlanarLibrary::Located> PlanarLibrary::point(int owner, const std:
     auto r = world(node, p->ex, p->ey);
     return Located{node, r.first, r.second};
   }
+  if (failed(owner, path)) return std::nullopt;  // its declaration's error is reported
   diags_.error(pos, fmt::format("unknown point '{}' (a point of a rigid2d body or the ground, or a particle2d body)", path));
   return std::nullopt;
 }
@@ -263,6 +275,7 @@ std::optional<std::pair<PlanarLibrary::Located, std::pair<GiNaC::ex, GiNaC::ex>>
     // The direction turns with the body.
     return std::make_pair(Located{node, base.first, base.second}, rotate(node, a->dx, a->dy));
   }
+  if (failed(owner, path)) return std::nullopt;  // its declaration's error is reported
   diags_.error(pos, fmt::format("unknown axis '{}' (an axis of a rigid2d body or the ground)", path));
   return std::nullopt;
 }

@@ -16,6 +16,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ class PlanarLibrary {
   void set_com(int node, const GiNaC::ex& ex, const GiNaC::ex& ey, const SourcePos& pos);
   void add_axis(int node, const std::string& name, const GiNaC::ex& px, const GiNaC::ex& py, const GiNaC::ex& dx,
                 const GiNaC::ex& dy, const SourcePos& pos);
+  /// A point or axis whose declaration failed (its error is reported): a joint that
+  /// names it reports nothing more, instead of a misleading "unknown point".
+  void add_failed(int node, const std::string& name);
 
   /// A joint, spring or damper stated at node `owner` (its constraints belong there).
   struct Element {
@@ -117,6 +121,8 @@ class PlanarLibrary {
   Diagnostics& diags_;
   std::map<std::string, Point> points_;   // "crank.A", "ground.origin"
   std::map<std::string, Axis> axes_;      // "ground.x_axis", "rocker.slot"
+  std::set<std::string> failed_;          // points and axes whose declaration failed
+  bool failed(int owner, const std::string& path) const;
   std::map<int, std::pair<GiNaC::ex, GiNaC::ex>> com_;  // rigid2d node -> mass centre in body coordinates
   int unnamed_ = 0;
 };

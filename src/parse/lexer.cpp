@@ -233,6 +233,8 @@ bool is_statement_keyword(const std::string& word) {
   return false;
 }
 
+std::vector<std::string> statement_keyword_list() { return {statement_keywords.begin(), statement_keywords.end()}; }
+
 bool is_keyword(const std::string& word) {
   if (is_statement_keyword(word)) return true;
   for (const char* k : other_keywords)

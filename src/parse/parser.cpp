@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "lexer.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "loop_expansion.hpp"
 #include "mbsc/parse/parse.hpp"
@@ -92,6 +93,12 @@ class Parser {
     throw SyntaxError{};
   }
 
+  /// "unknown statement 'intertia' (did you mean 'inertia'?)" at an identifier where a
+  /// statement begins.
+  [[noreturn]] void fail_unknown_statement(const Token& t) {
+    fail(t.pos, "unknown statement '" + t.text + "'" + did_you_mean(t.text, statement_keyword_list()));
+  }
+
   /// "expected <what>, found <current token>" at the current token. A lexical error
   /// token is reported with its own message instead.
   [[noreturn]] void fail_expected(const std::string& what) {
@@ -136,7 +143,13 @@ class Parser {
   /// A statement ends at a newline or ';' (consumed), before '}' or the end of the
   /// file, or before a keyword that begins the next statement ("mass m  inertia J").
   void end_statement(const std::string& after, bool in_list = false) {
-    if (!at_statement_end()) fail_expected(std::string(in_list ? "',' or " : "") + "end of statement after " + after);
+    if (!at_statement_end()) {
+      // `{ mass 1  intertia J }`: a misspelt keyword that would have begun the next
+      // statement reads as that statement's mistake, as it does on a line of its own.
+      const Token& t = peek();
+      if (t.kind == TK::Ident && closest_name(t.text, statement_keyword_list())) fail_unknown_statement(t);
+      fail_expected(std::string(in_list ? "',' or " : "") + "end of statement after " + after);
+    }
     if (at(TK::Newline) || at(TK::Semicolon)) take();
   }
 
@@ -231,7 +244,7 @@ class Parser {
   // stmt := one of the statements below, chosen by its leading keyword
   void parse_statement(std::vector<StatementPtr>& out, bool top_level) {
     const Token& t = peek();
-    if (t.kind == TK::Ident) fail(t.pos, "unknown statement '" + t.text + "'");
+    if (t.kind == TK::Ident) fail_unknown_statement(t);
     if (t.kind == TK::Invalid) fail(t.pos, t.text);
     if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) fail_expected("a statement");
     const Token kw = take();

@@ -86,6 +86,57 @@ void classify(const ComplementInput& in, const Eigen::MatrixXd& Bn, const std::v
   }
 }
 
+/// True when every position constraint of node n and its descendants holds at `at`.
+bool subtree_holds(const model::Model& m, int n, const Probe& at) {
+  const auto& node = m.nodes[static_cast<std::size_t>(n)];
+  for (int c : node.constraints) {
+    const auto& con = m.constraints[static_cast<std::size_t>(c)];
+    if (con.level == model::Constraint::Level::Position && !(std::abs(at.eval(con.residual)) <= 1e-9)) return false;
+  }
+  for (int child : node.children)
+    if (!subtree_holds(m, child, at)) return false;
+  return true;
+}
+
+/// B at the model's reference configuration, when that is a configuration of this node:
+/// every position constraint of its subtree holds there (B reads the children's
+/// dependent rates) and B evaluates to finite numbers (a row that reads a child's numeric
+/// solve does not evaluate there). Else nothing.
+std::optional<Eigen::MatrixXd> at_reference(const ComplementInput& in) {
+  if (!in.reference) return std::nullopt;
+  const auto& B = *in.B;
+  const auto& m = *in.model;
+  if (!subtree_holds(m, in.node, *in.reference)) return std::nullopt;
+  Eigen::MatrixXd Br(B.rows(), B.cols());
+  for (unsigned i = 0; i < B.rows(); ++i)
+    for (unsigned j = 0; j < B.cols(); ++j) {
+      Br(i, j) = B(i, j).is_zero() ? 0.0 : in.reference->eval(B(i, j));
+      if (!std::isfinite(Br(i, j))) return std::nullopt;
+    }
+  return Br;
+}
+
+/// Warns when the dependent block of the chosen set is singular at the reference
+/// configuration: the generated rhs cannot solve for the dependent speeds there.
+void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
+                                   const Partition& p, Diagnostics& diags) {
+  Eigen::MatrixXd Bs(Br.rows(), static_cast<Eigen::Index>(dep_cols.size()));
+  for (std::size_t k = 0; k < dep_cols.size(); ++k) Bs.col(static_cast<Eigen::Index>(k)) = Br.col(dep_cols[k]);
+  if (numeric_rank(Bs) == Br.rows()) return;
+  const auto& m = *in.model;
+  const bool given = !in.requested.empty();
+  const bool any_works = numeric_rank(Br) == Br.rows();
+  // The top node's own position is the start of the file: name the model statement instead.
+  const SourcePos& node_pos = in.node == m.root() ? m.name_pos : m.nodes[static_cast<std::size_t>(in.node)].pos;
+  diags.warning(given ? in.requested_pos : node_pos,
+                fmt::format("the {}independent speeds ({}) of subsystem '{}' are singular at the reference configuration "
+                            "(parameter defaults, coordinates and t at 0): the constraints cannot be solved for {} there, "
+                            "so the generated rhs fails at that state; {}",
+                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), names(m, p.dependent),
+                            any_works ? "name a set that works there with `independent` (or add an `alternative`)"
+                                      : "no set works there (the constraints themselves are singular there)"));
+}
+
 }  // namespace
 
 std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics& diags) {
@@ -124,6 +175,9 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     rank = r;
   }
   const int ndof = ny - nr;
+  // B at the reference configuration: for a given set (the warning) and for the automatic
+  // choice unless its pivots are numbers or parameters (regular everywhere).
+  std::optional<Eigen::MatrixXd> Br;
   Partition p;
   std::vector<int> dep_cols;
   if (!in.requested.empty()) {
@@ -161,16 +215,22 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
       return std::nullopt;
     }
     for (int s : in.requested) p.independent.push_back(s);
+    Br = at_reference(in);
   } else {
     // Automatic: a triangular choice with state-free pivots if one exists, else the
-    // pivot columns of a column-pivoted QR of B at the probe point.
+    // pivot columns of a column-pivoted QR of B (below).
     std::vector<int> all(ny);
     for (int j = 0; j < ny; ++j) all[j] = j;
     auto picks = singleton_elimination(in, Bn, all, true);
     if (static_cast<int>(picks.size()) == nr) {
       for (auto [row, c] : picks) dep_cols.push_back(c);
     } else {
-      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Bn);
+      Br = at_reference(in);
+      // The best conditioned columns (greedy, by column-pivoted QR) at the reference
+      // configuration when B has full rank there, else at the generic probe point. A
+      // skate (-sin th u + cos th v = 0) starts at th = 0 and must not solve for u.
+      const bool reference_regular = Br && numeric_rank(*Br) == nr;
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(reference_regular ? *Br : Bn);
       for (int k = 0; k < nr; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
     }
     std::sort(dep_cols.begin(), dep_cols.end());
@@ -179,6 +239,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   }
   std::sort(dep_cols.begin(), dep_cols.end());
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
+  if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, diags);
   classify(in, Bn, dep_cols, p);
   return p;
 }

@@ -24,7 +24,7 @@ using model::LeafKind;
 class Deriver {
  public:
   Deriver(const model::Model& m, const Options& o, Diagnostics& d)
-      : m_(m), diags_(d), probe_(m, param_values(m, o)) {
+      : m_(m), diags_(d), probe_(m, param_values(m, o)), reference_(Probe::reference(m, param_values(m, o))) {
     eom_.model = &m;
     eom_.options = o;
     eom_.param_values = param_values(m, o);
@@ -198,7 +198,7 @@ class Deriver {
       for (int j = 0; j < ny; ++j) r.B(i, j) = rows[i].diff(m_.speed_dots[r.y[j]]);
       r.b(i, 0) = rows[i].subs(zero);
     }
-    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node)};
+    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
     auto choice = choose_partition(in, diags_);
     if (!choice) return false;
     r.rank = nr;
@@ -660,6 +660,7 @@ class Deriver {
   const model::Model& m_;
   Diagnostics& diags_;
   Probe probe_;
+  Probe reference_;  // the model's reference configuration (the automatic independent set's)
   Eom eom_;
   GiNaC::exmap frozen_;
   std::vector<int> eliminated_at_;

@@ -17,6 +17,20 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
   for (const auto& q : model.coords) values_[q.sym] = next(-1.3, 1.3);
   for (const auto& u : model.speeds) values_[u.sym] = next(-1.3, 1.3);
   for (const auto& in : model.inputs) values_[in.sym] = next(-1.0, 1.0);
+  bind_parameters(model, param_values);
+}
+
+Probe Probe::reference(const model::Model& model, const std::map<std::string, double>& param_values) {
+  Probe p;
+  p.values_[model.time] = 0.0;
+  for (const auto& q : model.coords) p.values_[q.sym] = 0.0;
+  for (const auto& u : model.speeds) p.values_[u.sym] = 0.0;
+  for (const auto& in : model.inputs) p.values_[in.sym] = 0.0;
+  p.bind_parameters(model, param_values);
+  return p;
+}
+
+void Probe::bind_parameters(const model::Model& model, const std::map<std::string, double>& param_values) {
   for (size_t i = 0; i < model.params.size(); ++i) {
     auto it = param_values.find(model.params[i].name);
     values_[model.params[i].sym] = it != param_values.end() ? it->second : model.param_defaults[i];

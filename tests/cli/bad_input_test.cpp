@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Every model in tests/data/bad must fail with `file:line:col: error: ...` naming the
 // element (the `# expect: LINE:COL: TEXT` line of the file), exit code 1, and leave
-// the output folder empty.
+// the output folder empty. `# expect-errors: N` also checks that exactly N errors are
+// reported (no second, misleading error after the first).
 #include <catch2/catch.hpp>
 #include <fstream>
 
@@ -16,6 +17,7 @@ struct Expectation {
   std::string file;      // file the error points into, relative to the model's folder ("" = the model itself)
   std::string position;  // "LINE:COL"
   std::string text;
+  int errors = -1;       // the number of errors, or -1 when not checked
 };
 
 Expectation read_expectation(const fs::path& file) {
@@ -23,8 +25,9 @@ Expectation read_expectation(const fs::path& file) {
   std::string line;
   Expectation ex;
   while (std::getline(in, line)) {
-    const std::string file_tag = "# expect-file: ", tag = "# expect: ";
+    const std::string file_tag = "# expect-file: ", tag = "# expect: ", count_tag = "# expect-errors: ";
     if (line.rfind(file_tag, 0) == 0) ex.file = line.substr(file_tag.size());
+    if (line.rfind(count_tag, 0) == 0) ex.errors = std::stoi(line.substr(count_tag.size()));
     if (line.rfind(tag, 0) != 0) continue;
     std::string rest = line.substr(tag.size());
     auto colon = rest.find(':', rest.find(':') + 1);
@@ -54,6 +57,11 @@ TEST_CASE("bad input: clear error with position, exit 1, nothing written", "[cli
     const std::string where = ex.file.empty() ? f.string() : (f.parent_path() / ex.file).string();
     CHECK(r.output.find(where + ":" + ex.position + ": error: ") != std::string::npos);
     CHECK(r.output.find(ex.text) != std::string::npos);
+    if (ex.errors >= 0) {
+      int errors = 0;
+      for (auto at = r.output.find(": error: "); at != std::string::npos; at = r.output.find(": error: ", at + 1)) ++errors;
+      CHECK(errors == ex.errors);
+    }
     CHECK(fs::is_empty(out));
     fs::remove_all(out);
   }

@@ -23,6 +23,10 @@ struct ComplementInput {
   const GiNaC::matrix* B;      // rows x y
   std::vector<int> requested;  // user's independent speeds (empty: automatic)
   SourcePos requested_pos;
+  /// The model's reference configuration (Probe::reference), or null: where it is a
+  /// configuration of this node (its position constraints hold there), the automatic
+  /// set is the best conditioned one there, and a set singular there is warned about.
+  const Probe* reference = nullptr;
 };
 
 /// The partition: # (independent) and ⋆ (dependent) speeds. `symbolic` when the
@@ -37,7 +41,9 @@ struct Partition {
 };
 
 /// Checks that the rows of B are independent (else names the redundant constraint)
-/// and picks the partition. Errors go to the constraint or `independent` statement.
+/// and picks the partition. Errors go to the constraint or `independent` statement; a
+/// warning to the `independent` statement (or the node) when the set is singular at the
+/// reference configuration.
 std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics& diags);
 
 }  // namespace mbsc::sym

@@ -15,12 +15,19 @@ namespace mbsc::sym {
 class Probe {
  public:
   Probe(const model::Model& model, const std::map<std::string, double>& param_values, unsigned seed = 12345);
+  /// The model's reference configuration instead (docs/language.md, "Independent
+  /// speeds"): parameters at their values (defaults or --freeze), every coordinate,
+  /// speed, input and t at 0. Opaque symbols are not bound, so what reads a numeric
+  /// solve does not evaluate there (NaN).
+  static Probe reference(const model::Model& model, const std::map<std::string, double>& param_values);
   /// Binds an opaque symbol (result of a numeric solve) to its value at the probe point.
   void bind(const GiNaC::symbol& s, double v) { values_[s] = v; }
   /// Value of e at the probe point; NaN when it does not evaluate to a real number.
   double eval(const GiNaC::ex& e) const;
 
  private:
+  Probe() = default;
+  void bind_parameters(const model::Model& model, const std::map<std::string, double>& param_values);
   GiNaC::exmap values_;
 };
 

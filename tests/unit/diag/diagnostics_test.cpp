@@ -39,3 +39,15 @@ TEST_CASE("diagnostics print escaped text and at most kMaxShown messages", "[dia
   CHECK(text.find("f:99:1: error") != std::string::npos);
   CHECK(text.find("f:100:1: error") == std::string::npos);
 }
+
+TEST_CASE("the same warning at the same place is kept once", "[diag]") {
+  // A derivation runs once per independent set: its warnings must not repeat.
+  Diagnostics d;
+  d.warning(SourcePos{"f", 9, 1}, "singular");
+  d.warning(SourcePos{"f", 9, 1}, "singular");
+  d.warning(SourcePos{"f", 10, 1}, "singular");
+  d.warning(SourcePos{"f", 9, 1}, "other");
+  CHECK(d.all().size() == 3);
+  CHECK(d.format() == "f:9:1: warning: singular\nf:10:1: warning: singular\nf:9:1: warning: other\n");
+  CHECK_FALSE(d.has_errors());
+}

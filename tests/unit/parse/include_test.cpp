@@ -157,7 +157,7 @@ TEST_CASE("include: syntax errors in included files carry their own path", "[par
   REQUIRE(diags.all().size() == 2);
   CHECK(mbsc::to_string(diags.all()[0].pos) == main + ":2:6");
   CHECK(mbsc::to_string(diags.all()[1].pos) == dir.at("x.mbs") + ":2:1");
-  CHECK(diags.all()[1].message == "unknown statement 'bodyy'");
+  CHECK(diags.all()[1].message == "unknown statement 'bodyy' (did you mean 'body'?)");
 }
 
 TEST_CASE("include: relative paths given to parse_file work", "[parse][include]") {

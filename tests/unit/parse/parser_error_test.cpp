@@ -156,7 +156,7 @@ TEST_CASE("parser errors: recovery reports every independent mistake once", "[pa
       "10:24: expected ')' after the arguments of subsystem 't', found '{'",
       "14:3: constraint row is not an equation (expected '=')",
       "16:9: expected expression after '(', found newline",
-      "18:1: unknown statement 'bodyy'",
+      "18:1: unknown statement 'bodyy' (did you mean 'body'?)",
   };
   CHECK(errs == expected);
 }
