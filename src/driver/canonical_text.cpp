@@ -2,6 +2,7 @@
 #include "mbsc/driver/canonical_text.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <sstream>
 #include <vector>
 
@@ -51,6 +52,7 @@ std::string wrap(const Printed& p, Prec need, bool latex) {
 }
 
 Printed print(const GiNaC::ex& e, bool latex);
+Printed print_product_plain(const GiNaC::ex& e, bool latex);
 
 Printed print_sum(const GiNaC::ex& e, bool latex) {
   std::vector<Printed> terms;
@@ -76,9 +78,16 @@ Printed print_sum(const GiNaC::ex& e, bool latex) {
   return p;
 }
 
-Printed print_product(const GiNaC::ex& e, bool latex) {
+Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   GiNaC::numeric coeff(1);
-  std::vector<std::string> num, den;
+  // Factors as a person orders them: sums first, then symbols and their powers, then
+  // functions ((m1 + m2)*l1^2, l1*l2*m2*cos(th1 - th2)); by text within each group.
+  std::vector<std::pair<int, std::string>> num;
+  std::vector<std::string> den;
+  auto rank = [](const GiNaC::ex& f) {
+    const GiNaC::ex b = GiNaC::is_a<GiNaC::power>(f) ? f.op(0) : f;
+    return GiNaC::is_a<GiNaC::add>(b) ? 0 : GiNaC::is_a<GiNaC::function>(b) ? 2 : 1;
+  };
   for (size_t i = 0; i < e.nops(); ++i) {
     const GiNaC::ex f = e.op(i);
     if (GiNaC::is_a<GiNaC::numeric>(f)) {
@@ -101,8 +110,14 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
         const std::string expo = print(f.op(1), latex).text;
         pf.text = wrap(base, kAtom, latex) + (latex ? "^{" + expo + "}" : "^" + expo);
         pf.prec = kPower;
+      } else if (pf.negative && !pf.text.empty() && pf.text[0] == '-') {
+        // An odd function of a sign-normalised argument, -sin(b - a): the sign joins the coefficient.
+        coeff = -coeff;
+        pf.text = pf.text.substr(1);
+        pf.negative = false;
+        pf.prec = kAtom;
       }
-      num.push_back(wrap(pf, kProduct, latex));
+      num.push_back({rank(f), wrap(pf, kProduct, latex)});
     }
   }
   std::sort(num.begin(), num.end());
@@ -112,7 +127,7 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
   const std::string times = latex ? " " : "*";
   std::string top;
   if (!coeff.is_equal(1) || num.empty()) top = number_text(coeff, latex);
-  for (const auto& n : num) top += (top.empty() ? "" : times) + n;
+  for (const auto& n : num) top += (top.empty() ? "" : times) + n.second;
   std::string out = top;
   if (!den.empty()) {
     std::string bottom;
@@ -120,6 +135,34 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
     out = latex ? "\\frac{" + top + "}{" + bottom + "}" : top + "/" + (den.size() > 1 ? "(" + bottom + ")" : bottom);
   }
   return {negative ? "-" + out : out, kProduct, negative};
+}
+
+/// GiNaC keeps a product's numbers outside its sums, 1/3*(3*m2 + m1)*l^2; a person
+/// writes (1/3*m1 + m2)*l^2. The number goes inside the one sum when that prints shorter.
+Printed print_product(const GiNaC::ex& e, bool latex) {
+  Printed plain = print_product_plain(e, latex);
+  GiNaC::numeric c(1);
+  GiNaC::ex sum;
+  GiNaC::exvector others;
+  int sums = 0;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const GiNaC::ex f = e.op(i);
+    if (GiNaC::is_a<GiNaC::numeric>(f)) c *= GiNaC::ex_to<GiNaC::numeric>(f);
+    else if (GiNaC::is_a<GiNaC::add>(f) && ++sums == 1) sum = f;
+    else others.push_back(f);
+  }
+  if (sums != 1 || !c.is_rational() || c.is_equal(GiNaC::numeric(1)) || c.is_equal(GiNaC::numeric(-1))) return plain;
+  const GiNaC::ex inside = (c * sum).expand();  // a number times a sum: GiNaC distributes it
+  if (!GiNaC::is_a<GiNaC::add>(inside)) return plain;
+  const Printed in = print(inside, latex);
+  std::string text = (latex ? "\\left(" : "(") + in.normal_text + (latex ? "\\right)" : ")");
+  if (!others.empty()) {
+    const Printed rest = print(GiNaC::mul(others), latex);
+    if (rest.negative) return plain;
+    text += (latex ? " " : "*") + wrap(rest, kProduct, latex);
+  }
+  if (text.size() >= (plain.negative ? plain.text.size() - 1 : plain.text.size())) return plain;
+  return {in.normal_negated ? "-" + text : text, kProduct, in.normal_negated};
 }
 
 Printed print(const GiNaC::ex& e, bool latex) {
