@@ -268,6 +268,10 @@ class Simplifier {
       const Variant variants[] = {{false, 1, -2 * GiNaC::pow(GiNaC::sin(u), 2)},
                                   {false, -1, 2 * GiNaC::pow(GiNaC::cos(u), 2)},
                                   {true, 0, 2 * GiNaC::sin(u) * GiNaC::cos(u)}};
+      // The best of the variants for this angle, kept when it beats what is there.
+      std::map<WaveKey, GiNaC::ex> keep_w;
+      GiNaC::exvector keep_extra;
+      bool improved = false;
       for (const auto& v : variants) {
         auto it = w.find({k2, v.sine});
         if (it == w.end()) continue;
@@ -282,9 +286,14 @@ class Simplifier {
         if (s < best_size) {
           best = candidate;
           best_size = s;
-          w = std::move(trial);
-          extra = std::move(trial_extra);
+          keep_w = std::move(trial);
+          keep_extra = std::move(trial_extra);
+          improved = true;
         }
+      }
+      if (improved) {
+        w = std::move(keep_w);
+        extra = std::move(keep_extra);
       }
     }
     return best;

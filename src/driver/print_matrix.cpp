@@ -21,7 +21,7 @@ namespace {
 /// Closed forms larger than this (nodes) are not substituted: the intermediate stays named.
 constexpr std::size_t kMaxClosedNodes = 3000;
 /// Numeric solves up to this size get a closed form (Cramer's rule).
-constexpr int kMaxClosedSolve = 3;
+constexpr int kMaxClosedSolve = 4;
 /// Text matrices whose widest entry is longer than this are listed entry by entry.
 constexpr std::size_t kMaxGridEntry = 48;
 constexpr std::size_t kMaxGridWidth = 140;
@@ -232,14 +232,19 @@ class Intermediates {
 std::string where_text(const std::vector<Intermediate>& where, const Intermediates& all, bool latex) {
   if (where.empty()) return "";
   std::string out = latex ? "% where (evaluated in this order)\n" : "  where (evaluated in this order)\n";
-  for (const auto& w : where) {
+  for (size_t i = 0; i < where.size(); ++i) {
+    const auto& w = where[i];
     if (w.from_solve && !w.solved) {
+      // The results of one solve without a closed form, on one line.
       const ir::Solve* s = all.solve_of(w.sym);
-      const std::string why = fmt::format("a result of the {} x {} linear solve of {} (LU in the generated code; too large "
-                                          "for a closed form here)",
+      std::vector<std::string> names{w.sym.get_name()};
+      while (i + 1 < where.size() && where[i + 1].from_solve && !where[i + 1].solved && all.solve_of(where[i + 1].sym) == s)
+        names.push_back(where[++i].sym.get_name());
+      const std::string why = fmt::format("the {} x {} linear solve of {} (LU in the generated code; too large for a closed "
+                                          "form here)",
                                           s ? s->n : 0, s ? s->n : 0, s ? s->label : std::string("?"));
-      out += latex ? fmt::format("% {}: {}\n", canonical_text(w.sym, true), why)
-                   : fmt::format("  {}: {}\n", w.sym.get_name(), why);
+      out += latex ? fmt::format("% {}: {}\n", fmt::join(names, ", "), why)
+                   : fmt::format("  {}: {}\n", fmt::join(names, ", "), why);
       continue;
     }
     const std::string value = canonical_text(w.value, latex);
