@@ -82,8 +82,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   GiNaC::numeric coeff(1);
   // Factors as a person orders them: sums first, then symbols and their powers, then
   // functions ((m1 + m2)*l1^2, l1*l2*m2*cos(th1 - th2)); by text within each group.
-  std::vector<std::pair<int, std::string>> num;
-  std::vector<std::string> den;
+  std::vector<std::pair<int, std::string>> num, den;
   auto rank = [](const GiNaC::ex& f) {
     const GiNaC::ex b = GiNaC::is_a<GiNaC::power>(f) ? f.op(0) : f;
     return GiNaC::is_a<GiNaC::add>(b) ? 0 : GiNaC::is_a<GiNaC::function>(b) ? 2 : 1;
@@ -94,7 +93,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
       coeff *= GiNaC::ex_to<GiNaC::numeric>(f);
     } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
                GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-      den.push_back(wrap(print(GiNaC::pow(f.op(0), -f.op(1)), latex), kProduct, latex));
+      den.push_back({rank(f), wrap(print(GiNaC::pow(f.op(0), -f.op(1)), latex), kProduct, latex)});
     } else {
       Printed pf = print(f, latex);
       // A sum factor is printed sign-normalised; its sign moves to the coefficient.
@@ -131,7 +130,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   std::string out = top;
   if (!den.empty()) {
     std::string bottom;
-    for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d;
+    for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d.second;
     out = latex ? "\\frac{" + top + "}{" + bottom + "}" : top + "/" + (den.size() > 1 ? "(" + bottom + ")" : bottom);
   }
   return {negative ? "-" + out : out, kProduct, negative};
