@@ -15,8 +15,12 @@
 namespace mbsc::driver {
 namespace {
 
-/// Thrown when the work budget is spent: the caller falls back to the plain form.
+/// Thrown when one expression's work budget is spent: it is simplified part by part.
 struct Abandon {};
+/// Thrown when the whole call's budget is spent: the caller prints the plain form.
+struct AbandonAll {};
+/// The whole call may do this many times the work of one expression.
+constexpr std::size_t kTotalWorkFactor = 8;
 
 /// Largest integer multiple of an angle written out (sin(3*x) is expanded, sin(20*x) is an angle of its own).
 constexpr int kMaxMultiple = 8;
@@ -68,8 +72,10 @@ void add_wave(Series& s, std::vector<int> k, bool sine, GiNaC::numeric c) {
 }
 
 /// The product of two series by cos a cos b = (cos(a-b) + cos(a+b))/2 and its siblings.
-Series multiply(const Series& a, const Series& b, std::size_t& work, std::size_t budget) {
+Series multiply(const Series& a, const Series& b, std::size_t& work, std::size_t& total, std::size_t budget) {
   work += a.size() * b.size();
+  total += a.size() * b.size();
+  if (total > kTotalWorkFactor * budget) throw AbandonAll{};
   if (work > budget) throw Abandon{};
   Series out;
   const GiNaC::numeric half(1, 2);
@@ -106,13 +112,21 @@ class Simplifier {
   GiNaC::ex run(const GiNaC::ex& e) {
     if (node_count(e, lim_.max_nodes) > lim_.max_nodes) return sym::tidy(e);
     const GiNaC::ex in = inner(e);
-    if (model::expanded_terms(in) > lim_.max_expanded_terms) return sym::tidy(in);
+    if (model::expanded_terms(in) > lim_.max_expanded_terms) return piecewise(in);
     const GiNaC::ex x = in.expand();
     std::vector<GiNaC::ex> candidates;
-    candidates.push_back(fourier_form(x));
+    work_ = 0;
+    try {
+      candidates.push_back(fourier_form(x));
+    } catch (const Abandon&) {
+      return piecewise(in);
+    }
     candidates.push_back(GiNaC::collect_common_factors(candidates.back()));
+    candidates.push_back(squares_form(x));
     candidates.push_back(sym::tidy(in));
     candidates.push_back(sym::tidy(GiNaC::collect_common_factors(x)));
+    // A product or power of sums, simplified factor by factor, keeps its shape.
+    if (!GiNaC::is_a<GiNaC::add>(in)) candidates.push_back(piecewise(in));
     GiNaC::ex best = candidates.front();
     std::size_t best_size = display_size(best);
     for (std::size_t i = 1; i < candidates.size(); ++i) {
@@ -126,6 +140,18 @@ class Simplifier {
   }
 
  private:
+  /// An expression too large to expand as a whole: its parts one by one, the bases of
+  /// powers included ((1 + sin(x)^2 + cos(x)^2 + ...)^9 still loses its sin^2 + cos^2).
+  GiNaC::ex piecewise(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::power>(e)) return GiNaC::pow(run(e.op(0)), e.op(1));
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+      GiNaC::exvector ops;
+      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(run(e.op(i)));
+      return sym::tidy(GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops)));
+    }
+    return sym::tidy(e);
+  }
+
   /// Simplifies what the expansion treats as opaque: the bases of negative or
   /// fractional powers and the arguments of functions other than sin and cos.
   GiNaC::ex inner(const GiNaC::ex& e) {
@@ -150,6 +176,56 @@ class Simplifier {
       return GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops));
     }
     return e;
+  }
+
+  /// cos(u)^n written as cos(u)^(n mod 2) (1 - sin(u)^2)^(n/2) in the expanded x, or
+  /// the sine squares as cosines: sin^2 + cos^2 = 1 without folding products of sines
+  /// and cosines into sums of angles. Angle by angle (in the order of their text), the
+  /// shortest of the three (as is, to sines, to cosines) is kept.
+  GiNaC::ex squares_form(const GiNaC::ex& x) {
+    std::vector<std::pair<std::string, GiNaC::ex>> args;
+    for (auto it = x.preorder_begin(); it != x.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::power>(*it) || !is_trig(it->op(0))) continue;
+      const GiNaC::ex u = it->op(0).op(0);
+      if (std::none_of(args.begin(), args.end(), [&](const auto& a) { return a.second.is_equal(u); }))
+        args.push_back({canonical_text(u, false), u});
+    }
+    std::stable_sort(args.begin(), args.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    GiNaC::ex best = x;
+    std::size_t best_size = display_size(GiNaC::collect_common_factors(x));
+    for (const auto& [text, u] : args) {
+      (void)text;
+      GiNaC::ex round_best = best;
+      for (bool to_sine : {true, false}) {
+        const GiNaC::ex from = to_sine ? GiNaC::cos(u) : GiNaC::sin(u), to = to_sine ? GiNaC::sin(u) : GiNaC::cos(u);
+        GiNaC::exvector terms;
+        const std::size_t n = GiNaC::is_a<GiNaC::add>(best) ? best.nops() : 1;
+        for (std::size_t i = 0; i < n; ++i) terms.push_back(reduce_power(n == 1 ? best : best.op(i), from, to));
+        const GiNaC::ex y = GiNaC::add(terms);
+        if (model::expanded_terms(y) > lim_.max_expanded_terms) continue;
+        const GiNaC::ex candidate = GiNaC::collect_common_factors(y.expand());
+        const std::size_t size = display_size(candidate);
+        if (size < best_size) {
+          round_best = candidate.expand();
+          best_size = size;
+        }
+      }
+      best = round_best;
+    }
+    return GiNaC::collect_common_factors(best);
+  }
+
+  /// In one term (or factor): from^n -> from^(n mod 2) (1 - to^2)^(n/2).
+  static GiNaC::ex reduce_power(const GiNaC::ex& t, const GiNaC::ex& from, const GiNaC::ex& to) {
+    if (GiNaC::is_a<GiNaC::power>(t) && t.op(0).is_equal(from) && GiNaC::is_a<GiNaC::numeric>(t.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(t.op(1)).is_pos_integer()) {
+      const int n = GiNaC::ex_to<GiNaC::numeric>(t.op(1)).to_int();
+      return GiNaC::pow(from, n % 2) * GiNaC::pow(1 - GiNaC::pow(to, 2), n / 2);
+    }
+    if (!GiNaC::is_a<GiNaC::mul>(t)) return t;
+    GiNaC::exvector factors;
+    for (std::size_t i = 0; i < t.nops(); ++i) factors.push_back(reduce_power(t.op(i), from, to));
+    return GiNaC::mul(factors);
   }
 
   /// The atoms of the angles in x, in the order of their text (so that a wave's sign
@@ -211,7 +287,7 @@ class Simplifier {
         degree += times;
         if (degree > lim_.max_trig_degree) throw Abandon{};
         const Series w = wave_of(base);
-        for (int r = 0; r < times; ++r) s = multiply(s, w, work_, lim_.max_wave_terms);
+        for (int r = 0; r < times; ++r) s = multiply(s, w, work_, total_, lim_.max_wave_terms);
       }
       for (const auto& [key, c] : s) out[key] += coeff * c;
     }
@@ -301,7 +377,8 @@ class Simplifier {
 
   const DisplayLimits& lim_;
   std::vector<GiNaC::ex> atoms_;
-  std::size_t work_ = 0;
+  std::size_t work_ = 0;   // this expression's products of waves
+  std::size_t total_ = 0;  // the whole call's
 };
 
 }  // namespace
@@ -312,6 +389,7 @@ GiNaC::ex display_simplify(const GiNaC::ex& e, const DisplayLimits& limits) {
   try {
     Simplifier s(limits);
     return s.run(e);
+  } catch (const AbandonAll&) {
   } catch (const Abandon&) {
   } catch (const std::exception&) {
     // GiNaC refuses something (a pole while evaluating): the plain form is still right.

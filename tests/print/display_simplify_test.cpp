@@ -53,6 +53,11 @@ TEST_CASE("display_simplify: sin^2 + cos^2 = 1 in every form", "[print][display]
   // Powers of it, also expanded.
   check_simplifies(pow(pow(sin(x), 2) + pow(cos(x), 2), 2) * k, "k");
   check_simplifies(k * pow(cos(x), 4) + 2 * k * pow(cos(x), 2) * pow(sin(x), 2) + k * pow(sin(x), 4), "k");
+  // Beside products that folding into sums of angles would only lengthen; in a power
+  // too large to expand.
+  check_simplifies(sin(2 * x) * cos(3 * y) + pow(sin(z), 2) + pow(cos(z), 2) + a * b, "1 + a*b + cos(3*y)*sin(2*x)");
+  check_simplifies(pow(sin(2 * x) * cos(3 * y) + pow(sin(z), 2) + pow(cos(z), 2) + a * b, 9) * k,
+                   "(1 + a*b + cos(3*y)*sin(2*x))^9*k");
   // One square for the other: 1 - sin^2 = cos^2.
   check_simplifies(m - m * pow(sin(x), 2), "m*cos(x)^2");
   // Inside the arguments and bases the expansion does not touch.
