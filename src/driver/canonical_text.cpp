@@ -93,7 +93,12 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
       coeff *= GiNaC::ex_to<GiNaC::numeric>(f);
     } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
                GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-      den.push_back({rank(f), wrap(print(GiNaC::pow(f.op(0), -f.op(1)), latex), kProduct, latex)});
+      Printed d = print(GiNaC::pow(f.op(0), -f.op(1)), latex);
+      if (d.negative && !d.text.empty() && d.text[0] == '-' && d.prec != kSum) {  // 1/(-sin(b - a))^3
+        coeff = -coeff;
+        d = {d.text.substr(1), kPower};
+      }
+      den.push_back({rank(f), wrap(d, kProduct, latex)});
     } else {
       Printed pf = print(f, latex);
       // A sum factor is printed sign-normalised; its sign moves to the coefficient.
@@ -176,12 +181,25 @@ Printed print(const GiNaC::ex& e, bool latex) {
   if (GiNaC::is_a<GiNaC::power>(e)) {
     if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
     {
-      const Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
-      return {latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex), kProduct};
+      Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
+      const bool negative = inv.negative && inv.prec != kSum && !inv.text.empty() && inv.text[0] == '-';
+      if (negative) inv = {inv.text.substr(1), kPower};  // 1/(-sin(b - a))^3 = -1/sin(a - b)^3
+      const std::string t = latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex);
+      return {negative ? "-" + t : t, kProduct, negative};
     }
-    const std::string base = wrap(print(e.op(0), latex), kAtom, latex);
+    Printed b = print(e.op(0), latex);
+    // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
+    bool negative = false;
+    if (b.negative && GiNaC::is_a<GiNaC::function>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_integer()) {
+      b = {b.text.substr(1), kAtom};
+      negative = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_odd();
+    }
+    const std::string base = wrap(b, kAtom, latex);
     const std::string expo = print(e.op(1), latex).text;
-    return {latex ? base + "^{" + expo + "}" : base + "^" + (expo.size() > 1 ? "(" + expo + ")" : expo), kPower};
+    const std::string t = latex ? base + "^{" + expo + "}" : base + "^" + (expo.size() > 1 ? "(" + expo + ")" : expo);
+    if (negative) return {"-" + t, kProduct, true};
+    return {t, kPower};
   }
   if (GiNaC::is_a<GiNaC::function>(e)) {
     const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
