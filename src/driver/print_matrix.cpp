@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <variant>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/driver/display_simplify.hpp"
 #include "mbsc/model/exact_guard.hpp"
@@ -264,7 +265,6 @@ std::string eom_text(const model::Model& m, const std::vector<int>& z, const Pri
     for (size_t j = 0; j < z.size(); ++j) {
       const GiNaC::ex& e = p.M[i][j];
       if (e.is_zero()) continue;
-      const GiNaC::ex term = e * m.speed_dots[z[j]];
       std::string t = canonical_text(e, latex);
       const std::string dot = latex ? "\\dot{" + canonical_text(m.speeds[z[j]].sym, true) + "}" : m.speeds[z[j]].name + "'";
       bool neg = false;
@@ -275,7 +275,6 @@ std::string eom_text(const model::Model& m, const std::vector<int>& z, const Pri
         t = t.substr(1);
       }
       std::string factor = t == "1" ? dot : t + (latex ? " " : "*") + dot;
-      (void)term;
       if (lhs.empty()) lhs = (neg ? "-" : "") + factor;
       else lhs += (neg ? " - " : " + ") + factor;
     }
@@ -340,6 +339,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
   for (int c : r.rows) cons.push_back(m.constraints[c].name);
   const auto ynames = names_of(m, r.y, true);
   const auto inames = names_of(m, r.independent, true);
+  checkpoint("printing", "the closed forms of the named intermediates", m.nodes[n].pos, 0, what.size());
   const Intermediates inter(m, eom);
   std::optional<PrintedEquations> eq;
   auto equations = [&]() -> const PrintedEquations& {
@@ -349,6 +349,8 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
   bool noted = false, listed = false;
   for (size_t k = 0; k < what.size(); ++k) {
     const std::string& w = what[k];
+    // The budget (--budget) and the progress line see the printing too.
+    checkpoint("printing", fmt::format("{} of subsystem '{}'", w, who), m.nodes[n].pos, k, what.size());
     if (w == "eom" || w == "M" || w == "h") {
       const PrintedEquations& p = equations();
       if (!noted) out += numeric_note(p, expand, latex);
