@@ -100,14 +100,6 @@ std::vector<std::string> names_of(const model::Model& m, const std::vector<int>&
   return v;
 }
 
-/// The entries of M in display form.
-std::vector<std::vector<GiNaC::ex>> to_rows(const GiNaC::matrix& M, const model::Model& m, const sym::Eom& eom) {
-  std::vector<std::vector<GiNaC::ex>> v(M.rows(), std::vector<GiNaC::ex>(M.cols()));
-  for (unsigned i = 0; i < M.rows(); ++i)
-    for (unsigned j = 0; j < M.cols(); ++j) v[i][j] = display_simplify(finalize(m, eom, M(i, j)));
-  return v;
-}
-
 /// The named variables (e_, r_) and numeric-solve results (X_) of the derivation, in
 /// evaluation order, with the closed form of each where it is affordable.
 class Intermediates {
@@ -346,6 +338,20 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
     if (!eq) eq = equations_of(m, eom, n, expand, inter);
     return *eq;
   };
+  // A matrix's entries in display form (closed form with --expand), and what they read.
+  auto rows_of = [&](const GiNaC::matrix& X) {
+    std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
+    for (unsigned i = 0; i < X.rows(); ++i)
+      for (unsigned j = 0; j < X.cols(); ++j) {
+        const GiNaC::ex e = finalize(m, eom, X(i, j));
+        v[i][j] = display_simplify(expand ? inter.expand(e) : e);
+      }
+    return v;
+  };
+  auto where_of = [&](const std::vector<std::vector<GiNaC::ex>>& v) {
+    bool numeric = false, closed = true;
+    return where_text(inter.needed(v, numeric, closed), inter, latex);
+  };
   bool noted = false, listed = false;
   for (size_t k = 0; k < what.size(); ++k) {
     const std::string& w = what[k];
@@ -385,13 +391,18 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       out += matrix_text("A", cons, names_of(m, speeds, false), v, latex);
     } else if (w == "B") {
       if (r.rows.empty()) out += latex ? "% B is empty (no constraints here)\n" : "B is empty (no constraints here)\n\n";
-      else out += matrix_text("B", cons, ynames, to_rows(r.B, m, eom), latex);
+      else {
+        const auto v = rows_of(r.B);
+        out += matrix_text("B", cons, ynames, v, latex) + where_of(v);
+      }
     } else if (w == "C") {
-      out += matrix_text("C", ynames, inames, to_rows(r.C, m, eom), latex);
+      const auto v = rows_of(r.C);
+      out += matrix_text("C", ynames, inames, v, latex) + where_of(v);
     } else if (w == "S") {
       std::vector<int> rows;
       GiNaC::matrix S = sym::full_complement(m, eom, n, rows);
-      out += matrix_text("S", names_of(m, rows, false), inames, to_rows(S, m, eom), latex);
+      const auto v = rows_of(S);
+      out += matrix_text("S", names_of(m, rows, false), inames, v, latex) + where_of(v);
     } else if (w == "f" || w == "fbar") {
       // f = -My y' + hy over y; fbar = -M z' + h over the independent speeds.
       const bool full = w == "f";
@@ -405,9 +416,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         e = finalize(m, eom, e);
         v.push_back({display_simplify(expand ? inter.expand(e) : e)});
       }
-      out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex);
-      bool numeric = false, closed = true;
-      out += where_text(inter.needed(v, numeric, closed), inter, latex);
+      out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex) + where_of(v);
     } else if (w == "invariants") {
       // The node's constraints as written or as joints expand them: residual = 0.
       out += latex ? fmt::format("% constraints (invariants) of {}\n", who)

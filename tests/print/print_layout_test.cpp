@@ -63,6 +63,11 @@ TEST_CASE("print of a numeric complement says so and offers the closed form", "[
   at(out, "  X_top_0_0 = r*cos(crank.theta)/(l*cos(rod.theta))   (numeric solve in the generated code; closed form)\n");
   const std::string closed = print("slider_crank.mbs", "--what M --expand");
   CHECK(closed.find("X_top") == std::string::npos);
+  // Every matrix: the five-bar's B, C and S read the linkage's solve, listed under them
+  // (closed forms) or substituted with --expand.
+  const std::string letters = print("five_bar.mbs", "--what B,C,S");
+  at(letters, "  X_linkage_0_0 = aUL*sin(linkage.left.theta - linkage.right.phi)/(aBL*sin(linkage.left.phi - linkage.right.phi))");
+  CHECK(print("five_bar.mbs", "--what B,C,S --expand").find("X_") == std::string::npos);
   // A block too large for a closed form is named as such.
   const std::string chain = print("parallelogram_chain.mbs", "--what M --expand");
   at(chain, "too large for a closed form here)");

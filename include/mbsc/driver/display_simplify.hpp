@@ -10,8 +10,9 @@
 /// basis, the Fourier basis cos(k.theta), sin(k.theta) over the angles it holds (every
 /// identity between such polynomials holds there term by term); from that basis a few
 /// candidate forms are built (the basis itself, squares instead of double angles, the
-/// plain input) and the shortest printed one is kept. The work is bounded: an expression
-/// over the limits below comes back in its plain form.
+/// plain input, squares reduced without folding) and the shortest printed one is kept.
+/// The work is bounded: an expression over the limits below is simplified part by part,
+/// or comes back in its plain form.
 #include <ginac/ginac.h>
 
 #include <cstddef>
@@ -21,7 +22,9 @@ namespace mbsc::driver {
 struct DisplayLimits {
   std::size_t max_nodes = 4000;       // nodes of the input (counted with repetition)
   double max_expanded_terms = 3000;   // terms of its expansion (model::expanded_terms)
-  std::size_t max_wave_terms = 20000; // products of sines and cosines written out, in all
+  std::size_t max_wave_terms = 20000; // products of sines and cosines written out for one
+                                      // expression (past it: part by part); the whole call
+                                      // may do 8 times as many (past it: the plain form)
   int max_trig_degree = 12;           // sines and cosines multiplied in one term
 };
 
