@@ -85,7 +85,8 @@ std::string matrix_text(const std::string& title, const std::vector<std::string>
       out += line + "\n";
     }
   } else {
-    out += "  (entries too long for a grid: the nonzero ones, one per line)\n";
+    out += widest > kMaxGridEntry ? "  (entries too long for a grid: the nonzero ones, one per line)\n"
+                                  : "  (too wide for a grid: the nonzero entries, one per line)\n";
     for (size_t i = 0; i < v.size(); ++i)
       for (size_t j = 0; j < v[i].size(); ++j)
         if (!v[i][j].is_zero()) out += fmt::format("  [{}, {}] = {}\n", rows[i], cols[j], cell[i][j]);

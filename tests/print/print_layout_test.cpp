@@ -45,6 +45,8 @@ TEST_CASE("print: long entries fall back to a list and say so", "[print][layout]
   const std::string out = print("three_r_arm.mbs", "--what M");
   at(out, "(entries too long for a grid: the nonzero ones, one per line)\n");
   at(out, "  [link1.w', link1.w'] = (1/3*m1 + m2 + m3)*l1^2\n");
+  // Short entries, but nine columns: too wide.
+  at(print("four_bar.mbs", "--what B"), "(too wide for a grid: the nonzero entries, one per line)\n");
 }
 
 TEST_CASE("print --expand: h in closed form instead of through e_ and r_", "[print][layout]") {
