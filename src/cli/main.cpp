@@ -100,8 +100,11 @@ int main(int argc, char** argv) {
   auto* p = app.add_subcommand("print", "print the matrices and equations of a subsystem (text or LaTeX)");
   p->add_option("model", print.model, "model file (.mbs)")->required();
   p->add_option("--node", print.node, "subsystem (dotted name); default: the whole model");
-  p->add_option("--what", what, "comma-separated: A B C S f fbar M h rates invariants (default: B C fbar at a node, M h at the top)");
+  p->add_option("--what", what,
+                "comma-separated: M h eom invariants rates A B C S f fbar (default: M h eom invariants, then rates B C fbar)");
   p->add_flag("--latex", print.latex, "LaTeX instead of plain text");
+  p->add_flag("--expand", print.expand,
+              "closed form: substitute the named intermediates (e_, r_) and the small numeric solves (X_)");
   p->add_flag("--stats", print.stats, "operation counts of the generated functions");
   p->add_option("--freeze", print_freeze, "fold a parameter into the equations: name=value (repeatable)");
   p->add_option("--outputs", print_outputs, "with --stats: only these functions");

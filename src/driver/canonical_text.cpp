@@ -2,6 +2,7 @@
 #include "mbsc/driver/canonical_text.hpp"
 
 #include <algorithm>
+#include <utility>
 #include <sstream>
 #include <vector>
 
@@ -51,6 +52,7 @@ std::string wrap(const Printed& p, Prec need, bool latex) {
 }
 
 Printed print(const GiNaC::ex& e, bool latex);
+Printed print_product_plain(const GiNaC::ex& e, bool latex);
 
 Printed print_sum(const GiNaC::ex& e, bool latex) {
   std::vector<Printed> terms;
@@ -76,16 +78,27 @@ Printed print_sum(const GiNaC::ex& e, bool latex) {
   return p;
 }
 
-Printed print_product(const GiNaC::ex& e, bool latex) {
+Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   GiNaC::numeric coeff(1);
-  std::vector<std::string> num, den;
+  // Factors as a person orders them: sums first, then symbols and their powers, then
+  // functions ((m1 + m2)*l1^2, l1*l2*m2*cos(th1 - th2)); by text within each group.
+  std::vector<std::pair<int, std::string>> num, den;
+  auto rank = [](const GiNaC::ex& f) {
+    const GiNaC::ex b = GiNaC::is_a<GiNaC::power>(f) ? f.op(0) : f;
+    return GiNaC::is_a<GiNaC::add>(b) ? 0 : GiNaC::is_a<GiNaC::function>(b) ? 2 : 1;
+  };
   for (size_t i = 0; i < e.nops(); ++i) {
     const GiNaC::ex f = e.op(i);
     if (GiNaC::is_a<GiNaC::numeric>(f)) {
       coeff *= GiNaC::ex_to<GiNaC::numeric>(f);
     } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
                GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
-      den.push_back(wrap(print(GiNaC::pow(f.op(0), -f.op(1)), latex), kProduct, latex));
+      Printed d = print(GiNaC::pow(f.op(0), -f.op(1)), latex);
+      if (d.negative && !d.text.empty() && d.text[0] == '-' && d.prec != kSum) {  // 1/(-sin(b - a))^3
+        coeff = -coeff;
+        d = {d.text.substr(1), kPower};
+      }
+      den.push_back({rank(f), wrap(d, kProduct, latex)});
     } else {
       Printed pf = print(f, latex);
       // A sum factor is printed sign-normalised; its sign moves to the coefficient.
@@ -101,8 +114,14 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
         const std::string expo = print(f.op(1), latex).text;
         pf.text = wrap(base, kAtom, latex) + (latex ? "^{" + expo + "}" : "^" + expo);
         pf.prec = kPower;
+      } else if (pf.negative && !pf.text.empty() && pf.text[0] == '-') {
+        // An odd function of a sign-normalised argument, -sin(b - a): the sign joins the coefficient.
+        coeff = -coeff;
+        pf.text = pf.text.substr(1);
+        pf.negative = false;
+        pf.prec = kAtom;
       }
-      num.push_back(wrap(pf, kProduct, latex));
+      num.push_back({rank(f), wrap(pf, kProduct, latex)});
     }
   }
   std::sort(num.begin(), num.end());
@@ -112,14 +131,42 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
   const std::string times = latex ? " " : "*";
   std::string top;
   if (!coeff.is_equal(1) || num.empty()) top = number_text(coeff, latex);
-  for (const auto& n : num) top += (top.empty() ? "" : times) + n;
+  for (const auto& n : num) top += (top.empty() ? "" : times) + n.second;
   std::string out = top;
   if (!den.empty()) {
     std::string bottom;
-    for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d;
+    for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d.second;
     out = latex ? "\\frac{" + top + "}{" + bottom + "}" : top + "/" + (den.size() > 1 ? "(" + bottom + ")" : bottom);
   }
   return {negative ? "-" + out : out, kProduct, negative};
+}
+
+/// GiNaC keeps a product's numbers outside its sums, 1/3*(3*m2 + m1)*l^2; a person
+/// writes (1/3*m1 + m2)*l^2. The number goes inside the one sum when that prints shorter.
+Printed print_product(const GiNaC::ex& e, bool latex) {
+  Printed plain = print_product_plain(e, latex);
+  GiNaC::numeric c(1);
+  GiNaC::ex sum;
+  GiNaC::exvector others;
+  int sums = 0;
+  for (size_t i = 0; i < e.nops(); ++i) {
+    const GiNaC::ex f = e.op(i);
+    if (GiNaC::is_a<GiNaC::numeric>(f)) c *= GiNaC::ex_to<GiNaC::numeric>(f);
+    else if (GiNaC::is_a<GiNaC::add>(f) && ++sums == 1) sum = f;
+    else others.push_back(f);
+  }
+  if (sums != 1 || !c.is_rational() || c.is_equal(GiNaC::numeric(1)) || c.is_equal(GiNaC::numeric(-1))) return plain;
+  const GiNaC::ex inside = (c * sum).expand();  // a number times a sum: GiNaC distributes it
+  if (!GiNaC::is_a<GiNaC::add>(inside)) return plain;
+  const Printed in = print(inside, latex);
+  std::string text = (latex ? "\\left(" : "(") + in.normal_text + (latex ? "\\right)" : ")");
+  if (!others.empty()) {
+    const Printed rest = print(GiNaC::mul(others), latex);
+    if (rest.negative) return plain;
+    text += (latex ? " " : "*") + wrap(rest, kProduct, latex);
+  }
+  if (text.size() >= (plain.negative ? plain.text.size() - 1 : plain.text.size())) return plain;
+  return {in.normal_negated ? "-" + text : text, kProduct, in.normal_negated};
 }
 
 Printed print(const GiNaC::ex& e, bool latex) {
@@ -134,12 +181,25 @@ Printed print(const GiNaC::ex& e, bool latex) {
   if (GiNaC::is_a<GiNaC::power>(e)) {
     if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
     {
-      const Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
-      return {latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex), kProduct};
+      Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
+      const bool negative = inv.negative && inv.prec != kSum && !inv.text.empty() && inv.text[0] == '-';
+      if (negative) inv = {inv.text.substr(1), kPower};  // 1/(-sin(b - a))^3 = -1/sin(a - b)^3
+      const std::string t = latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex);
+      return {negative ? "-" + t : t, kProduct, negative};
     }
-    const std::string base = wrap(print(e.op(0), latex), kAtom, latex);
+    Printed b = print(e.op(0), latex);
+    // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
+    bool negative = false;
+    if (b.negative && GiNaC::is_a<GiNaC::function>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_integer()) {
+      b = {b.text.substr(1), kAtom};
+      negative = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_odd();
+    }
+    const std::string base = wrap(b, kAtom, latex);
     const std::string expo = print(e.op(1), latex).text;
-    return {latex ? base + "^{" + expo + "}" : base + "^" + (expo.size() > 1 ? "(" + expo + ")" : expo), kPower};
+    const std::string t = latex ? base + "^{" + expo + "}" : base + "^" + (expo.size() > 1 ? "(" + expo + ")" : expo);
+    if (negative) return {"-" + t, kProduct, true};
+    return {t, kPower};
   }
   if (GiNaC::is_a<GiNaC::function>(e)) {
     const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();

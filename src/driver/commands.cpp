@@ -153,10 +153,11 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     return true;
   }
   std::vector<std::string> what = a.what;
-  if (what.empty()) what = node == m.root() ? std::vector<std::string>{"rates", "B", "C", "fbar", "M", "h"}
-                                            : std::vector<std::string>{"B", "C", "fbar"};
+  // What users look for first (M, h, M z' = h, the constraints), then the method's letters.
+  if (what.empty()) what = node == m.root() ? std::vector<std::string>{"M", "h", "eom", "invariants", "rates", "B", "C", "fbar"}
+                                            : std::vector<std::string>{"M", "h", "eom", "invariants", "B", "C", "fbar"};
   try {
-    text += print_node(m, eom, node, what, a.latex);
+    text += print_node(m, eom, node, what, a.latex, a.expand);
   } catch (const std::invalid_argument& e) {
     diags.error(file, e.what());
     return false;

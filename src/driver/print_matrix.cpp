@@ -3,9 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
+#include <variant>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/driver/display_simplify.hpp"
+#include "mbsc/model/exact_guard.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/full_complement.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -13,10 +19,28 @@
 namespace mbsc::driver {
 namespace {
 
-std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(sym::tidy(e), latex); }
+/// Closed forms larger than this (nodes) are not substituted: the intermediate stays named.
+constexpr std::size_t kMaxClosedNodes = 3000;
+/// Numeric solves up to this size get a closed form (Cramer's rule).
+constexpr int kMaxClosedSolve = 4;
+/// Text matrices whose widest entry is longer than this are listed entry by entry.
+constexpr std::size_t kMaxGridEntry = 48;
+constexpr std::size_t kMaxGridWidth = 140;
 
+std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(display_simplify(e), latex); }
 
-/// A labelled matrix: one line per nonzero entry in text, a pmatrix in LaTeX.
+std::size_t nodes_of(const GiNaC::ex& e, std::size_t limit) {
+  std::size_t n = 0;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (++n > limit) break;
+  return n;
+}
+
+std::string pad(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
+
+/// A labelled matrix. Text: an aligned grid with row and column labels, or, when an
+/// entry is too long for a grid, one line per nonzero entry; LaTeX: a pmatrix.
+/// The entries are printed as given (already in display form).
 std::string matrix_text(const std::string& title, const std::vector<std::string>& rows, const std::vector<std::string>& cols,
                         const std::vector<std::vector<GiNaC::ex>>& v, bool latex) {
   std::string out;
@@ -25,7 +49,7 @@ std::string matrix_text(const std::string& title, const std::vector<std::string>
     out += title + " = \\begin{pmatrix}\n";
     for (size_t i = 0; i < v.size(); ++i) {
       std::vector<std::string> cells;
-      for (const auto& e : v[i]) cells.push_back(fmt_ex(e, true));
+      for (const auto& e : v[i]) cells.push_back(canonical_text(e, true));
       out += "  " + fmt::format("{}", fmt::join(cells, " & ")) + (i + 1 < v.size() ? " \\\\\n" : "\n");
     }
     out += "\\end{pmatrix}\n\n";
@@ -33,9 +57,40 @@ std::string matrix_text(const std::string& title, const std::vector<std::string>
   }
   out += fmt::format("{} ({} x {}), rows: {}; columns: {}\n", title, rows.size(), cols.size(), fmt::join(rows, ", "),
                      fmt::join(cols, ", "));
+  std::vector<std::vector<std::string>> cell(v.size());
+  std::size_t widest = 0;
   for (size_t i = 0; i < v.size(); ++i)
-    for (size_t j = 0; j < v[i].size(); ++j)
-      if (!v[i][j].is_zero()) out += fmt::format("  [{}, {}] = {}\n", rows[i], cols[j], fmt_ex(v[i][j], false));
+    for (const auto& e : v[i]) {
+      cell[i].push_back(canonical_text(e, false));
+      widest = std::max(widest, cell[i].back().size());
+    }
+  std::size_t label_w = 0;
+  for (const auto& r : rows) label_w = std::max(label_w, r.size());
+  std::vector<std::size_t> col_w(cols.size());
+  std::size_t total = 2 + label_w;
+  for (size_t j = 0; j < cols.size(); ++j) {
+    col_w[j] = cols[j].size();
+    for (size_t i = 0; i < v.size(); ++i) col_w[j] = std::max(col_w[j], cell[i][j].size());
+    total += 2 + col_w[j];
+  }
+  if (widest <= kMaxGridEntry && total <= kMaxGridWidth) {
+    std::string head = "  " + std::string(label_w, ' ');
+    for (size_t j = 0; j < cols.size(); ++j) head += "  " + pad(cols[j], col_w[j]);
+    while (!head.empty() && head.back() == ' ') head.pop_back();
+    out += head + "\n";
+    for (size_t i = 0; i < v.size(); ++i) {
+      std::string line = "  " + pad(rows[i], label_w);
+      for (size_t j = 0; j < cols.size(); ++j) line += "  " + pad(cell[i][j], col_w[j]);
+      while (!line.empty() && line.back() == ' ') line.pop_back();
+      out += line + "\n";
+    }
+  } else {
+    out += widest > kMaxGridEntry ? "  (entries too long for a grid: the nonzero ones, one per line)\n"
+                                  : "  (too wide for a grid: the nonzero entries, one per line)\n";
+    for (size_t i = 0; i < v.size(); ++i)
+      for (size_t j = 0; j < v[i].size(); ++j)
+        if (!v[i][j].is_zero()) out += fmt::format("  [{}, {}] = {}\n", rows[i], cols[j], cell[i][j]);
+  }
   out += "\n";
   return out;
 }
@@ -46,45 +101,230 @@ std::vector<std::string> names_of(const model::Model& m, const std::vector<int>&
   return v;
 }
 
-std::vector<std::vector<GiNaC::ex>> to_rows(const GiNaC::matrix& M, const model::Model& m, const sym::Eom& eom) {
-  std::vector<std::vector<GiNaC::ex>> v(M.rows(), std::vector<GiNaC::ex>(M.cols()));
-  for (unsigned i = 0; i < M.rows(); ++i)
-    for (unsigned j = 0; j < M.cols(); ++j) v[i][j] = finalize(m, eom, M(i, j));
-  return v;
+/// The named variables (e_, r_) and numeric-solve results (X_) of the derivation, in
+/// evaluation order, with the closed form of each where it is affordable.
+class Intermediates {
+ public:
+  Intermediates(const model::Model& m, const sym::Eom& eom) {
+    for (const auto& step : eom.pre_steps) {
+      if (const auto* d = std::get_if<ir::Define>(&step)) {
+        Step s;
+        s.define = ir::Define{d->sym, finalize(m, eom, d->value), d->named};
+        const GiNaC::ex closed = model::subs_present(s.define.value, closed_);
+        if (nodes_of(closed, kMaxClosedNodes) <= kMaxClosedNodes) closed_[d->sym] = closed;
+        steps_.push_back(std::move(s));
+        continue;
+      }
+      const auto& solve = std::get<ir::Solve>(step);
+      if (solve.condition) continue;
+      Step s;
+      s.is_solve = true;
+      s.solve = solve;
+      for (auto& e : s.solve.A) e = finalize(m, eom, e);
+      for (auto& e : s.solve.B) e = finalize(m, eom, e);
+      close_solve(s.solve);
+      steps_.push_back(std::move(s));
+    }
+  }
+
+  /// x with every closed form substituted, or x itself when the result would be too large.
+  GiNaC::ex expand(const GiNaC::ex& x) const {
+    const GiNaC::ex e = model::subs_present(x, closed_);
+    return nodes_of(e, 20 * kMaxClosedNodes) <= 20 * kMaxClosedNodes ? e : x;
+  }
+
+  /// The intermediates `shown` reads, directly or through each other, in evaluation order.
+  std::vector<Intermediate> needed(const std::vector<std::vector<GiNaC::ex>>& shown, bool& numeric, bool& all_closed) const {
+    std::vector<bool> need(steps_.size(), false);
+    auto read_by = [&](const GiNaC::symbol& x, size_t after) {
+      for (const auto& row : shown)
+        for (const auto& e : row)
+          if (e.has(x)) return true;
+      for (size_t j = after + 1; j < steps_.size(); ++j) {
+        if (!need[j]) continue;
+        if (steps_[j].is_solve) {
+          for (const auto& e : steps_[j].solve.A)
+            if (e.has(x)) return true;
+          for (const auto& e : steps_[j].solve.B)
+            if (e.has(x)) return true;
+        } else if (steps_[j].define.value.has(x)) {
+          return true;
+        }
+      }
+      return false;
+    };
+    for (size_t i = steps_.size(); i-- > 0;) {
+      if (steps_[i].is_solve) {
+        for (const auto& x : steps_[i].solve.X) need[i] = need[i] || read_by(x, i);
+      } else {
+        need[i] = read_by(steps_[i].define.sym, i);
+      }
+    }
+    std::vector<Intermediate> out;
+    for (size_t i = 0; i < steps_.size(); ++i) {
+      if (!need[i]) continue;
+      if (!steps_[i].is_solve) {
+        out.push_back({steps_[i].define.sym, display_simplify(steps_[i].define.value), false, true});
+        continue;
+      }
+      numeric = true;
+      for (const auto& x : steps_[i].solve.X) {
+        auto it = closed_.find(x);
+        const bool solved = it != closed_.end();
+        all_closed = all_closed && solved;
+        out.push_back({x, solved ? display_simplify(it->second) : GiNaC::ex(x), true, solved});
+      }
+    }
+    return out;
+  }
+
+  /// The solve that yields x (for the note of an unsolved X).
+  const ir::Solve* solve_of(const GiNaC::symbol& x) const {
+    for (const auto& s : steps_)
+      if (s.is_solve)
+        for (const auto& y : s.solve.X)
+          if (y.is_equal(x)) return &s.solve;
+    return nullptr;
+  }
+
+ private:
+  struct Step {
+    bool is_solve = false;
+    ir::Define define;
+    ir::Solve solve;
+  };
+
+  /// X = A^-1 B by Cramer's rule for a small block (numerator and determinant each in
+  /// display form); nothing when the block is large, singular or the result too big.
+  void close_solve(const ir::Solve& s) {
+    if (s.n > kMaxClosedSolve) return;
+    GiNaC::matrix A(s.n, s.n);
+    for (int i = 0; i < s.n; ++i)
+      for (int j = 0; j < s.n; ++j) {
+        A(i, j) = model::subs_present(s.A[i * s.n + j], closed_);
+        if (nodes_of(A(i, j), kMaxClosedNodes) > kMaxClosedNodes) return;
+      }
+    const GiNaC::ex det = display_simplify(A.determinant(GiNaC::determinant_algo::laplace));
+    if (det.is_zero()) return;
+    for (int l = 0; l < s.k; ++l) {
+      for (int i = 0; i < s.n; ++i) {
+        GiNaC::matrix Ai = A;
+        for (int r = 0; r < s.n; ++r) Ai(r, i) = model::subs_present(s.B[r * s.k + l], closed_);
+        const GiNaC::ex num = display_simplify(Ai.determinant(GiNaC::determinant_algo::laplace));
+        const GiNaC::ex x = num / det;
+        if (nodes_of(x, kMaxClosedNodes) > kMaxClosedNodes) continue;
+        closed_[s.X[i * s.k + l]] = x;
+      }
+    }
+  }
+
+  std::vector<Step> steps_;
+  GiNaC::exmap closed_;
+};
+
+/// The "where" list under printed equations.
+std::string where_text(const std::vector<Intermediate>& where, const Intermediates& all, bool latex) {
+  if (where.empty()) return "";
+  std::string out = latex ? "% where (evaluated in this order)\n" : "  where (evaluated in this order)\n";
+  for (size_t i = 0; i < where.size(); ++i) {
+    const auto& w = where[i];
+    if (w.from_solve && !w.solved) {
+      // The results of one solve without a closed form, on one line.
+      const ir::Solve* s = all.solve_of(w.sym);
+      std::vector<std::string> names{w.sym.get_name()};
+      while (i + 1 < where.size() && where[i + 1].from_solve && !where[i + 1].solved && all.solve_of(where[i + 1].sym) == s)
+        names.push_back(where[++i].sym.get_name());
+      const std::string why = fmt::format("the {} x {} linear solve of {} (LU in the generated code; too large for a closed "
+                                          "form here)",
+                                          s ? s->n : 0, s ? s->n : 0, s ? s->label : std::string("?"));
+      out += latex ? fmt::format("% {}: {}\n", fmt::join(names, ", "), why)
+                   : fmt::format("  {}: {}\n", fmt::join(names, ", "), why);
+      continue;
+    }
+    const std::string value = canonical_text(w.value, latex);
+    const char* tag = w.from_solve ? "   (numeric solve in the generated code; closed form)" : "";
+    out += latex ? fmt::format("{} = {} \\\\\n", canonical_text(w.sym, true), value)
+                 : fmt::format("  {} = {}{}\n", w.sym.get_name(), value, tag);
+  }
+  return out + "\n";
 }
 
-/// The named variables (e_, r_) that `shown` reads, directly or through each other, from
-/// the subtree of node n, in evaluation order: printed under the matrices that use them.
-std::string where_text(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::vector<GiNaC::ex>>& shown,
-                       bool latex) {
-  std::vector<const ir::Define*> defs;
-  int first = n;  // post-order: the subtree is first..n, first its leftmost leaf
-  while (!m.nodes[first].children.empty()) first = m.nodes[first].children.front();
-  for (int k = first; k <= n; ++k)
-    for (const auto& d : eom.nodes[k].named_defines) defs.push_back(&d);
-  std::vector<bool> needed(defs.size(), false);
-  for (size_t i = defs.size(); i-- > 0;) {
-    bool read = false;
-    for (const auto& row : shown)
-      for (const auto& e : row) read = read || e.has(defs[i]->sym);
-    for (size_t j = i + 1; j < defs.size() && !read; ++j) read = needed[j] && defs[j]->value.has(defs[i]->sym);
-    needed[i] = read;
+/// M z' = h written out row by row.
+std::string eom_text(const model::Model& m, const std::vector<int>& z, const PrintedEquations& p, bool latex) {
+  std::string out = latex ? "% equations of motion M z' = h\n"
+                          : fmt::format("equations of motion M z' = h, z = ({})\n", fmt::join(names_of(m, z, false), ", "));
+  for (size_t i = 0; i < z.size(); ++i) {
+    std::string lhs;
+    for (size_t j = 0; j < z.size(); ++j) {
+      const GiNaC::ex& e = p.M[i][j];
+      if (e.is_zero()) continue;
+      std::string t = canonical_text(e, latex);
+      const std::string dot = latex ? "\\dot{" + canonical_text(m.speeds[z[j]].sym, true) + "}" : m.speeds[z[j]].name + "'";
+      bool neg = false;
+      if (GiNaC::is_a<GiNaC::add>(e)) {
+        t = (latex ? "\\left(" + t + "\\right)" : "(" + t + ")");
+      } else if (!t.empty() && t[0] == '-') {
+        neg = true;
+        t = t.substr(1);
+      }
+      std::string factor = t == "1" ? dot : t + (latex ? " " : "*") + dot;
+      if (lhs.empty()) lhs = (neg ? "-" : "") + factor;
+      else lhs += (neg ? " - " : " + ") + factor;
+    }
+    if (lhs.empty()) lhs = "0";
+    const std::string rhs = canonical_text(p.h[i][0], latex);
+    out += latex ? fmt::format("{} = {} \\\\\n", lhs, rhs) : fmt::format("  {}:  {} = {}\n", m.speeds[z[i]].name, lhs, rhs);
   }
-  std::string out;
-  for (size_t i = 0; i < defs.size(); ++i) {
-    if (!needed[i]) continue;
-    const std::string value = fmt_ex(finalize(m, eom, defs[i]->value), latex);
-    out += latex ? fmt::format("{} = {} \\\\\n", canonical_text(defs[i]->sym, true), value)
-                 : fmt::format("  {} = {}\n", defs[i]->sym.get_name(), value);
-  }
-  if (out.empty()) return out;
-  return (latex ? std::string("% where (evaluated in this order)\n") : std::string("  where (evaluated in this order)\n")) + out +
-         "\n";
+  return out + "\n";
 }
 
 }  // namespace
 
-std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex) {
+namespace {
+
+PrintedEquations equations_of(const model::Model& m, const sym::Eom& eom, int n, bool expand, const Intermediates& inter) {
+  const auto& r = eom.nodes[n];
+  PrintedEquations p;
+  auto shown = [&](const GiNaC::matrix& X) {
+    std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
+    for (unsigned i = 0; i < X.rows(); ++i)
+      for (unsigned j = 0; j < X.cols(); ++j) {
+        const GiNaC::ex e = finalize(m, eom, X(i, j));
+        v[i][j] = display_simplify(expand ? inter.expand(e) : e);
+      }
+    return v;
+  };
+  p.M = shown(r.M);
+  p.h = shown(r.h);
+  std::vector<std::vector<GiNaC::ex>> both = p.M;
+  both.insert(both.end(), p.h.begin(), p.h.end());
+  p.where = inter.needed(both, p.numeric_solves, p.all_closed);
+  return p;
+}
+
+/// The note above M and h when they read results of numeric solves.
+std::string numeric_note(const PrintedEquations& p, bool expand, bool latex) {
+  if (!p.numeric_solves) return "";
+  std::string note =
+      expand ? "note: the complement here is numeric (LU in the generated code) and some of its blocks are too large for a "
+               "closed form: M and h read their results X_..., listed under 'where'"
+      : p.all_closed
+          ? "note: the complement here is numeric (LU in the generated code): M and h read its results X_..., whose closed "
+            "forms are listed under 'where'; --expand substitutes them"
+          : "note: the complement here is numeric (LU in the generated code): M and h read its results X_..., listed under "
+            "'where' (closed forms where affordable; --expand substitutes those)";
+  return latex ? "% " + note + "\n" : note + "\n\n";
+}
+
+}  // namespace
+
+PrintedEquations printed_equations(const model::Model& m, const sym::Eom& eom, int node, bool expand) {
+  const Intermediates inter(m, eom);
+  return equations_of(m, eom, node, expand, inter);
+}
+
+std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex,
+                       bool expand) {
   const auto& r = eom.nodes[n];
   const std::string who = m.nodes[n].name.empty() ? m.name : m.nodes[n].name;
   std::string out = latex ? fmt::format("% subsystem {}\n", who) : fmt::format("subsystem {}\n\n", who);
@@ -92,13 +332,51 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
   for (int c : r.rows) cons.push_back(m.constraints[c].name);
   const auto ynames = names_of(m, r.y, true);
   const auto inames = names_of(m, r.independent, true);
-  for (const auto& w : what) {
-    if (w == "rates") {
+  checkpoint("printing", "the closed forms of the named intermediates", m.nodes[n].pos, 0, what.size());
+  const Intermediates inter(m, eom);
+  std::optional<PrintedEquations> eq;
+  auto equations = [&]() -> const PrintedEquations& {
+    if (!eq) eq = equations_of(m, eom, n, expand, inter);
+    return *eq;
+  };
+  // A matrix's entries in display form (closed form with --expand), and what they read.
+  auto rows_of = [&](const GiNaC::matrix& X) {
+    std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
+    for (unsigned i = 0; i < X.rows(); ++i)
+      for (unsigned j = 0; j < X.cols(); ++j) {
+        const GiNaC::ex e = finalize(m, eom, X(i, j));
+        v[i][j] = display_simplify(expand ? inter.expand(e) : e);
+      }
+    return v;
+  };
+  auto where_of = [&](const std::vector<std::vector<GiNaC::ex>>& v) {
+    bool numeric = false, closed = true;
+    return where_text(inter.needed(v, numeric, closed), inter, latex);
+  };
+  bool noted = false, listed = false;
+  for (size_t k = 0; k < what.size(); ++k) {
+    const std::string& w = what[k];
+    // The budget (--budget) and the progress line see the printing too.
+    checkpoint("printing", fmt::format("{} of subsystem '{}'", w, who), m.nodes[n].pos, k, what.size());
+    if (w == "eom" || w == "M" || w == "h") {
+      const PrintedEquations& p = equations();
+      if (!noted) out += numeric_note(p, expand, latex);
+      noted = true;
+      if (w == "M") out += matrix_text("M", inames, inames, p.M, latex);
+      else if (w == "h") out += matrix_text("h", inames, {"value"}, p.h, latex);
+      else out += eom_text(m, r.independent, p, latex);
+      // One "where" list after the last of a run of M, h and eom.
+      const bool run_goes_on = k + 1 < what.size() && (what[k + 1] == "eom" || what[k + 1] == "M" || what[k + 1] == "h");
+      if (!run_goes_on && !listed) {
+        out += where_text(p.where, inter, latex);
+        listed = true;
+      }
+    } else if (w == "rates") {
       std::vector<std::vector<GiNaC::ex>> v;
       std::vector<std::string> rows;
       for (size_t q = 0; q < m.coords.size(); ++q) {
         rows.push_back(m.coords[q].name + "'");
-        v.push_back({finalize(m, eom, m.coord_rates[q])});
+        v.push_back({display_simplify(finalize(m, eom, m.coord_rates[q]))});
       }
       out += matrix_text("kinematic transformations q0'", rows, {"value"}, v, latex);
     } else if (w == "A") {
@@ -108,19 +386,24 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         GiNaC::ex g = m.constraints[c].residual;
         if (m.constraints[c].level == model::Constraint::Level::Position) g = sym::time_derivative(m, g);
         std::vector<GiNaC::ex> row;
-        for (int s : speeds) row.push_back(finalize(m, eom, g.diff(m.speeds[s].sym)));
+        for (int s : speeds) row.push_back(display_simplify(finalize(m, eom, g.diff(m.speeds[s].sym))));
         v.push_back(row);
       }
       out += matrix_text("A", cons, names_of(m, speeds, false), v, latex);
     } else if (w == "B") {
       if (r.rows.empty()) out += latex ? "% B is empty (no constraints here)\n" : "B is empty (no constraints here)\n\n";
-      else out += matrix_text("B", cons, ynames, to_rows(r.B, m, eom), latex);
+      else {
+        const auto v = rows_of(r.B);
+        out += matrix_text("B", cons, ynames, v, latex) + where_of(v);
+      }
     } else if (w == "C") {
-      out += matrix_text("C", ynames, inames, to_rows(r.C, m, eom), latex);
+      const auto v = rows_of(r.C);
+      out += matrix_text("C", ynames, inames, v, latex) + where_of(v);
     } else if (w == "S") {
       std::vector<int> rows;
       GiNaC::matrix S = sym::full_complement(m, eom, n, rows);
-      out += matrix_text("S", names_of(m, rows, false), inames, to_rows(S, m, eom), latex);
+      const auto v = rows_of(S);
+      out += matrix_text("S", names_of(m, rows, false), inames, v, latex) + where_of(v);
     } else if (w == "f" || w == "fbar") {
       // f = -My y' + hy over y; fbar = -M z' + h over the independent speeds.
       const bool full = w == "f";
@@ -131,17 +414,15 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       for (size_t i = 0; i < vars.size(); ++i) {
         GiNaC::ex e = hx(i, 0);
         for (size_t j = 0; j < vars.size(); ++j) e -= Mx(i, j) * m.speed_dots[vars[j]];
-        v.push_back({finalize(m, eom, e)});
+        e = finalize(m, eom, e);
+        v.push_back({display_simplify(expand ? inter.expand(e) : e)});
       }
-      out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex);
-      out += where_text(m, eom, n, v, latex);
-    } else if (w == "M" || w == "h") {
-      const auto rows = to_rows(w == "M" ? r.M : r.h, m, eom);
-      out += w == "M" ? matrix_text("M", inames, inames, rows, latex) : matrix_text("h", inames, {"value"}, rows, latex);
-      out += where_text(m, eom, n, rows, latex);
+      out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex) + where_of(v);
     } else if (w == "invariants") {
       // The node's constraints as written or as joints expand them: residual = 0.
-      out += latex ? fmt::format("% invariants of {}\n", who) : fmt::format("invariants of {} (residual = 0)\n", who);
+      out += latex ? fmt::format("% constraints (invariants) of {}\n", who)
+                   : fmt::format("constraints of {} (residual = 0)\n", who);
+      if (m.nodes[n].constraints.empty()) out += latex ? "% none\n" : "  none\n";
       for (int ci : m.nodes[n].constraints) {
         const auto& c = m.constraints[ci];
         const char* level = c.level == model::Constraint::Level::Position ? "position" : "velocity";
@@ -151,7 +432,8 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       }
       out += "\n";
     } else {
-      throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h invariants)", w));
+      throw std::invalid_argument(
+          fmt::format("--what: unknown item '{}' (known: eom M h invariants rates A B C S f fbar)", w));
     }
   }
   return out;

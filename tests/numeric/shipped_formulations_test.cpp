@@ -49,6 +49,8 @@
 #include "spherical_pendulum_extra_speed/spherical_pendulum_extra_speed.hpp"
 #include "spherical_pendulum_extra_speed_mult/spherical_pendulum_extra_speed_mult.hpp"
 #include "test_support.hpp"
+#include "three_r_arm/three_r_arm.hpp"
+#include "three_r_arm_mult/three_r_arm_mult.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "three_rrr_mult/three_rrr_mult.hpp"
 #include "whitworth/whitworth.hpp"
@@ -415,6 +417,15 @@ std::vector<Case> shipped_models() {
                    {{"HA.proximal.w", 0.3, 0.5}, {"HB.proximal.w", -0.2, 0.5}, {"HC.proximal.w", 0.1, 0.5}},
                    {0.1, -0.2, 0.3},
                    {}});
+  // Planar 3R arm: the joint angles given; the rods' centres follow (guesses near
+  // th = (0.5, 0.2, -0.3)).
+  cases.push_back({PAIR(three_r_arm),
+                   {{"link1.x", 0.22}, {"link1.y", 0.12}, {"link2.x", 0.6}, {"link2.y", 0.28}, {"link3.x", 0.9},
+                    {"link3.y", 0.28}},
+                   {{"link1.theta", 0.5, 0.3}, {"link2.theta", 0.2, 0.3}, {"link3.theta", -0.3, 0.3}},
+                   {{"link1.w", 1.0, 1.0}, {"link2.w", -0.5, 1.0}, {"link3.w", 0.5, 1.0}},
+                   {},
+                   {}});
   // Whitworth quick-return: the thesis's configuration at crank = pi/4 (guesses from
   // tests/numeric/shipped_planar_test.cpp).
   cases.push_back({PAIR(whitworth),
@@ -447,7 +458,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 13);
+  REQUIRE(shipped.size() == 14);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -28,8 +28,9 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err);
 struct PrintArgs {
   std::string model;
   std::string node;                 // "" = root; a dotted subsystem name
-  std::vector<std::string> what;    // A B C S f fbar M h eom (empty: a default set)
+  std::vector<std::string> what;    // eom M h invariants rates A B C S f fbar (empty: a default set)
   bool latex = false;
+  bool expand = false;              // --expand: M, h (and every item) in closed form
   bool stats = false;
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs

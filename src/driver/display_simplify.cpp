@@ -1,0 +1,400 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/display_simplify.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/model/exact_guard.hpp"
+#include "mbsc/sym/tidy.hpp"
+
+namespace mbsc::driver {
+namespace {
+
+/// Thrown when one expression's work budget is spent: it is simplified part by part.
+struct Abandon {};
+/// Thrown when the whole call's budget is spent: the caller prints the plain form.
+struct AbandonAll {};
+/// The whole call may do this many times the work of one expression.
+constexpr std::size_t kTotalWorkFactor = 8;
+
+/// Largest integer multiple of an angle written out (sin(3*x) is expanded, sin(20*x) is an angle of its own).
+constexpr int kMaxMultiple = 8;
+
+bool is_trig(const GiNaC::ex& e) { return GiNaC::is_the_function<GiNaC::sin_SERIAL>(e) || GiNaC::is_the_function<GiNaC::cos_SERIAL>(e); }
+
+std::size_t node_count(const GiNaC::ex& e, std::size_t limit) {
+  std::size_t n = 0;
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (++n > limit) break;
+  return n;
+}
+
+/// An angle argument as integer multiples of atoms: x - 2*y -> {(x, 1), (y, -2)}.
+std::vector<std::pair<GiNaC::ex, int>> split_angle(const GiNaC::ex& arg) {
+  std::vector<std::pair<GiNaC::ex, int>> out;
+  const GiNaC::ex a = arg.expand();
+  const std::size_t n = GiNaC::is_a<GiNaC::add>(a) ? a.nops() : 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const GiNaC::ex t = GiNaC::is_a<GiNaC::add>(a) ? a.op(i) : a;
+    GiNaC::numeric c(1);
+    if (GiNaC::is_a<GiNaC::numeric>(t)) c = GiNaC::ex_to<GiNaC::numeric>(t);
+    else if (GiNaC::is_a<GiNaC::mul>(t))
+      for (std::size_t j = 0; j < t.nops(); ++j)
+        if (GiNaC::is_a<GiNaC::numeric>(t.op(j))) c *= GiNaC::ex_to<GiNaC::numeric>(t.op(j));
+    if (c.is_integer() && GiNaC::abs(c) <= kMaxMultiple && !c.is_zero()) out.push_back({t / c, c.to_int()});
+    else if (c.is_negative()) out.push_back({-t, -1});
+    else out.push_back({t, 1});
+  }
+  return out;
+}
+
+/// A wave is cos(k.theta) or sin(k.theta) over the atoms theta; a series sums them
+/// with exact coefficients. Keys are normalised: the first nonzero k is positive.
+using WaveKey = std::pair<std::vector<int>, bool>;  // (k, is sine)
+using Series = std::map<WaveKey, GiNaC::numeric>;
+
+void add_wave(Series& s, std::vector<int> k, bool sine, GiNaC::numeric c) {
+  auto first = std::find_if(k.begin(), k.end(), [](int v) { return v != 0; });
+  if (first == k.end()) {
+    if (sine) return;  // sin(0)
+  } else if (*first < 0) {
+    for (int& v : k) v = -v;
+    if (sine) c = -c;
+  }
+  GiNaC::numeric& slot = s[{k, sine}];
+  slot += c;
+  if (slot.is_zero()) s.erase({k, sine});
+}
+
+/// The product of two series by cos a cos b = (cos(a-b) + cos(a+b))/2 and its siblings.
+Series multiply(const Series& a, const Series& b, std::size_t& work, std::size_t& total, std::size_t budget) {
+  work += a.size() * b.size();
+  total += a.size() * b.size();
+  if (total > kTotalWorkFactor * budget) throw AbandonAll{};
+  if (work > budget) throw Abandon{};
+  Series out;
+  const GiNaC::numeric half(1, 2);
+  for (const auto& [ka, ca] : a)
+    for (const auto& [kb, cb] : b) {
+      std::vector<int> sum(ka.first.size()), diff(ka.first.size());
+      for (std::size_t i = 0; i < sum.size(); ++i) {
+        sum[i] = ka.first[i] + kb.first[i];
+        diff[i] = ka.first[i] - kb.first[i];
+      }
+      const GiNaC::numeric c = ca * cb * half;
+      const bool sa = ka.second, sb = kb.second;
+      if (!sa && !sb) {
+        add_wave(out, diff, false, c);
+        add_wave(out, sum, false, c);
+      } else if (sa && sb) {
+        add_wave(out, diff, false, c);
+        add_wave(out, sum, false, -c);
+      } else if (sa) {  // sin a cos b
+        add_wave(out, sum, true, c);
+        add_wave(out, diff, true, c);
+      } else {  // cos a sin b
+        add_wave(out, sum, true, c);
+        add_wave(out, diff, true, -c);
+      }
+    }
+  return out;
+}
+
+class Simplifier {
+ public:
+  explicit Simplifier(const DisplayLimits& limits) : lim_(limits) {}
+
+  GiNaC::ex run(const GiNaC::ex& e) {
+    if (node_count(e, lim_.max_nodes) > lim_.max_nodes) return sym::tidy(e);
+    const GiNaC::ex in = inner(e);
+    if (model::expanded_terms(in) > lim_.max_expanded_terms) return piecewise(in);
+    const GiNaC::ex x = in.expand();
+    std::vector<GiNaC::ex> candidates;
+    work_ = 0;
+    try {
+      candidates.push_back(fourier_form(x));
+    } catch (const Abandon&) {
+      return piecewise(in);
+    }
+    candidates.push_back(GiNaC::collect_common_factors(candidates.back()));
+    candidates.push_back(squares_form(x));
+    candidates.push_back(sym::tidy(in));
+    candidates.push_back(sym::tidy(GiNaC::collect_common_factors(x)));
+    // A product or power of sums, simplified factor by factor, keeps its shape.
+    if (!GiNaC::is_a<GiNaC::add>(in)) candidates.push_back(piecewise(in));
+    GiNaC::ex best = candidates.front();
+    std::size_t best_size = display_size(best);
+    for (std::size_t i = 1; i < candidates.size(); ++i) {
+      const std::size_t s = display_size(candidates[i]);
+      if (s < best_size) {
+        best = candidates[i];
+        best_size = s;
+      }
+    }
+    return best;
+  }
+
+ private:
+  /// An expression too large to expand as a whole: its parts one by one, the bases of
+  /// powers included ((1 + sin(x)^2 + cos(x)^2 + ...)^9 still loses its sin^2 + cos^2).
+  GiNaC::ex piecewise(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::power>(e)) return GiNaC::pow(run(e.op(0)), e.op(1));
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+      GiNaC::exvector ops;
+      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(run(e.op(i)));
+      return sym::tidy(GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops)));
+    }
+    return sym::tidy(e);
+  }
+
+  /// Simplifies what the expansion treats as opaque: the bases of negative or
+  /// fractional powers and the arguments of functions other than sin and cos.
+  GiNaC::ex inner(const GiNaC::ex& e) {
+    if (GiNaC::is_a<GiNaC::power>(e)) {
+      const GiNaC::ex n = e.op(1);
+      if (GiNaC::is_a<GiNaC::numeric>(n) && GiNaC::ex_to<GiNaC::numeric>(n).is_pos_integer())
+        return GiNaC::pow(inner(e.op(0)), n);
+      if (GiNaC::is_a<GiNaC::symbol>(e.op(0))) return e;
+      return GiNaC::pow(run(e.op(0)), run(n));
+    }
+    if (GiNaC::is_a<GiNaC::function>(e)) {
+      if (is_trig(e)) return e;
+      GiNaC::exvector args;
+      for (std::size_t i = 0; i < e.nops(); ++i) args.push_back(run(e.op(i)));
+      GiNaC::ex out = e;
+      for (std::size_t i = 0; i < args.size(); ++i) out.let_op(i) = args[i];
+      return out;
+    }
+    if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
+      GiNaC::exvector ops;
+      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(inner(e.op(i)));
+      return GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops));
+    }
+    return e;
+  }
+
+  /// cos(u)^n written as cos(u)^(n mod 2) (1 - sin(u)^2)^(n/2) in the expanded x, or
+  /// the sine squares as cosines: sin^2 + cos^2 = 1 without folding products of sines
+  /// and cosines into sums of angles. Angle by angle (in the order of their text), the
+  /// shortest of the three (as is, to sines, to cosines) is kept.
+  GiNaC::ex squares_form(const GiNaC::ex& x) {
+    std::vector<std::pair<std::string, GiNaC::ex>> args;
+    for (auto it = x.preorder_begin(); it != x.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::power>(*it) || !is_trig(it->op(0))) continue;
+      const GiNaC::ex u = it->op(0).op(0);
+      if (std::none_of(args.begin(), args.end(), [&](const auto& a) { return a.second.is_equal(u); }))
+        args.push_back({canonical_text(u, false), u});
+    }
+    std::stable_sort(args.begin(), args.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    GiNaC::ex best = x;
+    std::size_t best_size = display_size(GiNaC::collect_common_factors(x));
+    for (const auto& [text, u] : args) {
+      (void)text;
+      GiNaC::ex round_best = best;
+      for (bool to_sine : {true, false}) {
+        const GiNaC::ex from = to_sine ? GiNaC::cos(u) : GiNaC::sin(u), to = to_sine ? GiNaC::sin(u) : GiNaC::cos(u);
+        GiNaC::exvector terms;
+        const std::size_t n = GiNaC::is_a<GiNaC::add>(best) ? best.nops() : 1;
+        for (std::size_t i = 0; i < n; ++i) terms.push_back(reduce_power(n == 1 ? best : best.op(i), from, to));
+        const GiNaC::ex y = GiNaC::add(terms);
+        if (model::expanded_terms(y) > lim_.max_expanded_terms) continue;
+        const GiNaC::ex candidate = GiNaC::collect_common_factors(y.expand());
+        const std::size_t size = display_size(candidate);
+        if (size < best_size) {
+          round_best = candidate.expand();
+          best_size = size;
+        }
+      }
+      best = round_best;
+    }
+    return GiNaC::collect_common_factors(best);
+  }
+
+  /// In one term (or factor): from^n -> from^(n mod 2) (1 - to^2)^(n/2).
+  static GiNaC::ex reduce_power(const GiNaC::ex& t, const GiNaC::ex& from, const GiNaC::ex& to) {
+    if (GiNaC::is_a<GiNaC::power>(t) && t.op(0).is_equal(from) && GiNaC::is_a<GiNaC::numeric>(t.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(t.op(1)).is_pos_integer()) {
+      const int n = GiNaC::ex_to<GiNaC::numeric>(t.op(1)).to_int();
+      return GiNaC::pow(from, n % 2) * GiNaC::pow(1 - GiNaC::pow(to, 2), n / 2);
+    }
+    if (!GiNaC::is_a<GiNaC::mul>(t)) return t;
+    GiNaC::exvector factors;
+    for (std::size_t i = 0; i < t.nops(); ++i) factors.push_back(reduce_power(t.op(i), from, to));
+    return GiNaC::mul(factors);
+  }
+
+  /// The atoms of the angles in x, in the order of their text (so that a wave's sign
+  /// normalisation, and hence the output, is the same in every run).
+  void collect_atoms(const GiNaC::ex& x) {
+    atoms_.clear();
+    std::vector<std::pair<std::string, GiNaC::ex>> found;
+    for (auto it = x.preorder_begin(); it != x.preorder_end(); ++it) {
+      if (!is_trig(*it)) continue;
+      for (const auto& [atom, n] : split_angle(it->op(0))) {
+        (void)n;
+        const bool seen = std::any_of(found.begin(), found.end(), [&](const auto& f) { return f.second.is_equal(atom); });
+        if (!seen) found.push_back({canonical_text(atom, false), atom});
+      }
+    }
+    std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& f : found) atoms_.push_back(f.second);
+  }
+
+  Series wave_of(const GiNaC::ex& trig) const {
+    std::vector<int> k(atoms_.size(), 0);
+    for (const auto& [atom, n] : split_angle(trig.op(0)))
+      for (std::size_t i = 0; i < atoms_.size(); ++i)
+        if (atoms_[i].is_equal(atom)) k[i] += n;
+    Series s;
+    add_wave(s, k, GiNaC::is_the_function<GiNaC::sin_SERIAL>(trig), 1);
+    return s;
+  }
+
+  /// x (expanded) as a sum of coefficient * wave, coefficients expanded.
+  std::map<WaveKey, GiNaC::ex> waves(const GiNaC::ex& x) {
+    collect_atoms(x);
+    std::map<WaveKey, GiNaC::ex> out;
+    const std::size_t nterms = GiNaC::is_a<GiNaC::add>(x) ? x.nops() : 1;
+    for (std::size_t i = 0; i < nterms; ++i) {
+      const GiNaC::ex term = GiNaC::is_a<GiNaC::add>(x) ? x.op(i) : x;
+      const std::size_t nf = GiNaC::is_a<GiNaC::mul>(term) ? term.nops() : 1;
+      Series s;
+      add_wave(s, std::vector<int>(atoms_.size(), 0), false, 1);
+      GiNaC::ex coeff = 1;
+      int degree = 0;
+      for (std::size_t j = 0; j < nf; ++j) {
+        const GiNaC::ex f = GiNaC::is_a<GiNaC::mul>(term) ? term.op(j) : term;
+        int times = 0;
+        GiNaC::ex base;
+        if (is_trig(f)) {
+          times = 1;
+          base = f;
+        } else if (GiNaC::is_a<GiNaC::power>(f) && is_trig(f.op(0)) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
+                   GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_pos_integer() &&
+                   GiNaC::ex_to<GiNaC::numeric>(f.op(1)) <= lim_.max_trig_degree) {
+          times = GiNaC::ex_to<GiNaC::numeric>(f.op(1)).to_int();
+          base = f.op(0);
+        }
+        if (times == 0) {
+          coeff *= f;
+          continue;
+        }
+        degree += times;
+        if (degree > lim_.max_trig_degree) throw Abandon{};
+        const Series w = wave_of(base);
+        for (int r = 0; r < times; ++r) s = multiply(s, w, work_, total_, lim_.max_wave_terms);
+      }
+      for (const auto& [key, c] : s) out[key] += coeff * c;
+    }
+    return out;
+  }
+
+  GiNaC::ex angle(const std::vector<int>& k) const {
+    GiNaC::ex a = 0;
+    for (std::size_t i = 0; i < k.size(); ++i) a += k[i] * atoms_[i];
+    return a;
+  }
+
+  static GiNaC::ex tidy_coeff(const GiNaC::ex& c) { return GiNaC::collect_common_factors(c.expand()); }
+
+  /// A sum of waves, with extra terms (squares standing for double angles).
+  GiNaC::ex rebuild(const std::map<WaveKey, GiNaC::ex>& w, const GiNaC::exvector& extra) const {
+    GiNaC::exvector terms;
+    for (const auto& [key, c] : w) {
+      const GiNaC::ex coeff = tidy_coeff(c);
+      if (coeff.is_zero()) continue;
+      const bool zero = std::all_of(key.first.begin(), key.first.end(), [](int v) { return v == 0; });
+      if (zero) terms.push_back(coeff);
+      else terms.push_back(coeff * (key.second ? GiNaC::sin(angle(key.first)) : GiNaC::cos(angle(key.first))));
+    }
+    for (const auto& e : extra) terms.push_back(e);
+    return GiNaC::add(terms);
+  }
+
+  /// The Fourier form, then, atom by atom, cos(2u) written as 1 - 2 sin(u)^2 or
+  /// 2 cos(u)^2 - 1 and sin(2u) as 2 sin(u) cos(u) where that is shorter.
+  GiNaC::ex fourier_form(const GiNaC::ex& x) {
+    auto w = waves(x);
+    GiNaC::exvector extra;
+    GiNaC::ex best = rebuild(w, extra);
+    std::size_t best_size = display_size(best);
+    const std::vector<int> zero(atoms_.size(), 0);
+    // The double angles present, in key order: k with every entry even.
+    std::vector<std::vector<int>> doubles;
+    for (const auto& [key, c] : w) {
+      (void)c;
+      const bool even = std::all_of(key.first.begin(), key.first.end(), [](int v) { return v % 2 == 0; });
+      if (even && key.first != zero && (doubles.empty() || doubles.back() != key.first)) doubles.push_back(key.first);
+    }
+    for (const auto& k2 : doubles) {
+      std::vector<int> k1 = k2;
+      for (int& v : k1) v /= 2;
+      const GiNaC::ex u = angle(k1);
+      // Each variant: the wave replaced, the constant it leaves per unit coefficient, the square.
+      struct Variant {
+        bool sine;
+        int constant;
+        GiNaC::ex square;
+      };
+      const Variant variants[] = {{false, 1, -2 * GiNaC::pow(GiNaC::sin(u), 2)},
+                                  {false, -1, 2 * GiNaC::pow(GiNaC::cos(u), 2)},
+                                  {true, 0, 2 * GiNaC::sin(u) * GiNaC::cos(u)}};
+      // The best of the variants for this angle, kept when it beats what is there.
+      std::map<WaveKey, GiNaC::ex> keep_w;
+      GiNaC::exvector keep_extra;
+      bool improved = false;
+      for (const auto& v : variants) {
+        auto it = w.find({k2, v.sine});
+        if (it == w.end()) continue;
+        auto trial = w;
+        const GiNaC::ex c = it->second;
+        trial.erase({k2, v.sine});
+        if (v.constant != 0) trial[{zero, false}] += v.constant * c;
+        GiNaC::exvector trial_extra = extra;
+        trial_extra.push_back(tidy_coeff(c) * v.square);
+        const GiNaC::ex candidate = rebuild(trial, trial_extra);
+        const std::size_t s = display_size(candidate);
+        if (s < best_size) {
+          best = candidate;
+          best_size = s;
+          keep_w = std::move(trial);
+          keep_extra = std::move(trial_extra);
+          improved = true;
+        }
+      }
+      if (improved) {
+        w = std::move(keep_w);
+        extra = std::move(keep_extra);
+      }
+    }
+    return best;
+  }
+
+  const DisplayLimits& lim_;
+  std::vector<GiNaC::ex> atoms_;
+  std::size_t work_ = 0;   // this expression's products of waves
+  std::size_t total_ = 0;  // the whole call's
+};
+
+}  // namespace
+
+std::size_t display_size(const GiNaC::ex& e) { return canonical_text(e, false).size(); }
+
+GiNaC::ex display_simplify(const GiNaC::ex& e, const DisplayLimits& limits) {
+  try {
+    Simplifier s(limits);
+    return s.run(e);
+  } catch (const AbandonAll&) {
+  } catch (const Abandon&) {
+  } catch (const std::exception&) {
+    // GiNaC refuses something (a pole while evaluating): the plain form is still right.
+  }
+  return sym::tidy(e);
+}
+
+}  // namespace mbsc::driver

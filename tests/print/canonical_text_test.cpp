@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// The text printer of `mbsc print` in the cases the display forms brought up: the
+// factor order a person uses, a number taken into a sum, and the sign of an odd
+// function of a sign-normalised angle (sin(y - x) printed as -sin(x - y)) moved out of
+// products, powers and denominators.
+#include "mbsc/driver/canonical_text.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace GiNaC;
+using mbsc::driver::canonical_text;
+
+TEST_CASE("canonical_text: factors as a person orders them", "[print][text]") {
+  symbol m1("m1"), m2("m2"), l1("l1"), l2("l2"), a("a"), b("b"), th1("th1"), th2("th2");
+  CHECK(canonical_text(m2 * l1 * l2 * cos(th1 - th2), false) == "l1*l2*m2*cos(th1 - th2)");
+  CHECK(canonical_text((m1 + m2) * pow(l1, 2), false) == "(m1 + m2)*l1^2");
+  CHECK(canonical_text(a * cos(th1) / (b * cos(th2)), false) == "a*cos(th1)/(b*cos(th2))");
+  // GiNaC keeps 1/3*(m1 + 3*m2)*l1^2; the shorter (1/3*m1 + m2)*l1^2 is printed.
+  CHECK(canonical_text((m1 / 3 + m2) * pow(l1, 2), false) == "(1/3*m1 + m2)*l1^2");
+  CHECK(canonical_text(-(m1 / 2 + m2) * a, false) == "-(1/2*m1 + m2)*a");
+  CHECK(canonical_text((m1 / 2 + m2) * a, true) == "\\left(\\frac{1}{2} \\mathrm{m1} + \\mathrm{m2}\\right) a");
+}
+
+TEST_CASE("canonical_text: the sign of an odd function leaves products, powers and denominators", "[print][text]") {
+  symbol x("x"), y("y"), a("a");
+  CHECK(canonical_text(a * sin(y - x), false) == "-a*sin(x - y)");
+  CHECK(canonical_text(3 * a * sin(y - x), false) == "-3*a*sin(x - y)");
+  CHECK(canonical_text(a * pow(sin(y - x), 2), false) == "a*sin(x - y)^2");
+  CHECK(canonical_text(a * pow(sin(y - x), 3), false) == "-a*sin(x - y)^3");
+  CHECK(canonical_text(a / pow(sin(y - x), 3), false) == "-a/sin(x - y)^3");
+  CHECK(canonical_text(1 / pow(sin(y - x), 3), false) == "-1/sin(x - y)^3");
+  CHECK(canonical_text(a * pow(cos(y - x), 3), false) == "a*cos(x - y)^3");
+}
