@@ -12,6 +12,7 @@
 #include "mbsc/sym/complement.hpp"
 #include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/massless_check.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -69,6 +70,7 @@ class Deriver {
       }
     }
     if (!assemble_root()) return std::nullopt;
+    eom_.massless = massless_bodies(m_, probe_);
     energy();
     return std::move(eom_);
   }
@@ -618,6 +620,9 @@ class Deriver {
         for (int j = 0; j < nd; ++j) Mn(i, j) = probe_.eval(eom_.M(i, j));
       Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (Mn + Mn.transpose()));
       eom_.mass_matrix_spd = Mn.allFinite() && llt.info() == Eigen::Success;
+      // Massless bodies are allowed while M stays positive definite; when they leave it
+      // singular, the error is theirs (at their mass or inertia).
+      if (!eom_.mass_matrix_spd && report_massless_directions(m_, eom_, probe_, Mn, diags_)) return false;
       if (!eom_.mass_matrix_spd)
         diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
                                                "(massless directions or a singular independent set)");
