@@ -613,6 +613,16 @@ class Deriver {
     const int nd = static_cast<int>(root.independent.size());
     eom_.M = root.M;
     eom_.h = root.h;
+    // Dependent rates, root to leaves (reverse post-order); the massless check below
+    // follows them.
+    for (int n = m_.root(); n >= 0; --n) {
+      const NodeResult& r = eom_.nodes[n];
+      if (!r.rate_steps.empty()) {
+        for (const auto& [s, e] : r.rate_steps) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], e});
+      } else {
+        for (int s : r.dependent) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], r.dependent_rates.at(s)});
+      }
+    }
     // Sanity: M must be symmetric positive definite at the probe point.
     if (nd > 0) {
       Eigen::MatrixXd Mn(nd, nd);
@@ -626,15 +636,6 @@ class Deriver {
       if (!eom_.mass_matrix_spd)
         diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
                                                "(massless directions or a singular independent set)");
-    }
-    // Dependent rates, root to leaves (reverse post-order).
-    for (int n = m_.root(); n >= 0; --n) {
-      const NodeResult& r = eom_.nodes[n];
-      if (!r.rate_steps.empty()) {
-        for (const auto& [s, e] : r.rate_steps) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], e});
-      } else {
-        for (int s : r.dependent) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], r.dependent_rates.at(s)});
-      }
     }
     return true;
   }

@@ -38,6 +38,17 @@ std::vector<double> motion_of(const model::Model& m, const Eom& eom, const Probe
   return out;
 }
 
+/// ", with --freeze m2=0" for the frozen parameters e holds (the file alone looks right), or "".
+std::string frozen_note(const model::Model& m, const Eom& eom, const GiNaC::ex& e) {
+  std::string names;
+  for (const auto& p : m.params) {
+    const auto it = eom.options.frozen.find(p.name);
+    if (it == eom.options.frozen.end() || m.structural.count(p.name) || !e.has(p.sym)) continue;
+    names += fmt::format("{}{}={}", names.empty() ? "" : " ", p.name, it->second);
+  }
+  return names.empty() ? "" : ", with --freeze " + names;
+}
+
 }  // namespace
 
 std::vector<std::string> massless_bodies(const model::Model& m, const Probe& probe) {
@@ -104,15 +115,15 @@ bool report_massless_directions(const model::Model& m, const Eom& eom, const Pro
     const Blame& b = blame[n];
     if (!b.translation.empty())
       diags.error(node.mass_pos,
-                  fmt::format("body '{}' is massless (mass 0) and the reduced mass matrix is singular: the motion along "
+                  fmt::format("body '{}' is massless (mass 0{}) and the reduced mass matrix is singular: the motion along "
                               "{} moves it ({}) and nothing with inertia; give it a mass or constrain that motion",
-                              node.name, list(b.direction), list(b.translation)));
+                              node.name, frozen_note(m, eom, node.mass), list(b.direction), list(b.translation)));
     if (!b.rotation.empty())
       diags.error(node.inertia_pos.line != 0 ? node.inertia_pos : node.pos,
-                  fmt::format("body '{}' has no rotational inertia (inertia 0) and the reduced mass matrix is singular: "
+                  fmt::format("body '{}' has no rotational inertia (inertia 0{}) and the reduced mass matrix is singular: "
                               "the motion along {} turns it ({}) and moves nothing with inertia; give it an inertia or "
                               "constrain that rotation",
-                              node.name, list(b.direction), list(b.rotation)));
+                              node.name, frozen_note(m, eom, node.inertia), list(b.direction), list(b.rotation)));
     reported = reported || !b.translation.empty() || !b.rotation.empty();
   }
   return reported;

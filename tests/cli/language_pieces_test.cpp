@@ -30,8 +30,10 @@ std::string read_text(const fs::path& p) {
 /// Everything after the first line (the banner's line with the source hash).
 std::string past_banner(const std::string& text) { return text.substr(text.find('\n')); }
 
-// A slider driven along x with a crank-like law and a pendulum hung from it. The first
-// form names the driven distance, the half masses and the bob's squared speed.
+// A slider driven along x with a crank-like law, a pendulum hung from it and a bar hinged
+// to the bob. The first form names the driven distance, the half masses, the bob's
+// squared speed, a drag force and the bar's half length (lets in constraints, a mass,
+// outputs, a force and a point, at the top level and inside bodies).
 const std::string kWithLet = R"(model let_demo
 parameter m = 1, l = 2, r = 0.5, w = 3, g = 9.81
 gravity (0, -g)
@@ -50,6 +52,10 @@ constraint position {
 let v2 = bob.u^2 + bob.v^2
 output bob_kinetic = m*v2/2
 output gap = L
+let drag = 0.1*bob.u
+force bob.u : -drag
+body arm : rigid2d { let half_l = l/2 ; mass m ; inertia m*l^2/12 ; point tip (half_l, 0) }
+joint pin : revolute bob arm.tip
 )";
 
 const std::string kWithout = R"(model let_demo
@@ -67,6 +73,9 @@ constraint position {
 }
 output bob_kinetic = m*(bob.u^2 + bob.v^2)/2
 output gap = sqrt(l^2 - (r*sin(w*t))^2)
+force bob.u : -0.1*bob.u
+body arm : rigid2d { mass m ; inertia m*l^2/12 ; point tip (l/2, 0) }
+joint pin : revolute bob arm.tip
 )";
 
 }  // namespace
