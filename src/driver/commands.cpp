@@ -98,6 +98,9 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   out << fmt::format("\n  parameters ({}), inputs ({}), constraints ({}), outputs ({})\n", m->params.size(), m->inputs.size(),
                      m->constraints.size(), m->outputs.size() + (m->output_energy ? 1 : 0));
   out << fmt::format("  independent speeds: {}\n", speed_names(*m, eom->independent));
+  if (!eom->massless.empty())
+    out << fmt::format("  massless bodies: {}; the reduced mass matrix is {}positive definite at the parameter defaults\n",
+                       fmt::join(eom->massless, ", "), eom->mass_matrix_spd ? "" : "NOT ");
   if (partitions.size() > 1)
     out << fmt::format("  partitions for run-time re-selection (rhs_partition): {}\n", fmt::join(partitions, " | "));
   out << "subsystem tree (leaves to root):\n";

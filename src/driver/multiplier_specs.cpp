@@ -48,11 +48,13 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
   // nc x nc Schur complement (A My^-1 A^T) lambda = -(b + ...) - A My^-1 hy, symmetric
   // positive definite while A has full row rank: a Cholesky of nc instead of an LU of
   // nu + nc. Otherwise (nodal bodies, custom leaves with coupled inertia) the whole system.
+  // A massless body (a mass parameter whose default is 0) has no inverse there: whole system.
   bool diagonal = true;
+  const sym::Probe at_defaults(m, eom.param_values);
   for (unsigned i = 0; i < nu && diagonal; ++i)
     for (unsigned j = 0; j < nu && diagonal; ++j) {
       const GiNaC::ex e = fin(form.My(i, j));
-      diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) : e.is_zero();
+      diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) && at_defaults.eval(e) != 0.0 : e.is_zero();
     }
   std::vector<ir::Step> steps;  // every function below starts with them
   if (diagonal && nc > 0) {

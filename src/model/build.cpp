@@ -13,6 +13,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
+#include "named_expressions.hpp"
 #include "planar_library.hpp"
 
 namespace mbsc::model {
@@ -60,7 +61,7 @@ struct Pending {
 class Builder {
   /// What a name in the table stands for.
   struct Entry {
-    enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal } kind;
+    enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal, Let } kind;
     int index;
     GiNaC::symbol sym;
   };
@@ -359,10 +360,11 @@ class Builder {
       }
       default: break;
     }
-    // Declared coordinates and speeds.
+    // Declared coordinates and speeds, and named expressions.
     for (const auto& s : own_body) {
       if (s->kind == Kind::Coordinate) add_variable(id, join(prefix, s->name), s->name_pos, true);
       if (s->kind == Kind::Speed) add_variable(id, join(prefix, s->name), s->name_pos, false);
+      if (s->kind == Kind::Let) declare_let(id, join(prefix, s->name), *s);
     }
     return id;
   }
@@ -393,6 +395,43 @@ class Builder {
       return false;
     }
     return true;
+  }
+
+  void declare_let(int node, const std::string& full, const Statement& s) {
+    if (!declare_local(full, s.name_pos, "let")) return;
+    table_[full] = Entry{Entry::Let, lets_.declare(full, node, s), GiNaC::symbol()};
+  }
+
+  /// A let's value in the scope of `node`, every level allowed (each use checks its own).
+  std::optional<GiNaC::ex> convert_let(int node, const ast::Expr& e) {
+    const bool speeds = allow_speeds_, coord_rates = allow_coord_rate_, speed_rates = allow_speed_rate_;
+    allow_speeds_ = allow_coord_rate_ = allow_speed_rate_ = true;
+    ExprConverter conv = converter(node);
+    auto out = conv.convert(e);
+    allow_speeds_ = speeds;
+    allow_coord_rate_ = coord_rates;
+    allow_speed_rate_ = speed_rates;
+    return out;
+  }
+
+  /// The first speed, coordinate rate and speed rate in a let's value, by their names.
+  NamedExpressions::Reads let_reads(const GiNaC::ex& value) const {
+    NamedExpressions::Reads r;
+    for (GiNaC::const_preorder_iterator it = value.preorder_begin(); it != value.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      std::string name = GiNaC::ex_to<GiNaC::symbol>(*it).get_name();
+      const bool rate = !name.empty() && name.back() == '\'';
+      if (rate) name.pop_back();
+      const auto e = table_.find(name);
+      if (e == table_.end()) continue;
+      if (!rate && e->second.kind == Entry::Speed && it->is_equal(m_.speeds[e->second.index].sym) && r.speed.empty())
+        r.speed = name;
+      if (rate && e->second.kind == Entry::Coord && it->is_equal(coord_dot_[e->second.index]) && r.coord_rate.empty())
+        r.coord_rate = name;
+      if (rate && e->second.kind == Entry::Speed && it->is_equal(m_.speed_dots[e->second.index]) && r.speed_rate.empty())
+        r.speed_rate = name;
+    }
+    return r;
   }
 
   int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate) {
@@ -499,6 +538,12 @@ class Builder {
       case Entry::NodeName:
         diags_.error(pos, fmt::format("'{}' is a subsystem, not a value", full));
         return std::nullopt;
+      case Entry::Let:
+        if (primed) {
+          diags_.error(pos, fmt::format("the derivative ' is only allowed on coordinates and speeds, not on let '{}'", full));
+          return std::nullopt;
+        }
+        return lets_.use(found->index, pos, {allow_speeds_, allow_coord_rate_, allow_speed_rate_});
       case Entry::Coord:
         if (primed) {
           if (!allow_coord_rate_) {
@@ -636,6 +681,7 @@ class Builder {
             has_mass_.insert(id);
           } else {
             node.inertia = *e;
+            node.inertia_pos = s.value->pos;
             inertia_pos_[id] = s.value->pos;
           }
           break;
@@ -708,6 +754,12 @@ class Builder {
         case Kind::Subsystem:
         case Kind::Coordinate:
           break;
+        case Kind::Let: {
+          // Converted here even when unused, so a mistake in it is reported.
+          const auto it = table_.find(join(node.name, s.name));
+          if (it != table_.end() && it->second.kind == Entry::Let) lets_.define(it->second.index);
+          break;
+        }
         case Kind::Ground:
           if (id != m_.root()) diags_.error(s.pos, "'ground' belongs at the top level");
           break;
@@ -742,6 +794,10 @@ class Builder {
           e.end1_pos = s.paths[0].pos;
           e.end2 = s.paths[1].text;
           e.end2_pos = s.paths[1].pos;
+          if (s.paths.size() > 2) {  // knife_edge BODY [point P] [axis A]
+            e.end3 = s.paths[2].text;
+            e.end3_pos = s.paths[2].pos;
+          }
           e.option = s.kind == Kind::Joint ? s.level : "";
           e.option_pos = s.path.pos;
           // Actuator values may read the state and inputs; spring and damper data are constants.
@@ -957,8 +1013,10 @@ class Builder {
       diags_.error(c.pos, fmt::format("velocity constraint '{}' contains no speed; write it as a position constraint", c.name));
   }
 
-  /// Masses and inertias must be positive, at the parameters' defaults or their
-  /// --freeze values (which the message names, since the file alone looks right).
+  /// Masses and inertias may not be negative, at the parameters' defaults or their
+  /// --freeze values (which the message names, since the file alone looks right). Zero
+  /// is allowed (a massless link); the derivation then checks that the reduced mass
+  /// matrix stays positive definite (sym/massless_check.hpp).
   void check_masses() {
     GiNaC::exmap formals;
     for (auto& [name, f] : m_.formals) {
@@ -986,8 +1044,8 @@ class Builder {
           return;
         }
         double d;
-        if (evaluate_number(v, d) && !(d > 0))
-          diags_.error(pos, fmt::format("{} of body '{}' is not positive ({}){}", what, node.name, d,
+        if (evaluate_number(v, d) && !(d >= 0))
+          diags_.error(pos, fmt::format("{} of body '{}' is negative ({}){}", what, node.name, d,
                                         frozen_note(with_formals)));
       };
       if (has_mass_.count(static_cast<int>(n))) check(node.mass, node.mass_pos, "mass");
@@ -1023,6 +1081,8 @@ class Builder {
   GiNaC::exmap param_values_frozen_;  // its --freeze value, else its default
   Model m_;
   PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
+  NamedExpressions lets_{diags_, [this](int node, const ast::Expr& e) { return convert_let(node, e); },
+                         [this](const GiNaC::ex& v) { return let_reads(v); }};
   std::map<std::string, Entry> table_;
   std::map<std::string, const Statement*> components_;
   const Statement* gravity_stmt_ = nullptr;

@@ -503,11 +503,11 @@ void PlanarLibrary::add_rolling_inside(int owner, const Element& e, const std::s
 
 void PlanarLibrary::add_element(int owner, const Element& e) {
   const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld" || e.kind == "pin_in_slot" ||
-                     e.kind == "gear" || e.kind == "rolling" || e.kind == "rolling_inside";
+                     e.kind == "gear" || e.kind == "rolling" || e.kind == "rolling_inside" || e.kind == "knife_edge";
   if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
     diags_.error(e.kind_pos,
                  fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear, rolling, "
-                             "rolling_inside)",
+                             "rolling_inside, knife_edge)",
                              e.kind));
     return;
   }
@@ -516,6 +516,10 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
                                                                    : e.kind == "rotational_damper" ? "damper"
                                                                                                    : e.kind,
                                        name);
+  if (e.kind == "knife_edge") {
+    add_knife_edge(owner, e, name, what);
+    return;
+  }
   if (e.kind == "gear" || e.kind == "rotational_spring" || e.kind == "rotational_damper") {
     add_rotational(owner, e, name, what);
     return;

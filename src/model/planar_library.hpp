@@ -43,10 +43,12 @@ class PlanarLibrary {
   struct Element {
     std::string name;        // "" for an unnamed joint: one is made up
     std::string kind;        // revolute | prismatic | pin_in_slot | weld | gear | rolling | rolling_inside | spring | damper |
-                             // rotational_spring | rotational_damper
+                             // rotational_spring | rotational_damper | knife_edge
     SourcePos pos, kind_pos;
-    std::string end1, end2;  // paths as written
+    std::string end1, end2;  // paths as written (knife_edge: the body, then its point's name or "")
     SourcePos end1_pos, end2_pos;
+    std::string end3;        // knife_edge: the name of the body's axis along the blade, or ""
+    SourcePos end3_pos;
     std::string option;      // joints: torque | force | angle | ratio | radius ("" when absent)
     SourcePos option_pos;
     std::optional<GiNaC::ex> value;   // the option's value; spring stiffness; damper coefficient
@@ -116,6 +118,8 @@ class PlanarLibrary {
   void add_rolling(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_velocity_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+  /// A blade on a rigid body (knife_edge.cpp): no velocity across it at its point.
+  void add_knife_edge(int owner, const Element& e, const std::string& name, const std::string& what);
 
   Model& m_;
   Diagnostics& diags_;

@@ -269,6 +269,7 @@ class Parser {
     if (k == "independent") return parse_independent(out, kw, Statement::Kind::Independent);
     if (k == "alternative") return parse_independent(out, kw, Statement::Kind::Alternative);
     if (k == "output") return parse_output(out, kw);
+    if (k == "let") return parse_let(out, kw);
     if (k == "point") return parse_point(out, kw);
     if (k == "com") return parse_com(out, kw);
     if (k == "axis") return parse_axis(out, kw);
@@ -574,6 +575,7 @@ class Parser {
     st.kind_name = kind.text;
     st.kind_pos = kind.pos;
     const std::string what = "joint" + (st.name.empty() ? std::string() : " '" + st.name + "'");
+    if (st.kind_name == "knife_edge") return parse_knife_edge(out, std::move(st), what);
     st.paths.push_back(parse_path("first point or axis of " + what));
     st.paths.push_back(parse_path("second point of " + what));
     // An option word ("force" is also a statement keyword, so test it before the end).
@@ -588,6 +590,20 @@ class Parser {
         take();
         st.exprs.push_back(parse_expr());
       }
+    }
+    end_statement(what);
+    push(out, std::move(st));
+  }
+
+  // ... 'knife_edge' PATH ['point' IDENT] ['axis' IDENT]   (the blade's body, point and direction)
+  void parse_knife_edge(std::vector<StatementPtr>& out, Statement st, const std::string& what) {
+    st.paths.push_back(parse_path("body of " + what));
+    st.paths.resize(3);  // {BODY, point, axis}; empty text when not given
+    for (int k = 0; k < 2 && (at_keyword("point") || at_keyword("axis")); ++k) {
+      const Token word = take();
+      ast::Path& slot = st.paths[word.text == "point" ? 1 : 2];
+      if (!slot.text.empty()) fail(word.pos, what + ": '" + word.text + "' given twice");
+      slot = parse_path(word.text + " name of the blade's body after '" + word.text + "'");
     }
     end_statement(what);
     push(out, std::move(st));
@@ -657,6 +673,18 @@ class Parser {
     expect(TK::Equals, "'=' after output name '" + name.text + "'");
     st.value = parse_expr();
     end_statement("output '" + name.text + "'");
+    push(out, std::move(st));
+  }
+
+  // 'let' IDENT '=' expr
+  void parse_let(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Let, kw);
+    const Token name = expect_name("name after 'let'");
+    st.name = name.text;
+    st.name_pos = name.pos;
+    expect(TK::Equals, "'=' after 'let " + name.text + "'");
+    st.value = parse_expr();
+    end_statement("let '" + name.text + "'");
     push(out, std::move(st));
   }
 

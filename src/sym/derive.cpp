@@ -12,6 +12,7 @@
 #include "mbsc/sym/complement.hpp"
 #include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/massless_check.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -69,6 +70,7 @@ class Deriver {
       }
     }
     if (!assemble_root()) return std::nullopt;
+    eom_.massless = massless_bodies(m_, probe_);
     energy();
     return std::move(eom_);
   }
@@ -611,18 +613,8 @@ class Deriver {
     const int nd = static_cast<int>(root.independent.size());
     eom_.M = root.M;
     eom_.h = root.h;
-    // Sanity: M must be symmetric positive definite at the probe point.
-    if (nd > 0) {
-      Eigen::MatrixXd Mn(nd, nd);
-      for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j) Mn(i, j) = probe_.eval(eom_.M(i, j));
-      Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (Mn + Mn.transpose()));
-      eom_.mass_matrix_spd = Mn.allFinite() && llt.info() == Eigen::Success;
-      if (!eom_.mass_matrix_spd)
-        diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
-                                               "(massless directions or a singular independent set)");
-    }
-    // Dependent rates, root to leaves (reverse post-order).
+    // Dependent rates, root to leaves (reverse post-order); the massless check below
+    // follows them.
     for (int n = m_.root(); n >= 0; --n) {
       const NodeResult& r = eom_.nodes[n];
       if (!r.rate_steps.empty()) {
@@ -630,6 +622,20 @@ class Deriver {
       } else {
         for (int s : r.dependent) eom_.top_down.push_back(ir::Define{m_.speed_dots[s], r.dependent_rates.at(s)});
       }
+    }
+    // Sanity: M must be symmetric positive definite at the probe point.
+    if (nd > 0) {
+      Eigen::MatrixXd Mn(nd, nd);
+      for (int i = 0; i < nd; ++i)
+        for (int j = 0; j < nd; ++j) Mn(i, j) = probe_.eval(eom_.M(i, j));
+      Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (Mn + Mn.transpose()));
+      eom_.mass_matrix_spd = Mn.allFinite() && llt.info() == Eigen::Success;
+      // Massless bodies are allowed while M stays positive definite; when they leave it
+      // singular, the error is theirs (at their mass or inertia).
+      if (!eom_.mass_matrix_spd && report_massless_directions(m_, eom_, probe_, Mn, diags_)) return false;
+      if (!eom_.mass_matrix_spd)
+        diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
+                                               "(massless directions or a singular independent set)");
     }
     return true;
   }

@@ -24,6 +24,8 @@
 #include <utility>
 #include <vector>
 
+#include "chaplygin_sleigh/chaplygin_sleigh.hpp"
+#include "chaplygin_sleigh_mult/chaplygin_sleigh_mult.hpp"
 #include "double_pendulum/double_pendulum.hpp"
 #include "double_pendulum_mult/double_pendulum_mult.hpp"
 #include "five_bar/five_bar.hpp"
@@ -32,6 +34,8 @@
 #include "four_bar_mult/four_bar_mult.hpp"
 #include "four_bar_toggle/four_bar_toggle.hpp"
 #include "four_bar_toggle_mult/four_bar_toggle_mult.hpp"
+#include "massless_rod_pendulum/massless_rod_pendulum.hpp"
+#include "massless_rod_pendulum_mult/massless_rod_pendulum_mult.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/rk4.hpp"
 #include "parallelogram_chain/parallelogram_chain.hpp"
@@ -442,6 +446,21 @@ std::vector<Case> shipped_models() {
                    {{"crank.w", pi / 2, 2.0}},
                    {0.02},
                    {}});
+  // The pendulum on a massless rod: the angle is the data, the bob follows.
+  cases.push_back({PAIR(massless_rod_pendulum),
+                   {{"bob.x", 0.54}, {"bob.y", -0.84}},
+                   {{"rod.theta", -1.0, 1.0}},
+                   {{"rod.w", 0.5, 2.0}},
+                   {},
+                   {}});
+  // The Chaplygin sleigh: a velocity constraint only, every coordinate is free data and
+  // the blade fixes the yaw rate.
+  cases.push_back({PAIR_VELOCITY_ONLY(chaplygin_sleigh),
+                   {},
+                   {{"sleigh.x", 0.0, 1.0}, {"sleigh.y", 0.0, 1.0}, {"sleigh.theta", 0.0, 3.0}},
+                   {{"sleigh.u", 0.5, 1.0}, {"sleigh.v", -0.3, 1.0}},
+                   {},
+                   {}});
   return cases;
 }
 
@@ -458,7 +477,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 14);
+  REQUIRE(shipped.size() == 16);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -85,8 +85,8 @@ struct Node {
   /// partition k > 0 of the model uses alternatives[k - 1] here when it exists.
   std::vector<std::vector<int>> alternatives;
   std::vector<SourcePos> alternative_pos;
-  GiNaC::ex mass, inertia;    // bodies
-  SourcePos mass_pos;
+  GiNaC::ex mass, inertia;    // bodies (either may be 0: sym/massless_check.hpp)
+  SourcePos mass_pos, inertia_pos;
   GiNaC::ex kinetic, potential;  // user-given energy terms (0 when absent)
   bool has_kinetic = false;
 };

@@ -76,6 +76,7 @@ struct Statement {
     Independent,  // independent PATH, PATH ...         paths
     Alternative,  // alternative PATH, PATH ...         paths (another independent set, for run-time re-selection)
     Output,       // output NAME = expr | output energy name, value (null for "output energy")
+    Let,          // let NAME = expr                    name, value (a named expression, docs/language.md "Named expressions")
     // Planar library level (docs/language.md "Bodies, points and joints"):
     Point,        // point NAME (ex, ey)                name, exprs = {ex, ey} (body coordinates)
     Com,          // com (ex, ey)                       exprs = {ex, ey}
@@ -84,6 +85,8 @@ struct Statement {
     Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr [OPTION2 expr2]]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,
                   //                                    path.pos = OPTION's position, value; option2, exprs = {expr2}
+                  // joint [NAME :] knife_edge BODY [point P] [axis A]
+                  //                                    paths = {BODY, P, A} (text empty when not given)
     Spring,       // spring NAME [rotational] PATH PATH stiffness expr [length|angle expr]
                   //                                    name, kind_name = "rotational" or "", paths, value = stiffness,
                   //                                    exprs = {rest length or angle} (may be empty)

@@ -77,6 +77,7 @@ struct Eom {
   GiNaC::ex kinetic, potential;    // energy terms (valid when has_energy)
   bool has_energy = false;
   bool mass_matrix_spd = true;     // M positive definite at the probe point: solved by Cholesky
+  std::vector<std::string> massless;  // bodies with mass or inertia 0 ("rod (mass 0, inertia 0)"), for `check`
   std::map<std::string, double> param_values;  // defaults, with frozen values
   std::vector<int> free_params;    // parameters left in p[] (not frozen)
   int ndof() const { return static_cast<int>(independent.size()); }

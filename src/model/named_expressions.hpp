@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Named expressions (`let NAME = expr`, docs/language.md "Named expressions"), private
+/// to src/model. A let is a name for an expression of parameters, t, coordinates, speeds
+/// and coordinate rates, looked up like any other name of its scope. Its value is
+/// converted once, in the scope where it is written, the first time it is used (or
+/// when its statement is reached), and put in place at every use. A use is checked
+/// where it stands: a let read before its definition, a let that reads itself through
+/// other lets, and a let whose value holds a speed (or a rate) where the use allows none
+/// are errors at the use, naming the let.
+#include <ginac/ginac.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/parse/ast.hpp"
+
+namespace mbsc::model {
+
+class NamedExpressions {
+ public:
+  /// What a use allows, as the builder's conversion flags say.
+  struct Allowed {
+    bool speeds = false, coord_rates = false, speed_rates = false;
+  };
+  /// The first speed, coordinate rate and speed rate a value holds ("" for none).
+  struct Reads {
+    std::string speed, coord_rate, speed_rate;
+  };
+  /// Converts a let's expression in the scope of `node` with every level allowed.
+  using Convert = std::function<std::optional<GiNaC::ex>(int node, const ast::Expr& e)>;
+  /// Names the speeds and rates a converted value holds.
+  using Classify = std::function<Reads(const GiNaC::ex& value)>;
+
+  NamedExpressions(Diagnostics& diags, Convert convert, Classify classify)
+      : diags_(diags), convert_(std::move(convert)), classify_(std::move(classify)) {}
+
+  /// Declares `let NAME = expr` (full dotted name) at `node`; returns its index.
+  int declare(const std::string& full, int node, const ast::Statement& s);
+  /// The value at a use at `pos`, or nullopt (reported at the use, or once in the let's
+  /// own expression when that is wrong).
+  std::optional<GiNaC::ex> use(int index, const SourcePos& pos, Allowed allowed);
+  /// Converts a let whether or not it is used, so mistakes in an unused one are reported.
+  void define(int index) { value(index); }
+
+ private:
+  enum class State { Pending, Converting, Done, Failed };
+  struct Let {
+    std::string name;
+    int node = 0;
+    const ast::Statement* stmt = nullptr;
+    State state = State::Pending;
+    GiNaC::ex value;
+    Reads reads;
+  };
+  /// The converted value, or nullopt when its expression failed or a cycle was found.
+  std::optional<GiNaC::ex> value(int index);
+
+  Diagnostics& diags_;
+  Convert convert_;
+  Classify classify_;
+  std::vector<Let> lets_;
+  std::vector<int> converting_;  // lets being converted, outermost first (for cycle messages)
+};
+
+}  // namespace mbsc::model

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Language pieces as a user meets them on the command line: a model written with `let`
+// generates the same code as the one written without; `print --what invariants` shows a
+// knife edge's row; `check` names the massless bodies.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <sstream>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = std::string("timeout 120 ") + MBSC_BINARY;
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Everything after the first line (the banner's line with the source hash).
+std::string past_banner(const std::string& text) { return text.substr(text.find('\n')); }
+
+// A slider driven along x with a crank-like law, a pendulum hung from it and a bar hinged
+// to the bob. The first form names the driven distance, the half masses, the bob's
+// squared speed, a drag force and the bar's half length (lets in constraints, a mass,
+// outputs, a force and a point, at the top level and inside bodies).
+const std::string kWithLet = R"(model let_demo
+parameter m = 1, l = 2, r = 0.5, w = 3, g = 9.81
+gravity (0, -g)
+let L = sqrt(l^2 - (r*sin(w*t))^2)
+body slider : particle2d { let half = m/2 ; mass half + half }
+body bob : particle2d { mass m }
+coordinate th
+speed om = th'
+let swing_x = l*sin(th)
+constraint position {
+  drive: slider.x = r*cos(w*t) + L
+  rail: slider.y = 0
+  bx: bob.x = slider.x + swing_x
+  by: bob.y = -l*cos(th)
+}
+let v2 = bob.u^2 + bob.v^2
+output bob_kinetic = m*v2/2
+output gap = L
+let drag = 0.1*bob.u
+force bob.u : -drag
+body arm : rigid2d { let half_l = l/2 ; mass m ; inertia m*l^2/12 ; point tip (half_l, 0) }
+joint pin : revolute bob arm.tip
+)";
+
+const std::string kWithout = R"(model let_demo
+parameter m = 1, l = 2, r = 0.5, w = 3, g = 9.81
+gravity (0, -g)
+body slider : particle2d { mass m }
+body bob : particle2d { mass m }
+coordinate th
+speed om = th'
+constraint position {
+  drive: slider.x = r*cos(w*t) + sqrt(l^2 - (r*sin(w*t))^2)
+  rail: slider.y = 0
+  bx: bob.x = slider.x + l*sin(th)
+  by: bob.y = -l*cos(th)
+}
+output bob_kinetic = m*(bob.u^2 + bob.v^2)/2
+output gap = sqrt(l^2 - (r*sin(w*t))^2)
+force bob.u : -0.1*bob.u
+body arm : rigid2d { mass m ; inertia m*l^2/12 ; point tip (l/2, 0) }
+joint pin : revolute bob arm.tip
+)";
+
+}  // namespace
+
+TEST_CASE("let: a model written with named expressions generates the code of the one written without",
+          "[cli][let]") {
+  const fs::path dir = fresh_dir("let");
+  fs::create_directories(dir / "a");
+  fs::create_directories(dir / "b");
+  write_text(dir / "a" / "let_demo.mbs", kWithLet);
+  write_text(dir / "b" / "let_demo.mbs", kWithout);
+  for (const char* side : {"a", "b"}) {
+    auto r = run(kMbsc + " generate " + quote((dir / side / "let_demo.mbs").string()) + " -o " +
+                 quote((dir / side / "out").string()));
+    INFO(side << ":\n" << r.output);
+    REQUIRE(r.exit_code == 0);
+  }
+  for (const char* file : {"let_demo.hpp", "let_demo.cpp"}) {
+    INFO(file);
+    const std::string a = read_text(dir / "a" / "out" / "let_demo" / file);
+    const std::string b = read_text(dir / "b" / "out" / "let_demo" / file);
+    REQUIRE(!a.empty());
+    CHECK(past_banner(a) == past_banner(b));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("let: a let that reads a speed is refused where speeds are not allowed, at the use", "[cli][let]") {
+  const fs::path dir = fresh_dir("let_speed");
+  write_text(dir / "m.mbs",
+             "model m\nbody b : particle2d { mass 1 }\nlet s = b.u + b.x\nconstraint position {\n  b.y = s\n}\n");
+  auto r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("m.mbs:5:9: error: let 's' reads the speed 'b.u', which is not allowed here") != std::string::npos);
+  CHECK(r.output.find("error", r.output.find("error") + 1) == std::string::npos);  // one error, not a cascade
+  fs::remove_all(dir);
+}
+
+TEST_CASE("knife edge: print --what invariants shows the blade's velocity row", "[cli][knife_edge]") {
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/chaplygin_sleigh.mbs");
+  auto r = run(kMbsc + " print " + model + " --what invariants");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("runner.lateral (velocity):") != std::string::npos);
+  r = run(kMbsc + " check " + model);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("2 degree(s) of freedom") != std::string::npos);
+}
+
+TEST_CASE("massless links: check names the massless bodies", "[cli][massless]") {
+  auto r = run(kMbsc + " check " + quote(std::string(MBSC_SOURCE_DIR) + "/models/massless_rod_pendulum.mbs"));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("1 degree(s) of freedom") != std::string::npos);
+  CHECK(r.output.find("massless bodies: rod (mass 0, inertia 0); the reduced mass matrix is positive definite") !=
+        std::string::npos);
+}
