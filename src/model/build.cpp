@@ -543,7 +543,7 @@ class Builder {
           diags_.error(pos, fmt::format("the derivative ' is only allowed on coordinates and speeds, not on let '{}'", full));
           return std::nullopt;
         }
-        return lets_.use(found->index, pos, {allow_speeds_, allow_coord_rate_, allow_speed_rate_});
+        return lets_.use(found.index, pos, {allow_speeds_, allow_coord_rate_, allow_speed_rate_});
       case Entry::Coord:
         if (primed) {
           if (!allow_coord_rate_) {
