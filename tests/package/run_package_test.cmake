@@ -2,7 +2,7 @@
 # The package test (ctest entry `package`), run as `cmake -P` with
 #   MBSC_BUILD_DIR, MBSC_SOURCE_DIR, CONFIG, GENERATOR, CXX, LAUNCHER (may be empty), PKG_CONFIG.
 #
-#  1. cmake --install the build into a fresh temporary prefix;
+#  1. cmake --install the build into a fresh temporary prefix, then move that folder;
 #  2. the installed package files name nothing of the build or source tree;
 #  3. copy tests/package/app (and a shipped model) to a folder outside the source tree
 #     whose path has a space, configure it with nothing but the prefix on
@@ -62,7 +62,9 @@ set(config_args "")
 if(CONFIG)
   set(config_args --config ${CONFIG})
 endif()
-run("cmake --install" COMMAND ${CMAKE_COMMAND} --install ${MBSC_BUILD_DIR} --prefix ${prefix} ${config_args})
+run("cmake --install" COMMAND ${CMAKE_COMMAND} --install ${MBSC_BUILD_DIR} --prefix ${root}/installed ${config_args})
+# ... and moved: nothing in it may depend on where it was installed.
+file(RENAME "${root}/installed" "${prefix}")
 foreach(f bin/mbsc include/mbsc/runtime/rk4.hpp include/mbsc/runtime/assemble.hpp
           include/mbsc/runtime/least_squares.hpp include/mbsc/runtime/partition_selector.hpp)
   if(NOT EXISTS "${prefix}/${f}")
@@ -78,10 +80,10 @@ endif()
 # 2. Relocatable: the package files find everything relative to themselves.
 foreach(f IN LISTS config_files pc_files)
   file(READ "${f}" text)
-  foreach(tree "${MBSC_BUILD_DIR}" "${MBSC_SOURCE_DIR}")
+  foreach(tree "${MBSC_BUILD_DIR}" "${MBSC_SOURCE_DIR}" "${root}/installed")
     string(FIND "${text}" "${tree}" at)
     if(NOT at EQUAL -1)
-      fail("${f} names ${tree}: the installed package must not depend on the build or source tree")
+      fail("${f} names ${tree}: the installed package must depend neither on the build or source tree nor on where it was installed")
     endif()
   endforeach()
 endforeach()
