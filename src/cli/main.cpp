@@ -140,6 +140,9 @@ int main(int argc, char** argv) {
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
   g->add_flag("--force", gen.force,
               "write into OUT/<name> even when mbsc did not write that folder (only its own files are replaced)");
+  g->add_option("--depfile", gen.depfile,
+                "also write a make-style depfile: the generated files depend on the model and every file it includes")
+      ->type_name("FILE");
   WorkFlags gen_work;
   gen_work.add_to(g);
 

@@ -11,9 +11,11 @@
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/driver/depfile.hpp"
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
+#include "mbsc/driver/staged_file.hpp"
 #include "mbsc/parse/parse.hpp"
 
 namespace mbsc::driver {
@@ -42,11 +44,12 @@ std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
 
 /// Loads and derives into `diags`. Returns false (exit 1) on user errors. The
 /// `alternative` independent sets are derived too, so their mistakes are reported here;
-/// `partitions` (when given) receives each partition's independent speeds.
+/// `partitions` (when given) receives each partition's independent speeds, `sources` the
+/// files read.
 bool load_and_derive(const std::string& path, const std::map<std::string, double>& frozen, std::optional<model::Model>& m,
                      std::optional<sym::Eom>& eom, Diagnostics& diags, std::vector<std::string>* partitions = nullptr,
-                     const std::string& generated_name = "") {
-  m = load_model(path, diags, frozen, generated_name);
+                     const std::string& generated_name = "", std::vector<std::string>* sources = nullptr) {
+  m = load_model(path, diags, frozen, generated_name, sources);
   if (m) {
     sym::Options opt;
     opt.frozen = frozen;
@@ -184,6 +187,40 @@ int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
+namespace {
+
+/// Stages the depfile of `generate`: every output file in `final_dir` depends on every
+/// source file. False (with `error`) when it cannot be written, or would overwrite an
+/// output or a source.
+bool stage_depfile(const std::string& path, const std::string& final_dir, const std::vector<OutputFile>& outputs,
+                   const std::vector<std::string>& sources, StagedFile& staged, std::string& error) {
+  std::vector<std::string> targets;
+  for (const auto& f : outputs) targets.push_back((fs::path(final_dir) / f.name).string());
+  auto same_file = [](const fs::path& x, const fs::path& y) {
+    std::error_code ec;
+    const fs::path cx = fs::weakly_canonical(fs::absolute(x, ec), ec);
+    return !ec && cx == fs::weakly_canonical(fs::absolute(y, ec), ec) && !ec;
+  };
+  std::vector<std::string> written = targets;
+  written.push_back((fs::path(final_dir) / kMarkerName).string());
+  for (const auto& w : written)
+    if (same_file(path, w)) {
+      error = fmt::format("mbsc: error: --depfile '{}' is one of the files generate writes; name another file",
+                          printable(path));
+      return false;
+    }
+  for (const auto& s : sources)
+    if (same_file(path, s)) {
+      error = fmt::format("mbsc: error: --depfile '{}' is the model or a file it includes; name another file",
+                          printable(path));
+      return false;
+    }
+  std::string text;
+  return depfile_text(targets, sources, text, error) && staged.stage(path, text, "--depfile", error);
+}
+
+}  // namespace
+
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   if (!a.name.empty()) {
     if (const std::string why = ir::namespace_name_problem(a.name); !why.empty()) {
@@ -196,10 +233,11 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<sym::Eom> eom;
   std::optional<emit::GeneratedModel> g;
   emit::GeneratedFiles files;
+  std::vector<std::string> sources;  // the model and the files it includes (--depfile)
   Diagnostics diags;
   bool internal = false;
   const bool ok = monitored(a.work, diags, err, [&] {
-    if (!load_and_derive(a.model, a.frozen, m, eom, diags, nullptr, a.name)) return false;
+    if (!load_and_derive(a.model, a.frozen, m, eom, diags, nullptr, a.name, &sources)) return false;
     GenerateOptions opt;
     opt.functions = a.functions;
     opt.multipliers = a.multipliers;
@@ -221,13 +259,18 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   if (!ok) return internal ? 2 : 1;
   // The symbolic work is over (and its monitor stopped): write, all or nothing.
   const std::string& name = g->name;
+  const std::vector<OutputFile> outputs = {{name + ".hpp", files.header}, {name + ".cpp", files.source}};
+  const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
   std::string error;
-  if (!write_output_folder(a.out_dir, name, {{name + ".hpp", files.header}, {name + ".cpp", files.source}}, a.force,
-                           error)) {
+  StagedFile depfile;  // staged first, moved into place once the folder is written
+  if (!a.depfile.empty() && !stage_depfile(a.depfile, final_dir, outputs, sources, depfile, error)) {
     err << error << "\n";
     return 1;
   }
-  const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
+  if (!write_output_folder(a.out_dir, name, outputs, a.force, error) || (!a.depfile.empty() && !depfile.commit(error))) {
+    err << error << "\n";
+    return 1;
+  }
   out << fmt::format("wrote {}/{}.hpp and {}.cpp ({} dof;", printable(final_dir), name, name, eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());
   out << ")\n";

@@ -45,7 +45,8 @@ std::string text_hash(const std::string& text) {
 }
 
 std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags,
-                                      const std::map<std::string, double>& overrides, const std::string& generated_name) {
+                                      const std::map<std::string, double>& overrides, const std::string& generated_name,
+                                      std::vector<std::string>* sources) {
   checkpoint("reading", "the model", SourcePos{path, 0, 0}, 0, 0);
   auto file = parse::parse_file(path, diags, overrides);
   if (!file) return std::nullopt;
@@ -53,6 +54,7 @@ std::optional<model::Model> load_model(const std::string& path, Diagnostics& dia
   if (!m) return std::nullopt;
   if (!check_model_name(*m, generated_name, diags)) return std::nullopt;
   m->source_text_hash = text_hash(file->main_source);
+  if (sources) *sources = file->sources;
   return m;
 }
 

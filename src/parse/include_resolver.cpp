@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /// parse_file: reads a model file and splices its top-level includes in place, recursively.
 #include <filesystem>
+#include <set>
 #include <system_error>
 #include <utility>
 
@@ -32,6 +33,9 @@ class IncludeResolver {
   /// The parameters loop bounds and indices used, over every file read.
   const std::map<std::string, double>& structural() const { return structural_; }
 
+  /// Every file read, once each, in the order first read (ast::File::sources).
+  const std::vector<std::string>& sources() const { return sources_; }
+
   /// Parses `text` (the contents of `path`) and appends its statements to `out`,
   /// each Include statement replaced by the statements of the file it names.
   void expand(const std::string& path, const std::string& text, std::vector<ast::StatementPtr>& out) {
@@ -40,6 +44,7 @@ class IncludeResolver {
     structural_.insert(file.structural.begin(), file.structural.end());
     total_tokens_ += file.token_count;
     stack_.push_back(identity(path));
+    if (seen_.insert(stack_.back()).second) sources_.push_back(path);
     for (const auto& st : file.statements) {
       if (st->kind != ast::Statement::Kind::Include) {
         out.push_back(st);
@@ -109,6 +114,8 @@ class IncludeResolver {
   const std::map<std::string, double>& overrides_;
   std::map<std::string, double> structural_;  // loop parameters of every file
   std::vector<fs::path> stack_;  // files being expanded, outermost first
+  std::set<fs::path> seen_;       // identities of the files in sources_
+  std::vector<std::string> sources_;
   std::size_t splices_ = 0;      // include statements expanded so far
   std::size_t total_bytes_ = 0;  // text read so far
   std::size_t total_tokens_ = 0;  // tokens after loop expansion so far
@@ -132,6 +139,7 @@ std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
   resolver.expand(path, text, file.statements);
   if (!resolver.ok()) return std::nullopt;
   file.structural = resolver.structural();
+  file.sources = resolver.sources();
   file.main_source = std::move(text);
   return file;
 }

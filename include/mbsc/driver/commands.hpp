@@ -48,6 +48,7 @@ struct GenerateArgs {
   bool minimal_state = false;       // --state minimal
   bool multipliers = false;         // --formulation multipliers
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
+  std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);

@@ -42,10 +42,12 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
 /// Parses and builds a model file (includes resolved). nullopt on error.
 /// `overrides` (the --freeze values) also set the parameters `for` loops and indices use,
 /// and stand in for the defaults where values are checked. The model's name must be
-/// usable as a C++ namespace unless `generated_name` (--name) replaces it.
+/// usable as a C++ namespace unless `generated_name` (--name) replaces it. `sources`
+/// (when given) receives the model file and every file it includes (ast::File::sources).
 std::optional<model::Model> load_model(const std::string& path, Diagnostics& diags,
                                       const std::map<std::string, double>& overrides = {},
-                                      const std::string& generated_name = "");
+                                      const std::string& generated_name = "",
+                                      std::vector<std::string>* sources = nullptr);
 
 /// False (reported at `model NAME`) when the model's name cannot name the generated
 /// C++ namespace and files, unless `generated_name` (--name) replaces it.

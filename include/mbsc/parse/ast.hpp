@@ -123,6 +123,10 @@ struct File {
   std::map<std::string, double> structural;
   /// The text of the model file itself (parse_file), for the banner hash.
   std::string main_source;
+  /// Every file parse_file read: the model first, then each included file once, in the
+  /// order first read, each path as it was opened (relative to the including file's
+  /// folder). What the generated code depends on (generate --depfile).
+  std::vector<std::string> sources;
   /// Tokens after loop expansion, over every file read (the include budget counts them).
   std::size_t token_count = 0;
 };

@@ -175,3 +175,21 @@ TEST_CASE("include: relative paths given to parse_file work", "[parse][include]"
   REQUIRE(file->statements.size() == 1);
   CHECK(file->statements[0]->pos.file == "m/p.mbs");
 }
+
+TEST_CASE("include: the file lists every file read, once, as opened (for --depfile)", "[parse][include]") {
+  TempDir dir;
+  const std::string main = dir.write("main.mbs",
+                                     "model m\n"
+                                     "include \"lib/params.mbs\"\n"
+                                     "include \"./lib/params.mbs\"   # the same file again\n"
+                                     "include \"my data.mbs\"\n");
+  dir.write("lib/params.mbs", "parameter a\ninclude \"more/extra.mbs\"\n");
+  dir.write("lib/more/extra.mbs", "input u\n");
+  dir.write("my data.mbs", "parameter b\n");
+  Diagnostics diags;
+  const auto file = mbsc::parse::parse_file(main, diags);
+  INFO(diags.format());
+  REQUIRE(file.has_value());
+  CHECK(file->sources == std::vector<std::string>{main, dir.at("lib/params.mbs"), dir.at("lib/more/extra.mbs"),
+                                                  dir.at("my data.mbs")});
+}

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/driver/depfile.hpp"
+
+#include <fmt/format.h>
+
+#include "mbsc/diag/diagnostics.hpp"
+
+namespace mbsc::driver {
+
+std::string make_escaped(const std::string& path) {
+  std::string out;
+  std::size_t backslashes = 0;  // in a row, just written
+  for (char c : path) {
+    if (c == ' ' || c == '\t' || c == '#') {
+      out.append(backslashes, '\\');  // so that they stay backslashes, not an escape
+      out += '\\';
+    } else if (c == '$') {
+      out += '$';
+    }
+    out += c;
+    backslashes = c == '\\' ? backslashes + 1 : 0;
+  }
+  return out;
+}
+
+bool depfile_text(const std::vector<std::string>& targets, const std::vector<std::string>& prerequisites,
+                  std::string& text, std::string& error) {
+  for (const auto* list : {&targets, &prerequisites})
+    for (const auto& p : *list)
+      if (p.find_first_of("\n\r") != std::string::npos) {
+        error = fmt::format("mbsc: error: the path '{}' has a line break, which a depfile cannot hold", printable(p));
+        return false;
+      }
+  text.clear();
+  for (std::size_t i = 0; i < targets.size(); ++i) text += (i ? " " : "") + make_escaped(targets[i]);
+  text += ":";
+  for (std::size_t i = 0; i < prerequisites.size(); ++i) text += (i ? " \\\n  " : " ") + make_escaped(prerequisites[i]);
+  text += "\n";
+  for (std::size_t i = 1; i < prerequisites.size(); ++i) text += "\n" + make_escaped(prerequisites[i]) + ":\n";
+  return true;
+}
+
+}  // namespace mbsc::driver

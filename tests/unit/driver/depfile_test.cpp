@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Unit tests of the depfile text (generate --depfile): make's escaping rules, and the
+// rule layout make and ninja read.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "mbsc/driver/depfile.hpp"
+
+using mbsc::driver::depfile_text;
+using mbsc::driver::make_escaped;
+
+TEST_CASE("depfile: paths are escaped as make reads them", "[driver][depfile]") {
+  CHECK(make_escaped("models/plain.mbs") == "models/plain.mbs");
+  CHECK(make_escaped("my models/a b.mbs") == "my\\ models/a\\ b.mbs");
+  CHECK(make_escaped("tab\there") == "tab\\\there");
+  CHECK(make_escaped("issue#9.mbs") == "issue\\#9.mbs");
+  CHECK(make_escaped("cost$1.mbs") == "cost$$1.mbs");
+  // Backslashes right before an escaped character are doubled (else make would read
+  // "\\ " as an escaped backslash and a separator); others stay as they are.
+  CHECK(make_escaped("a\\ b") == "a\\\\\\ b");
+  CHECK(make_escaped("a\\b") == "a\\b");
+}
+
+TEST_CASE("depfile: one rule for every target, and an empty rule per included file", "[driver][depfile]") {
+  std::string text, error;
+  REQUIRE(depfile_text({"out/m/m.hpp", "out/m/m.cpp"}, {"dir/m.mbs", "dir/lib/a b.mbs", "dir/c.mbs"}, text, error));
+  CHECK(text ==
+        "out/m/m.hpp out/m/m.cpp: dir/m.mbs \\\n"
+        "  dir/lib/a\\ b.mbs \\\n"
+        "  dir/c.mbs\n"
+        "\n"
+        "dir/lib/a\\ b.mbs:\n"
+        "\n"
+        "dir/c.mbs:\n");
+  // A model without includes: the rule alone.
+  REQUIRE(depfile_text({"o/x/x.hpp", "o/x/x.cpp"}, {"x.mbs"}, text, error));
+  CHECK(text == "o/x/x.hpp o/x/x.cpp: x.mbs\n");
+}
+
+TEST_CASE("depfile: a path with a line break is refused, naming it", "[driver][depfile]") {
+  std::string text = "unchanged", error;
+  CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", "bad\nname.mbs"}, text, error));
+  CHECK(error.find("line break") != std::string::npos);
+  CHECK(error.find("bad\\x0Aname.mbs") != std::string::npos);
+  CHECK_FALSE(depfile_text({"o/\rx/x.hpp"}, {"x.mbs"}, text, error));
+}
