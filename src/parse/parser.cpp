@@ -10,6 +10,7 @@
 #include "lexer.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "loop_expansion.hpp"
+#include "mbsc/parse/latex_text.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "parser_internal.hpp"
 
@@ -262,6 +263,7 @@ class Parser {
     if (k == "ground") return parse_ground(out, kw);
     if (k == "joint") return parse_joint(out, kw);
     if (k == "spring" || k == "damper") return parse_spring(out, kw);
+    if (k == "latex") return parse_latex(out, kw);
     fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
   }
 
@@ -604,6 +606,22 @@ class Parser {
       take();
       st.exprs.push_back(parse_expr());
     }
+    end_statement(what);
+    push(out, std::move(st));
+  }
+
+  // 'latex' path STRING: the symbol `mbsc print --latex` writes for a name. The text must
+  // be safe in a formula (latex_text.hpp); whether the name exists is the model's to say.
+  void parse_latex(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Latex, kw);
+    st.path = parse_path("name after 'latex'");
+    const std::string what = "latex symbol of '" + st.path.text + "'";
+    if (at(TK::Invalid)) fail(peek().pos, what + ": " + peek().text);  // a control character, an open string
+    const Token text = expect(TK::String, "LaTeX text in double quotes after 'latex " + st.path.text + "'");
+    if (const std::string why = latex_text_problem(text.text); !why.empty())
+      fail(text.pos, what + " is not safe LaTeX: " + why);
+    st.name = text.text;
+    st.name_pos = text.pos;
     end_statement(what);
     push(out, std::move(st));
   }
