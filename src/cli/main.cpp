@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
   p->add_option("model", print.model, "model file (.mbs)")->required();
   p->add_option("--node", print.node, "subsystem (dotted name); default: the whole model");
   p->add_option("--what", what, "comma-separated: A B C S f fbar M h rates invariants (default: B C fbar at a node, M h at the top)");
-  p->add_flag("--latex", print.latex, "LaTeX instead of plain text");
+  p->add_flag("--latex", print.latex, "LaTeX for a document that loads amsmath, instead of plain text");
+  p->add_flag("--standalone", print.standalone, "a complete LaTeX document (pdflatex or lualatex); implies --latex");
   p->add_flag("--stats", print.stats, "operation counts of the generated functions");
   p->add_option("--freeze", print_freeze, "fold a parameter into the equations: name=value (repeatable)");
   p->add_option("--outputs", print_outputs, "with --stats: only these functions");

@@ -11,6 +11,7 @@
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/driver/latex_layout.hpp"
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
@@ -150,17 +151,19 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     for (const auto& f : g->functions)
       text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", f.name, f.ops.adds, f.ops.muls, f.ops.divs,
                           f.ops.calls, f.ops.solve_flops, f.ops.total());
+    if (a.standalone) text = latex_document(m.name, a.node, "\\begin{verbatim}\n" + text + "\\end{verbatim}\n");
     return true;
   }
   std::vector<std::string> what = a.what;
   if (what.empty()) what = node == m.root() ? std::vector<std::string>{"rates", "B", "C", "fbar", "M", "h"}
                                             : std::vector<std::string>{"B", "C", "fbar"};
   try {
-    text += print_node(m, eom, node, what, a.latex);
+    text += print_node(m, eom, node, what, a.latex || a.standalone);
   } catch (const std::invalid_argument& e) {
     diags.error(file, e.what());
     return false;
   }
+  if (a.standalone) text = latex_document(m.name, a.node, text);
   return true;
 }
 

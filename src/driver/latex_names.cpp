@@ -77,11 +77,17 @@ std::string upright(const std::string& w) {
 }
 
 /// A word without '_' used as a subscript item: a number, a Greek letter, one letter,
-/// or upright text.
+/// either of these with a number (b1 -> b_{1}), or upright text.
 std::string word_text(const std::string& w) {
   if (all_of(w, is_digit) || (w.size() == 1 && is_alpha(w[0]))) return w;
-  const std::string g = greek(w);
-  return g.empty() ? upright(w) : g;
+  if (const std::string g = greek(w); !g.empty()) return g;
+  std::size_t k = w.size();
+  while (k > 0 && is_digit(w[k - 1])) --k;
+  if (k > 0 && k < w.size()) {
+    const std::string head = w.substr(0, k), g = greek(head);
+    if (head.size() == 1 || !g.empty()) return (g.empty() ? head : g) + "_{" + w.substr(k) + "}";
+  }
+  return upright(w);
 }
 
 /// One identifier: 'head' ('_' part)*, the head's trailing digits a subscript.
@@ -118,6 +124,21 @@ Symbol identifier_symbol(const std::string& id) {
   if (!digits.empty()) s.sub.push_back(digits);
   for (std::size_t i = 1; i < parts.size(); ++i) s.sub.push_back(word_text(parts[i]));
   return s;
+}
+
+/// A body or subsystem name in a subscript: a label, not a symbol. crank -> crank,
+/// b -> b, b1 -> b_{1}, crank_2 (from crank[2]) -> crank_{2}, motor_left -> motor\_left.
+std::string qualifier_text(const std::string& name) {
+  const auto cut = name.find('_');
+  if (cut == std::string::npos) return word_text(name);
+  if (cut == 0) return upright(name);
+  std::string index;
+  for (std::size_t i = cut; i < name.size(); ++i) {
+    if (name[i] == '_' && i + 1 < name.size() && name[i + 1] != '_') index += index.empty() ? "" : ",";
+    else if (is_digit(name[i])) index += name[i];
+    else return upright(name);  // a word after '_' (or '__'): the name as written
+  }
+  return word_text(name.substr(0, cut)) + "_{" + index + "}";
 }
 
 std::string join_sub(const std::vector<std::string>& items) {
@@ -157,7 +178,7 @@ std::string latex_symbol(const std::string& name) {
   }
   Symbol base = identifier_symbol(segments.back());
   std::vector<std::string> sub;
-  for (std::size_t i = 0; i + 1 < segments.size(); ++i) sub.push_back(text_of(identifier_symbol(segments[i])));
+  for (std::size_t i = 0; i + 1 < segments.size(); ++i) sub.push_back(qualifier_text(segments[i]));
   sub.insert(sub.end(), base.sub.begin(), base.sub.end());
   base.stem = dotted(base.stem, primes);
   base.sub = sub;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/driver/latex_layout.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/full_complement.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -21,15 +22,10 @@ std::string matrix_text(const std::string& title, const std::vector<std::string>
                         const std::vector<std::vector<GiNaC::ex>>& v, bool latex) {
   std::string out;
   if (latex) {
-    out += fmt::format("% {}: rows ({}), columns ({})\n", title, fmt::join(rows, ", "), fmt::join(cols, ", "));
-    out += title + " = \\begin{pmatrix}\n";
-    for (size_t i = 0; i < v.size(); ++i) {
-      std::vector<std::string> cells;
-      for (const auto& e : v[i]) cells.push_back(fmt_ex(e, true));
-      out += "  " + fmt::format("{}", fmt::join(cells, " & ")) + (i + 1 < v.size() ? " \\\\\n" : "\n");
-    }
-    out += "\\end{pmatrix}\n\n";
-    return out;
+    std::vector<std::vector<std::string>> cells(v.size());
+    for (size_t i = 0; i < v.size(); ++i)
+      for (const auto& e : v[i]) cells[i].push_back(fmt_ex(e, true));
+    return latex_matrix(title, rows, cols, cells, LatexSymbolScope::current());
   }
   out += fmt::format("{} ({} x {}), rows: {}; columns: {}\n", title, rows.size(), cols.size(), fmt::join(rows, ", "),
                      fmt::join(cols, ", "));
@@ -71,12 +67,14 @@ std::string where_text(const model::Model& m, const sym::Eom& eom, int n, const 
     needed[i] = read;
   }
   std::string out;
+  std::vector<LatexEquation> equations;
   for (size_t i = 0; i < defs.size(); ++i) {
     if (!needed[i]) continue;
     const std::string value = fmt_ex(finalize(m, eom, defs[i]->value), latex);
-    out += latex ? fmt::format("{} = {} \\\\\n", canonical_text(defs[i]->sym, true), value)
-                 : fmt::format("  {} = {}\n", defs[i]->sym.get_name(), value);
+    if (latex) equations.push_back({canonical_text(defs[i]->sym, true), value, ""});
+    else out += fmt::format("  {} = {}\n", defs[i]->sym.get_name(), value);
   }
+  if (latex) return latex_equations("where (evaluated in this order)", equations);
   if (out.empty()) return out;
   return (latex ? std::string("% where (evaluated in this order)\n") : std::string("  where (evaluated in this order)\n")) + out +
          "\n";
@@ -85,6 +83,7 @@ std::string where_text(const model::Model& m, const sym::Eom& eom, int n, const 
 }  // namespace
 
 std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex) {
+  const LatexSymbolScope symbols(m.latex_symbols);  // the model's `latex` statements
   const auto& r = eom.nodes[n];
   const std::string who = m.nodes[n].name.empty() ? m.name : m.nodes[n].name;
   std::string out = latex ? fmt::format("% subsystem {}\n", who) : fmt::format("subsystem {}\n\n", who);
@@ -141,15 +140,16 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       out += where_text(m, eom, n, rows, latex);
     } else if (w == "invariants") {
       // The node's constraints as written or as joints expand them: residual = 0.
-      out += latex ? fmt::format("% invariants of {}\n", who) : fmt::format("invariants of {} (residual = 0)\n", who);
+      if (!latex) out += fmt::format("invariants of {} (residual = 0)\n", who);
+      std::vector<LatexEquation> equations;
       for (int ci : m.nodes[n].constraints) {
         const auto& c = m.constraints[ci];
         const char* level = c.level == model::Constraint::Level::Position ? "position" : "velocity";
         const std::string text = fmt_ex(finalize(m, eom, c.residual), latex);
-        out += latex ? fmt::format("% {} ({})\n{} = 0 \\\\\n", c.name, level, text)
-                     : fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
+        if (latex) equations.push_back({"0", text, fmt::format("{} ({})", c.name, level)});
+        else out += fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
       }
-      out += "\n";
+      out += latex ? latex_equations(fmt::format("invariants of {}", who), equations) : "\n";
     } else {
       throw std::invalid_argument(fmt::format("--what: unknown item '{}' (known: rates A B C S f fbar M h invariants)", w));
     }

@@ -616,8 +616,13 @@ class Parser {
     Statement st = begin(Statement::Kind::Latex, kw);
     st.path = parse_path("name after 'latex'");
     const std::string what = "latex symbol of '" + st.path.text + "'";
-    if (at(TK::Invalid)) fail(peek().pos, what + ": " + peek().text);  // a control character, an open string
-    const Token text = expect(TK::String, "LaTeX text in double quotes after 'latex " + st.path.text + "'");
+    const std::string expected = "LaTeX text in double quotes after 'latex " + st.path.text + "'";
+    if (at(TK::Invalid)) {
+      const Token& bad = peek();  // a string with a control character, or no string (latex th1 \theta)
+      fail(bad.pos, bad.text.find("string") != std::string::npos ? what + ": " + bad.text
+                                                                 : "expected " + expected + ", found " + bad.text);
+    }
+    const Token text = expect(TK::String, expected);
     if (const std::string why = latex_text_problem(text.text); !why.empty())
       fail(text.pos, what + " is not safe LaTeX: " + why);
     st.name = text.text;

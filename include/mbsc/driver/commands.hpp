@@ -30,6 +30,7 @@ struct PrintArgs {
   std::string node;                 // "" = root; a dotted subsystem name
   std::vector<std::string> what;    // A B C S f fbar M h eom (empty: a default set)
   bool latex = false;
+  bool standalone = false;          // --standalone: a whole LaTeX document (implies latex)
   bool stats = false;
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs

@@ -7,6 +7,7 @@
 ///   th1 -> \theta_{1}       l2 -> l_{2}         m_3 -> m_{3}        Omega -> \Omega
 ///   m_crank -> m_{\mathrm{crank}}   mUL -> m_{\mathrm{UL}}    Im -> I_{m}
 ///   crank.theta -> \theta_{\mathrm{crank}}    b.x -> x_{b}    crank_2.w -> w_{\mathrm{crank}_{2}}
+///   motor_left.w -> w_{\mathrm{motor\_left}}  (bodies and subsystems are labels: words stay whole)
 ///   w1' -> \dot{w}_{1}      (a rate: one dot per prime, up to three)
 ///   anything else -> \mathrm{...} of the name as written
 #include <map>

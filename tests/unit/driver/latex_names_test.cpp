@@ -41,6 +41,9 @@ TEST_CASE("latex symbols: letters, Greek names and subscripts", "[latex]") {
       {"F_load", "F_{\\mathrm{load}}"},
       {"l1_a", "l_{1,a}"},
       {"th_2", "\\theta_{2}"},
+      {"e_b1_u", "e_{b_{1},u}"},
+      {"r_crank_2_w", "r_{\\mathrm{crank},2,w}"},
+      {"x_th1", "x_{\\theta_{1}}"},
       // a letter and a tag: one letter after it, or capitals after a small letter
       {"Im", "I_{m}"},
       {"bm", "b_{m}"},
@@ -70,6 +73,11 @@ TEST_CASE("latex symbols: qualified names put their bodies in the subscript", "[
   CHECK(latex_symbol("crank_2.w") == "w_{\\mathrm{crank}_{2}}");
   CHECK(latex_symbol("left.upper.theta") == "\\theta_{\\mathrm{left},\\mathrm{upper}}");
   CHECK(latex_symbol("R.A_x") == "A_{R,x}");
+  // Body and subsystem names are labels: no letter-and-tag reading, words kept whole.
+  CHECK(latex_symbol("HC.distal.theta") == "\\theta_{\\mathrm{HC},\\mathrm{distal}}");
+  CHECK(latex_symbol("motor_left.w") == "w_{\\mathrm{motor\\_left}}");
+  CHECK(latex_symbol("grid_2_3.x") == "x_{\\mathrm{grid}_{2,3}}");
+  CHECK(latex_symbol("th1.x") == "x_{\\theta_{1}}");
 }
 
 TEST_CASE("latex symbols: rates are dotted letters", "[latex]") {

@@ -21,11 +21,12 @@ gravity (0, -g)
 body crank : rigid2d {
   mass m1
   inertia m1*l^2/12
+  point P (0, 0.5)
   latex theta "\varphi"
   latex m1 "m_{\mathrm{c}}"
 }
 ground { point O (0, 0) }
-joint revolute ground.O crank.G
+joint revolute ground.O crank.P
 latex tau "\tau_{\mathrm{motor}}"
 latex crank.w "\Omega"
 latex t "\tau"
@@ -78,7 +79,7 @@ TEST_CASE("latex statement: unknown names, duplicates, subsystems and component 
       {"model m\nparameter a = 1\nlatex b \"b\"\n", "3:7", "unknown name 'b' in latex statement"},
       {"model m\nparameter a = 1\nlatex a \"x\"\nlatex a \"y\"\n", "4:7", "latex symbol of 'a' is already given at 3:1"},
       {"model m\nbody p : particle2d { mass 1 }\nlatex p \"P\"\n", "3:7", "'p' is a subsystem"},
-      {"model m\ncomponent C(k) { body p : particle2d { mass k } latex k \"K\" }\nsubsystem c : C(1)\n", "2:57",
+      {"model m\ncomponent C(k) { body p : particle2d { mass k } latex k \"K\" }\nsubsystem c : C(1)\n", "2:55",
        "'c.k' is a component parameter"},
       {"model m\nbody p : particle2d { mass 1 }\nlatex p.z \"z\"\n", "3:7", "unknown name 'p.z' in latex statement"},
   };
