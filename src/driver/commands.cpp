@@ -12,6 +12,7 @@
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
@@ -126,6 +127,21 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+/// Two names of the model that print as one symbol in LaTeX (th1 and theta1 are both
+/// \theta_{1}) would read as one variable: a warning at the second, naming the first.
+void warn_same_latex_symbols(const model::Model& m, Diagnostics& diags) {
+  std::map<std::string, std::string> seen;  // symbol -> the first name printed so
+  for (const auto* vars : {&m.params, &m.inputs, &m.coords, &m.speeds})
+    for (const auto& v : *vars) {
+      const std::string symbol = latex_symbol(v.name, m.latex_symbols);
+      const auto [it, fresh] = seen.emplace(symbol, v.name);
+      if (!fresh)
+        diags.warning(v.pos, fmt::format("'{}' and '{}' both print as {} in LaTeX; give one of them its own symbol "
+                                         "with latex {} \"...\"",
+                                         it->second, v.name, symbol, v.name));
+    }
+}
+
 /// The text `print` writes, into `text`; false (errors in diags) otherwise.
 bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, std::string& text, Diagnostics& diags) {
   const SourcePos file{a.model, 0, 0};
@@ -154,6 +170,7 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     if (a.standalone) text = latex_document(m.name, a.node, "\\begin{verbatim}\n" + text + "\\end{verbatim}\n");
     return true;
   }
+  if (a.latex || a.standalone) warn_same_latex_symbols(m, diags);
   std::vector<std::string> what = a.what;
   if (what.empty()) what = node == m.root() ? std::vector<std::string>{"rates", "B", "C", "fbar", "M", "h"}
                                             : std::vector<std::string>{"B", "C", "fbar"};

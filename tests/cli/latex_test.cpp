@@ -119,3 +119,25 @@ TEST_CASE("print --standalone compiles for a subsystem, and with --stats", "[lat
   compile(latex, dir, "double_pendulum_stats", r.output);
   fs::remove_all(dir);
 }
+
+TEST_CASE("print --latex warns when two names print as one symbol", "[cli]") {
+  const fs::path dir = fresh_dir("latex_same");
+  const fs::path model = dir / "same.mbs";
+  std::ofstream(model) << "model same\nparameter m = 1, g = 9.81\ngravity (0, -g)\n"
+                          "body b : particle2d { mass m }\ncoordinate th1, theta1\nspeed w1 = th1', w2 = theta1'\n"
+                          "constraint position { b.x = sin(th1) + sin(theta1)\n b.y = -cos(th1) - cos(theta1) }\n";
+  auto r = run(kMbsc + " print " + quote(model.string()) + " --latex -q --what M");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find(model.string() + ":5:17: warning: 'th1' and 'theta1' both print as \\theta_{1} in LaTeX") !=
+        std::string::npos);
+  // A latex statement parts them; plain text has no such question.
+  std::ofstream(model, std::ios::app) << "latex theta1 \"\\vartheta_{1}\"\n";
+  r = run(kMbsc + " print " + quote(model.string()) + " --latex -q --what M");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("warning") == std::string::npos);
+  CHECK(r.output.find("\\vartheta_{1}") != std::string::npos);
+  std::ofstream(model) << "model same\nparameter th1 = 1, theta1 = 2\nbody b : particle2d { mass th1 + theta1 }\n";
+  CHECK(run(kMbsc + " print " + quote(model.string()) + " -q --what M").output.find("warning") == std::string::npos);
+  fs::remove_all(dir);
+}
