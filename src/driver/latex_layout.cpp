@@ -98,32 +98,37 @@ std::vector<std::string> break_terms(const std::string& rhs, int width) {
 }
 
 std::string wrap_source(const std::string& text, std::size_t columns) {
+  const std::string indent = "    ";
   std::string out;
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
     const bool newline = end != std::string::npos;
     if (!newline) end = text.size();
-    std::string line = text.substr(pos, end - pos);
+    const std::string line = text.substr(pos, end - pos);
     pos = newline ? end + 1 : end;
     const std::size_t first = line.find_first_not_of(' ');
     const bool comment = first != std::string::npos && line[first] == '%';
-    while (!comment && line.size() > columns) {
-      // The last space at or before the column (else the first after it) that is not
-      // an escaped space "\ " nor part of the indentation.
-      auto breakable = [&](std::size_t k) { return line[k] == ' ' && k > first && line[k - 1] != '\\'; };
+    // Pieces of the line, by index (a formula may be one line of megabytes): each cut is
+    // the last space within the columns (else the first after them) that is neither an
+    // escaped space "\ " nor the indentation.
+    std::size_t begin = 0;
+    bool continued = false;
+    while (!comment && first != std::string::npos && line.size() - begin + (continued ? indent.size() : 0) > columns) {
+      const std::size_t floor = continued ? begin : first;
+      auto breakable = [&](std::size_t k) { return line[k] == ' ' && k > floor && line[k - 1] != '\\'; };
+      const std::size_t limit = begin + columns - (continued ? indent.size() : 0);
       std::size_t cut = std::string::npos;
-      for (std::size_t k = columns; k > first && cut == std::string::npos; --k)
+      for (std::size_t k = limit; k > floor && cut == std::string::npos; --k)
         if (breakable(k)) cut = k;
-      for (std::size_t k = columns + 1; k < line.size() && cut == std::string::npos; ++k)
+      for (std::size_t k = limit + 1; k < line.size() && cut == std::string::npos; ++k)
         if (breakable(k)) cut = k;
-      if (cut == std::string::npos) break;
-      const std::string rest = line.substr(cut + 1);
-      if (rest.find_first_not_of(' ') == std::string::npos) break;
-      out += line.substr(0, cut) + "\n";
-      line = "    " + rest;
+      if (cut == std::string::npos || line.find_first_not_of(' ', cut + 1) == std::string::npos) break;
+      out += (continued ? indent : "") + line.substr(begin, cut - begin) + "\n";
+      begin = cut + 1;
+      continued = true;
     }
-    out += line;
+    out += (continued ? indent : "") + line.substr(begin);
     if (newline) out += "\n";
   }
   return out;

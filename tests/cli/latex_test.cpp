@@ -58,6 +58,16 @@ TEST_CASE("print --standalone compiles with LaTeX for every shipped model and ev
   std::sort(models.begin(), models.end());
   REQUIRE(models.size() >= 10);
   const fs::path dir = fresh_dir("latex");
+  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (no term
+  // of the numerator or denominator can start a line of its own).
+  {
+    std::string sum;
+    for (int i = 1; i <= 2000; ++i)
+      sum += (i > 1 ? " + " : "") + std::to_string(i) + "*b.x^" + std::to_string(i % 40 + 1) + "*b.y^" + std::to_string(i / 40 + 1);
+    models.push_back(dir / "long_entries.mbs");
+    std::ofstream(models.back()) << "model long_entries\nbody b : particle2d { mass 1 }\nforce b.u : " << sum
+                                 << "\nforce b.v : 1/(1 + " << sum << ")\n";
+  }
   for (const auto& model : models) {
     const std::string name = model.stem().string();
     const auto r = run(kMbsc + " print " + quote(model.string()) + " --standalone -q --what " + kAll);
