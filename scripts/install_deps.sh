@@ -1,17 +1,26 @@
 #!/usr/bin/env bash
 # Installs the Debian packages mbsc needs to build and test (root, or sudo available).
-# `install_deps.sh sanitize` adds clang with its sanitizer and libFuzzer runtimes.
+# `install_deps.sh sanitize` adds clang with its sanitizer and libFuzzer runtimes;
+# `install_deps.sh test` adds pdflatex (texlive-latex-base without its recommends: 16
+# packages, under a minute), which the test of `print --standalone` compiles with.
 set -euo pipefail
 pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2)
+lean=()  # installed without their recommends
 if [ "${1:-}" = sanitize ]; then pkgs+=(clang-14 libclang-rt-14-dev); fi
-missing=()
-for p in "${pkgs[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
+if [ "${1:-}" = test ]; then lean+=(texlive-latex-base); fi
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
+missing=() missing_lean=()
+for p in "${pkgs[@]}"; do installed "$p" || missing+=("$p"); done
+for p in "${lean[@]}"; do installed "$p" || missing_lean+=("$p"); done
+if [ $(( ${#missing[@]} + ${#missing_lean[@]} )) -gt 0 ]; then
   SUDO=""
   [ "$(id -u)" -ne 0 ] && SUDO="sudo"
-  echo "installing: ${missing[*]}"
+  echo "installing: ${missing[*]} ${missing_lean[*]}"
   $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+  if [ ${#missing[@]} -gt 0 ]; then
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+  if [ ${#missing_lean[@]} -gt 0 ]; then
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing_lean[@]}" >/dev/null
+  fi
 fi

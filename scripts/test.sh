@@ -2,7 +2,7 @@
 # Installs what is missing, builds everything and runs the whole test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install_deps.sh
+bash scripts/install_deps.sh test
 # Tests ON explicitly: a build folder configured by scripts/demo.sh has them off.
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=ON >/dev/null
 cmake --build build -j"$(nproc)"

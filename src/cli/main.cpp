@@ -102,7 +102,8 @@ int main(int argc, char** argv) {
   p->add_option("--node", print.node, "subsystem (dotted name); default: the whole model");
   p->add_option("--what", what,
                 "comma-separated: M h eom invariants rates A B C S f fbar (default: M h eom invariants, then rates B C fbar)");
-  p->add_flag("--latex", print.latex, "LaTeX instead of plain text");
+  p->add_flag("--latex", print.latex, "LaTeX for a document that loads amsmath, instead of plain text");
+  p->add_flag("--standalone", print.standalone, "a complete LaTeX document (pdflatex or lualatex); implies --latex");
   p->add_flag("--expand", print.expand,
               "closed form: substitute the named intermediates (e_, r_) and the small numeric solves (X_)");
   p->add_flag("--stats", print.stats, "operation counts of the generated functions");

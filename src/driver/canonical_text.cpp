@@ -6,6 +6,8 @@
 #include <sstream>
 #include <vector>
 
+#include "mbsc/driver/latex_names.hpp"
+
 namespace mbsc::driver {
 namespace {
 
@@ -23,10 +25,7 @@ struct Printed {
 };
 
 std::string symbol_text(const std::string& name, bool latex) {
-  if (!latex) return name;
-  std::string out;
-  for (char c : name) out += (c == '_' ? std::string("\\_") : std::string(1, c));
-  return name.size() == 1 ? out : "\\mathrm{" + out + "}";
+  return latex ? latex_symbol(name, LatexSymbolScope::current()) : name;
 }
 
 std::string number_text(const GiNaC::numeric& n, bool latex) {
@@ -43,7 +42,12 @@ std::string number_text(const GiNaC::numeric& n, bool latex) {
   std::ostringstream s;
   s.precision(17);
   s << n.to_double();
-  return s.str();
+  const std::string text = s.str();
+  const auto e = text.find('e');
+  if (!latex || e == std::string::npos) return text;
+  // 1.5e-05 is 1.5 \cdot 10^{-5} in a formula.
+  const int exponent = std::stoi(text.substr(e + 1));
+  return text.substr(0, e) + " \\cdot 10^{" + std::to_string(exponent) + "}";
 }
 
 std::string wrap(const Printed& p, Prec need, bool latex) {
@@ -187,6 +191,7 @@ Printed print(const GiNaC::ex& e, bool latex) {
       const std::string t = latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex);
       return {negative ? "-" + t : t, kProduct, negative};
     }
+    if (latex && e.op(1).is_equal(GiNaC::numeric(1, 2))) return {"\\sqrt{" + print(e.op(0), latex).text + "}", kAtom};
     Printed b = print(e.op(0), latex);
     // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
     bool negative = false;
@@ -209,14 +214,14 @@ Printed print(const GiNaC::ex& e, bool latex) {
       const bool even = name == "cos" || name == "cosh" || name == "abs";
       const bool odd = name == "sin" || name == "tan" || name == "sinh" || name == "tanh" || name == "asin" || name == "atan";
       if (arg.normal_negated && (even || odd)) {
-        const std::string t = latex ? "\\" + name + "\\left(" + arg.normal_text + "\\right)" : name + "(" + arg.normal_text + ")";
+        const std::string t = latex ? latex_call(name, arg.normal_text) : name + "(" + arg.normal_text + ")";
         if (even) return {t, kAtom};
         return {"-" + t, kProduct, true};
       }
     }
     std::string args;
     for (size_t i = 0; i < e.nops(); ++i) args += (i ? ", " : "") + print(e.op(i), latex).text;
-    if (latex) return {"\\" + name + "\\left(" + args + "\\right)", kAtom};
+    if (latex) return {latex_call(name, args), kAtom};
     return {name + "(" + args + ")", kAtom};
   }
   if (e.is_equal(GiNaC::Pi)) return {latex ? "\\pi" : "pi", kAtom};
@@ -228,5 +233,20 @@ Printed print(const GiNaC::ex& e, bool latex) {
 }  // namespace
 
 std::string canonical_text(const GiNaC::ex& e, bool latex) { return print(e, latex).text; }
+
+namespace {
+thread_local const std::map<std::string, std::string>* latex_scope = nullptr;  // the innermost LatexSymbolScope's
+}  // namespace
+
+LatexSymbolScope::LatexSymbolScope(const std::map<std::string, std::string>& symbols) : outer_(latex_scope) {
+  latex_scope = &symbols;
+}
+
+LatexSymbolScope::~LatexSymbolScope() { latex_scope = outer_; }
+
+const std::map<std::string, std::string>& LatexSymbolScope::current() {
+  static const std::map<std::string, std::string> none;
+  return latex_scope ? *latex_scope : none;
+}
 
 }  // namespace mbsc::driver

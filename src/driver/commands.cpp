@@ -12,6 +12,8 @@
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/driver/depfile.hpp"
+#include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
@@ -131,6 +133,21 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
 
 namespace {
 
+/// Two names of the model that print as one symbol in LaTeX (th1 and theta1 are both
+/// \theta_{1}) would read as one variable: a warning at the second, naming the first.
+void warn_same_latex_symbols(const model::Model& m, Diagnostics& diags) {
+  std::map<std::string, std::string> seen;  // symbol -> the first name printed so
+  for (const auto* vars : {&m.params, &m.inputs, &m.coords, &m.speeds})
+    for (const auto& v : *vars) {
+      const std::string symbol = latex_symbol(v.name, m.latex_symbols);
+      const auto [it, fresh] = seen.emplace(symbol, v.name);
+      if (!fresh)
+        diags.warning(v.pos, fmt::format("'{}' and '{}' both print as {} in LaTeX; give one of them its own symbol "
+                                         "with latex {} \"...\"",
+                                         it->second, v.name, symbol, v.name));
+    }
+}
+
 /// The text `print` writes, into `text`; false (errors in diags) otherwise.
 bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, std::string& text, Diagnostics& diags) {
   const SourcePos file{a.model, 0, 0};
@@ -156,18 +173,21 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     for (const auto& f : g->functions)
       text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", f.name, f.ops.adds, f.ops.muls, f.ops.divs,
                           f.ops.calls, f.ops.solve_flops, f.ops.total());
+    if (a.standalone) text = latex_document(m.name, a.node, "\\begin{verbatim}\n" + text + "\\end{verbatim}\n");
     return true;
   }
+  if (a.latex || a.standalone) warn_same_latex_symbols(m, diags);
   std::vector<std::string> what = a.what;
   // What users look for first (M, h, M z' = h, the constraints), then the method's letters.
   if (what.empty()) what = node == m.root() ? std::vector<std::string>{"M", "h", "eom", "invariants", "rates", "B", "C", "fbar"}
                                             : std::vector<std::string>{"M", "h", "eom", "invariants", "B", "C", "fbar"};
   try {
-    text += print_node(m, eom, node, what, a.latex, a.expand);
+    text += print_node(m, eom, node, what, a.latex || a.standalone, a.expand);
   } catch (const std::invalid_argument& e) {
     diags.error(file, e.what());
     return false;
   }
+  if (a.standalone) text = latex_document(m.name, a.node, text);
   return true;
 }
 

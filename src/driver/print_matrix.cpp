@@ -12,6 +12,8 @@
 #include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/driver/display_simplify.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/full_complement.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -45,15 +47,10 @@ std::string matrix_text(const std::string& title, const std::vector<std::string>
                         const std::vector<std::vector<GiNaC::ex>>& v, bool latex) {
   std::string out;
   if (latex) {
-    out += fmt::format("% {}: rows ({}), columns ({})\n", title, fmt::join(rows, ", "), fmt::join(cols, ", "));
-    out += title + " = \\begin{pmatrix}\n";
-    for (size_t i = 0; i < v.size(); ++i) {
-      std::vector<std::string> cells;
-      for (const auto& e : v[i]) cells.push_back(canonical_text(e, true));
-      out += "  " + fmt::format("{}", fmt::join(cells, " & ")) + (i + 1 < v.size() ? " \\\\\n" : "\n");
-    }
-    out += "\\end{pmatrix}\n\n";
-    return out;
+    std::vector<std::vector<std::string>> cells(v.size());
+    for (size_t i = 0; i < v.size(); ++i)
+      for (const auto& e : v[i]) cells[i].push_back(canonical_text(e, true));
+    return latex_matrix(title, rows, cols, cells, LatexSymbolScope::current());
   }
   out += fmt::format("{} ({} x {}), rows: {}; columns: {}\n", title, rows.size(), cols.size(), fmt::join(rows, ", "),
                      fmt::join(cols, ", "));
@@ -225,7 +222,8 @@ class Intermediates {
 /// The "where" list under printed equations.
 std::string where_text(const std::vector<Intermediate>& where, const Intermediates& all, bool latex) {
   if (where.empty()) return "";
-  std::string out = latex ? "% where (evaluated in this order)\n" : "  where (evaluated in this order)\n";
+  std::string out = latex ? "" : "  where (evaluated in this order)\n";
+  std::vector<LatexEquation> equations;  // LaTeX: the closed forms, in one align*
   for (size_t i = 0; i < where.size(); ++i) {
     const auto& w = where[i];
     if (w.from_solve && !w.solved) {
@@ -243,15 +241,17 @@ std::string where_text(const std::vector<Intermediate>& where, const Intermediat
     }
     const std::string value = canonical_text(w.value, latex);
     const char* tag = w.from_solve ? "   (numeric solve in the generated code; closed form)" : "";
-    out += latex ? fmt::format("{} = {} \\\\\n", canonical_text(w.sym, true), value)
-                 : fmt::format("  {} = {}{}\n", w.sym.get_name(), value, tag);
+    if (latex) equations.push_back({canonical_text(w.sym, true), value, w.from_solve ? "closed form of a numeric solve" : ""});
+    else out += fmt::format("  {} = {}{}\n", w.sym.get_name(), value, tag);
   }
+  if (latex) return out + latex_equations("where (evaluated in this order)", equations);
   return out + "\n";
 }
 
 /// M z' = h written out row by row.
 std::string eom_text(const model::Model& m, const std::vector<int>& z, const PrintedEquations& p, bool latex) {
-  std::string out = latex ? "% equations of motion M z' = h\n"
+  std::vector<LatexEquation> equations;  // LaTeX: one align*
+  std::string out = latex ? ""
                           : fmt::format("equations of motion M z' = h, z = ({})\n", fmt::join(names_of(m, z, false), ", "));
   for (size_t i = 0; i < z.size(); ++i) {
     std::string lhs;
@@ -259,7 +259,7 @@ std::string eom_text(const model::Model& m, const std::vector<int>& z, const Pri
       const GiNaC::ex& e = p.M[i][j];
       if (e.is_zero()) continue;
       std::string t = canonical_text(e, latex);
-      const std::string dot = latex ? "\\dot{" + canonical_text(m.speeds[z[j]].sym, true) + "}" : m.speeds[z[j]].name + "'";
+      const std::string dot = latex ? latex_symbol(m.speeds[z[j]].name + "'", LatexSymbolScope::current()) : m.speeds[z[j]].name + "'";
       bool neg = false;
       if (GiNaC::is_a<GiNaC::add>(e)) {
         t = (latex ? "\\left(" + t + "\\right)" : "(" + t + ")");
@@ -273,8 +273,10 @@ std::string eom_text(const model::Model& m, const std::vector<int>& z, const Pri
     }
     if (lhs.empty()) lhs = "0";
     const std::string rhs = canonical_text(p.h[i][0], latex);
-    out += latex ? fmt::format("{} = {} \\\\\n", lhs, rhs) : fmt::format("  {}:  {} = {}\n", m.speeds[z[i]].name, lhs, rhs);
+    if (latex) equations.push_back({lhs, rhs, ""});
+    else out += fmt::format("  {}:  {} = {}\n", m.speeds[z[i]].name, lhs, rhs);
   }
+  if (latex) return latex_equations("equations of motion M z' = h", equations);
   return out + "\n";
 }
 
@@ -325,6 +327,7 @@ PrintedEquations printed_equations(const model::Model& m, const sym::Eom& eom, i
 
 std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const std::vector<std::string>& what, bool latex,
                        bool expand) {
+  const LatexSymbolScope symbols(m.latex_symbols);  // the model's `latex` statements
   const auto& r = eom.nodes[n];
   const std::string who = m.nodes[n].name.empty() ? m.name : m.nodes[n].name;
   std::string out = latex ? fmt::format("% subsystem {}\n", who) : fmt::format("subsystem {}\n\n", who);
@@ -420,17 +423,17 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex) + where_of(v);
     } else if (w == "invariants") {
       // The node's constraints as written or as joints expand them: residual = 0.
-      out += latex ? fmt::format("% constraints (invariants) of {}\n", who)
-                   : fmt::format("constraints of {} (residual = 0)\n", who);
-      if (m.nodes[n].constraints.empty()) out += latex ? "% none\n" : "  none\n";
+      if (!latex) out += fmt::format("constraints of {} (residual = 0)\n", who);
+      if (!latex && m.nodes[n].constraints.empty()) out += "  none\n";
+      std::vector<LatexEquation> equations;
       for (int ci : m.nodes[n].constraints) {
         const auto& c = m.constraints[ci];
         const char* level = c.level == model::Constraint::Level::Position ? "position" : "velocity";
         const std::string text = fmt_ex(finalize(m, eom, c.residual), latex);
-        out += latex ? fmt::format("% {} ({})\n{} = 0 \\\\\n", c.name, level, text)
-                     : fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
+        if (latex) equations.push_back({"0", text, fmt::format("{} ({})", c.name, level)});
+        else out += fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
       }
-      out += "\n";
+      out += latex ? latex_equations(fmt::format("invariants of {}", who), equations) : "\n";
     } else {
       throw std::invalid_argument(
           fmt::format("--what: unknown item '{}' (known: eom M h invariants rates A B C S f fbar)", w));

@@ -763,6 +763,9 @@ class Builder {
         case Kind::Ground:
           if (id != m_.root()) diags_.error(s.pos, "'ground' belongs at the top level");
           break;
+        case Kind::Latex:
+          set_latex_symbol(id, s);
+          break;
         case Kind::Point:
         case Kind::Com:
         case Kind::Axis: {
@@ -852,6 +855,44 @@ class Builder {
         else nd.instance_of = it->second;
       }
     }
+  }
+
+  /// `latex NAME "text"`: NAME is looked up as an expression would be there (the node's
+  /// own names, then outwards, then the globals). A component's statement gives each
+  /// instance's variables their symbol; the same statement met again (a global named in
+  /// a component used twice) is no duplicate.
+  void set_latex_symbol(int node, const Statement& s) {
+    std::string full;
+    const Entry* found = nullptr;
+    for (int n = node; n >= 0 && !found; n = m_.nodes[n].parent) {
+      full = join(m_.nodes[n].name, s.path.text);
+      const auto it = table_.find(full);
+      if (it != table_.end()) found = &it->second;
+      if (m_.nodes[n].parent < 0) break;
+    }
+    if (!found) {
+      diags_.error(s.path.pos, fmt::format("unknown name '{}' in latex statement", s.path.text));
+      return;
+    }
+    if (found->kind == Entry::NodeName) {
+      diags_.error(s.path.pos, fmt::format("latex: '{}' is a subsystem; give the symbols of its variables", full));
+      return;
+    }
+    if (found->kind == Entry::Formal) {
+      diags_.error(s.path.pos, fmt::format("latex: '{}' is a component parameter, replaced by its argument in the "
+                                           "equations; give the symbol of the names in the argument",
+                                           full));
+      return;
+    }
+    const auto [it, fresh] = latex_pos_.emplace(full, s.pos);
+    const SourcePos& first = it->second;
+    if (!fresh && (first.file != s.pos.file || first.line != s.pos.line || first.col != s.pos.col)) {
+      const std::string where = first.file == s.pos.file ? "" : first.file + ":";
+      diags_.error(s.path.pos, fmt::format("latex symbol of '{}' is already given at {}{}:{}", full, where, first.line,
+                                           first.col));
+      return;
+    }
+    m_.latex_symbols[full] = s.name;
   }
 
   /// Resolves a dotted path to a variable: (is_coordinate, index).
@@ -1098,6 +1139,7 @@ class Builder {
   std::set<int> mass_given_, inertia_given_;  // bodies with a mass / inertia statement (valid or not)
   std::map<int, SourcePos> inertia_pos_;
   std::set<std::string> output_names_;
+  std::map<std::string, SourcePos> latex_pos_;  // where each name's `latex` statement is
   bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;
 };
 

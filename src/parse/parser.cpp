@@ -11,6 +11,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "loop_expansion.hpp"
+#include "mbsc/parse/latex_text.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "parser_internal.hpp"
 
@@ -276,6 +277,7 @@ class Parser {
     if (k == "ground") return parse_ground(out, kw);
     if (k == "joint") return parse_joint(out, kw);
     if (k == "spring" || k == "damper") return parse_spring(out, kw);
+    if (k == "latex") return parse_latex(out, kw);
     fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
   }
 
@@ -633,6 +635,27 @@ class Parser {
       take();
       st.exprs.push_back(parse_expr());
     }
+    end_statement(what);
+    push(out, std::move(st));
+  }
+
+  // 'latex' path STRING: the symbol `mbsc print --latex` writes for a name. The text must
+  // be safe in a formula (latex_text.hpp); whether the name exists is the model's to say.
+  void parse_latex(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Latex, kw);
+    st.path = parse_path("name after 'latex'");
+    const std::string what = "latex symbol of '" + st.path.text + "'";
+    const std::string expected = "LaTeX text in double quotes after 'latex " + st.path.text + "'";
+    if (at(TK::Invalid)) {
+      const Token& bad = peek();  // a string with a control character, or no string (latex th1 \theta)
+      fail(bad.pos, bad.text.find("string") != std::string::npos ? what + ": " + bad.text
+                                                                 : "expected " + expected + ", found " + bad.text);
+    }
+    const Token text = expect(TK::String, expected);
+    if (const std::string why = latex_text_problem(text.text); !why.empty())
+      fail(text.pos, what + " is not safe LaTeX: " + why);
+    st.name = text.text;
+    st.name_pos = text.pos;
     end_statement(what);
     push(out, std::move(st));
   }

@@ -18,7 +18,7 @@ TEST_CASE("canonical_text: factors as a person orders them", "[print][text]") {
   // GiNaC keeps 1/3*(m1 + 3*m2)*l1^2; the shorter (1/3*m1 + m2)*l1^2 is printed.
   CHECK(canonical_text((m1 / 3 + m2) * pow(l1, 2), false) == "(1/3*m1 + m2)*l1^2");
   CHECK(canonical_text(-(m1 / 2 + m2) * a, false) == "-(1/2*m1 + m2)*a");
-  CHECK(canonical_text((m1 / 2 + m2) * a, true) == "\\left(\\frac{1}{2} \\mathrm{m1} + \\mathrm{m2}\\right) a");
+  CHECK(canonical_text((m1 / 2 + m2) * a, true) == "\\left(\\frac{1}{2} m_{1} + m_{2}\\right) a");
 }
 
 TEST_CASE("canonical_text: the sign of an odd function leaves products, powers and denominators", "[print][text]") {

@@ -6,10 +6,29 @@
 /// every run.
 #include <ginac/ginac.h>
 
+#include <map>
 #include <string>
 
 namespace mbsc::driver {
 
+/// In LaTeX, a symbol prints as latex_names.hpp maps its name, or as the innermost
+/// LatexSymbolScope of this thread gives it.
 std::string canonical_text(const GiNaC::ex& e, bool latex);
+
+/// While alive, the LaTeX of canonical_text (on this thread) prints the names in `symbols`
+/// (the model's `latex NAME "..."` statements) as they say: `mbsc print` opens one for
+/// the whole print. `symbols` must outlive the scope.
+class LatexSymbolScope {
+ public:
+  explicit LatexSymbolScope(const std::map<std::string, std::string>& symbols);
+  ~LatexSymbolScope();
+  LatexSymbolScope(const LatexSymbolScope&) = delete;
+  LatexSymbolScope& operator=(const LatexSymbolScope&) = delete;
+  /// The symbols in effect (none outside every scope).
+  static const std::map<std::string, std::string>& current();
+
+ private:
+  const std::map<std::string, std::string>* outer_;
+};
 
 }  // namespace mbsc::driver

@@ -31,6 +31,7 @@ struct PrintArgs {
   std::vector<std::string> what;    // eom M h invariants rates A B C S f fbar (empty: a default set)
   bool latex = false;
   bool expand = false;              // --expand: M, h (and every item) in closed form
+  bool standalone = false;          // --standalone: a whole LaTeX document (implies latex)
   bool stats = false;
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs

@@ -117,6 +117,9 @@ struct Model {
   std::vector<GiNaC::ex> gravity;  // 2 or 3 components, empty when none
   SourcePos gravity_pos;           // of the `gravity` statement
   std::map<std::string, Formal> formals;  // by symbol name
+  /// Symbols given with `latex NAME "..."` for `mbsc print --latex`: full dotted name of
+  /// a parameter, input, coordinate or speed (or "t") -> its LaTeX text.
+  std::map<std::string, std::string> latex_symbols;
   int root() const { return static_cast<int>(nodes.size()) - 1; }
   /// A node's name for messages: its dotted path, or "<top>" for the root.
   std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The environments of `mbsc print --latex`: what it writes pastes into a document that
+/// loads amsmath, and with --standalone is such a document. Entries are LaTeX already
+/// (canonical_text); here they are set in equation* / align* environments, long ones
+/// broken at their terms so that no line runs far past the margin, and every source
+/// line kept short (TeX reads a file line by line).
+#include <map>
+#include <string>
+#include <vector>
+
+namespace mbsc::driver {
+
+/// A labelled matrix: a comment naming its rows and columns (model names), then a pmatrix
+/// in an equation* when every entry is short, else its nonzero entries one per line in
+/// an align* (title_{i,j} = ..., or title_{i} for a column). The kinematic
+/// transformations print as one equation per coordinate rate (\dot{q} = ...).
+/// `symbols`: the model's `latex` statements, for the row symbols of the rates.
+std::string latex_matrix(const std::string& title, const std::vector<std::string>& rows,
+                         const std::vector<std::string>& cols, const std::vector<std::vector<std::string>>& cells,
+                         const std::map<std::string, std::string>& symbols);
+
+/// One aligned equation: lhs = rhs, with an optional note set as text at its right.
+struct LatexEquation {
+  std::string lhs, rhs, note;
+};
+
+/// Equations in an align* under a comment line; "" when there are none.
+std::string latex_equations(const std::string& comment, const std::vector<LatexEquation>& equations);
+
+/// `text` set in upright text mode: the characters LaTeX reserves are escaped.
+std::string latex_escape_text(const std::string& text);
+
+/// A complete document around `body` (the output of print --latex): article class,
+/// amsmath, a heading naming the model (and the subsystem, when not the whole model).
+std::string latex_document(const std::string& model, const std::string& subsystem, const std::string& body);
+
+/// The pieces of the layout, exposed for their tests.
+namespace latex_layout_detail {
+/// About how many glyphs `latex` sets (commands count one, braces and scripts none).
+int latex_width(const std::string& latex);
+/// `rhs` broken into lines of about `width` glyphs at its terms (' + ', ' - ' outside
+/// braces); a break inside \left( ... \right) closes it with \right. and reopens it with
+/// \left. on the next line.
+std::vector<std::string> break_terms(const std::string& rhs, int width);
+/// Each line of `text` longer than `columns` characters (but comment lines) split at
+/// spaces: TeX reads a newline in a formula as a space.
+std::string wrap_source(const std::string& text, std::size_t columns);
+}  // namespace latex_layout_detail
+
+}  // namespace mbsc::driver

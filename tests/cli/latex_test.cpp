@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// mbsc print --latex --standalone writes documents that LaTeX compiles: every shipped
+// model, every item of --what, run through pdflatex (or lualatex) as a user would, with
+// -halt-on-error. Without a LaTeX on the PATH the check is skipped, and says so (ctest
+// reports it as skipped: tests/cli/CMakeLists.txt).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = MBSC_BINARY;
+const std::string kAll = "rates,A,B,C,S,f,fbar,M,h,invariants";
+
+/// pdflatex, else lualatex, else "".
+std::string latex_program() {
+  for (const char* p : {"pdflatex", "lualatex"})
+    if (run(std::string("command -v ") + p).exit_code == 0) return p;
+  return "";
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Writes `tex` into dir/name.tex and compiles it there; the log on failure.
+void compile(const std::string& latex, const fs::path& dir, const std::string& name, const std::string& tex) {
+  std::ofstream(dir / (name + ".tex")) << tex;
+  const auto r = run("cd " + quote(dir.string()) + " && " + latex +
+                     " -interaction=nonstopmode -halt-on-error -no-shell-escape " + quote(name + ".tex") + " </dev/null");
+  INFO(name << ".tex:\n" << tex << "\n" << latex << " said:\n" << r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(fs::exists(dir / (name + ".pdf")));
+}
+
+}  // namespace
+
+TEST_CASE("print --standalone compiles with LaTeX for every shipped model and every item", "[latex]") {
+  const std::string latex = latex_program();
+  if (latex.empty()) {
+    WARN("LaTeX compile check skipped: neither pdflatex nor lualatex is on the PATH "
+         "(Debian: apt-get install texlive-latex-base)");
+    return;
+  }
+  std::vector<fs::path> models;
+  for (const auto& e : fs::directory_iterator(fs::path(MBSC_SOURCE_DIR) / "models"))
+    if (e.path().extension() == ".mbs") models.push_back(e.path());
+  models.push_back(fs::path(MBSC_SOURCE_DIR) / "tests" / "data" / "latex" / "symbols.mbs");
+  std::sort(models.begin(), models.end());
+  REQUIRE(models.size() >= 10);
+  const fs::path dir = fresh_dir("latex");
+  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (no term
+  // of the numerator or denominator can start a line of its own).
+  {
+    std::string sum;
+    for (int i = 1; i <= 2000; ++i)
+      sum += (i > 1 ? " + " : "") + std::to_string(i) + "*b.x^" + std::to_string(i % 40 + 1) + "*b.y^" + std::to_string(i / 40 + 1);
+    models.push_back(dir / "long_entries.mbs");
+    std::ofstream(models.back()) << "model long_entries\nbody b : particle2d { mass 1 }\nforce b.u : " << sum
+                                 << "\nforce b.v : 1/(1 + " << sum << ")\n";
+  }
+  for (const auto& model : models) {
+    const std::string name = model.stem().string();
+    const auto r = run(kMbsc + " print " + quote(model.string()) + " --standalone -q --what " + kAll);
+    INFO(name << ":\n" << r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.output.rfind("% Written by mbsc", 0) == 0);
+    CHECK(r.output.find("\\end{document}") != std::string::npos);
+    std::ofstream(dir / (name + ".tex")) << r.output;
+  }
+  // All at once (each LaTeX run is mostly start-up): a line per document that failed.
+  const auto r = run("cd " + quote(dir.string()) + " && for f in *.tex; do (" + latex +
+                     " -interaction=nonstopmode -halt-on-error -no-shell-escape \"$f\" </dev/null >/dev/null 2>&1 || "
+                     "echo \"FAILED $f\") & done; wait");
+  for (const auto& model : models) {
+    const std::string name = model.stem().string();
+    INFO(name << ".tex:\n" << read(dir / (name + ".tex")) << "\n" << latex << " said:\n" << read(dir / (name + ".log")));
+    CHECK(r.output.find("FAILED " + name + ".tex") == std::string::npos);
+    CHECK(fs::exists(dir / (name + ".pdf")));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("print --latex: names as symbols and the latex statements' symbols, in environments", "[cli]") {
+  const std::string symbols = std::string(MBSC_SOURCE_DIR) + "/tests/data/latex/symbols.mbs";
+  auto r = run(kMbsc + " print " + quote(symbols) + " --latex -q --what " + kAll);
+  REQUIRE(r.exit_code == 0);
+  // Pasted into a document: environments, no document around them.
+  CHECK(r.output.find("\\begin{align*}") != std::string::npos);
+  CHECK(r.output.find("\\documentclass") == std::string::npos);
+  CHECK(r.output.find("\\varphi_{1}") != std::string::npos);                 // latex link[1].theta "..."
+  CHECK(r.output.find("\\dot{\\varphi_{1}}") != std::string::npos);          // its rate
+  CHECK(r.output.find("{\\ell^{*}}^{2}") != std::string::npos);              // braced before a power
+  CHECK(r.output.find("\\tau_{\\mathrm{motor}}") != std::string::npos);      // an input
+  CHECK(r.output.find("\\theta_{\\mathrm{link}_{2}}") != std::string::npos);  // link[2].theta, automatic
+  CHECK(r.output.find("\\kappa") != std::string::npos);
+  CHECK(r.output.find("\\Theta_{0}") != std::string::npos);
+  CHECK(r.output.find("m_{\\mathrm{link}}") != std::string::npos);
+  CHECK(r.output.find("mathrm{ell}") == std::string::npos);
+
+  const std::string dp = std::string(MBSC_SOURCE_DIR) + "/models/double_pendulum.mbs";
+  r = run(kMbsc + " print " + quote(dp) + " --latex -q --what rates,fbar");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("\\dot{\\theta}_{1} &= w_{1}") != std::string::npos);
+  CHECK(r.output.find("\\dot{w}_{1}") != std::string::npos);  // fbar = -M z' + h reads the rates
+  CHECK(r.output.find("\\sin\\left(\\theta_{1}\\right)") != std::string::npos);
+  // The model's own names are left only in the comments that label rows and columns.
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("th1") != std::string::npos || line.find("w2") != std::string::npos) CHECK(line.rfind("% ", 0) == 0);
+}
+
+TEST_CASE("print --standalone compiles for a subsystem, and with --stats", "[latex]") {
+  const std::string latex = latex_program();
+  if (latex.empty()) {
+    WARN("LaTeX compile check skipped: neither pdflatex nor lualatex is on the PATH "
+         "(Debian: apt-get install texlive-latex-base)");
+    return;
+  }
+  const std::string five_bar = std::string(MBSC_SOURCE_DIR) + "/models/five_bar.mbs";
+  auto r = run(kMbsc + " print " + quote(five_bar) + " --standalone -q --node linkage.left");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("Subsystem \\texttt{linkage.left} of the model \\texttt{five\\_bar}") != std::string::npos);
+  const fs::path dir = fresh_dir("latex_node");
+  compile(latex, dir, "five_bar_left", r.output);
+  const std::string dp = std::string(MBSC_SOURCE_DIR) + "/models/double_pendulum.mbs";
+  r = run(kMbsc + " print " + quote(dp) + " --standalone -q --stats");
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("\\begin{verbatim}") != std::string::npos);
+  compile(latex, dir, "double_pendulum_stats", r.output);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("print --latex warns when two names print as one symbol", "[cli]") {
+  const fs::path dir = fresh_dir("latex_same");
+  const fs::path model = dir / "same.mbs";
+  std::ofstream(model) << "model same\nparameter m = 1, g = 9.81\ngravity (0, -g)\n"
+                          "body b : particle2d { mass m }\ncoordinate th1, theta1\nspeed w1 = th1', w2 = theta1'\n"
+                          "constraint position { b.x = sin(th1) + sin(theta1)\n b.y = -cos(th1) - cos(theta1) }\n";
+  auto r = run(kMbsc + " print " + quote(model.string()) + " --latex -q --what M");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find(model.string() + ":5:17: warning: 'th1' and 'theta1' both print as \\theta_{1} in LaTeX") !=
+        std::string::npos);
+  // A latex statement parts them; plain text has no such question.
+  std::ofstream(model, std::ios::app) << "latex theta1 \"\\vartheta_{1}\"\n";
+  r = run(kMbsc + " print " + quote(model.string()) + " --latex -q --what M");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("warning") == std::string::npos);
+  CHECK(r.output.find("\\vartheta_{1}") != std::string::npos);
+  std::ofstream(model) << "model same\nparameter th1 = 1, theta1 = 2\nbody b : particle2d { mass th1 + theta1 }\n";
+  CHECK(run(kMbsc + " print " + quote(model.string()) + " -q --what M").output.find("warning") == std::string::npos);
+  fs::remove_all(dir);
+}
