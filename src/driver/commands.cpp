@@ -192,6 +192,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<sym::Eom> eom;
   std::optional<emit::GeneratedModel> g;
   emit::GeneratedFiles files;
+  std::string python;
   Diagnostics diags;
   bool internal = false;
   const bool ok = monitored(a.work, diags, err, [&] {
@@ -207,6 +208,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     checkpoint("emitting", "the C++ files", m->name_pos, 0, 0);
     try {
       files = emit::emit(*g);
+      if (a.python) python = emit::emit_python(*g);
     } catch (const std::exception& e) {
       diags.error(m->name_pos, std::string("internal error while emitting: ") + e.what());
       internal = true;
@@ -218,13 +220,15 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   // The symbolic work is over (and its monitor stopped): write, all or nothing.
   const std::string& name = g->name;
   std::string error;
-  if (!write_output_folder(a.out_dir, name, {{name + ".hpp", files.header}, {name + ".cpp", files.source}}, a.force,
-                           error)) {
+  std::vector<OutputFile> written = {{name + ".hpp", files.header}, {name + ".cpp", files.source}};
+  if (a.python) written.push_back({name + ".py", python});
+  if (!write_output_folder(a.out_dir, name, written, a.force, error)) {
     err << error << "\n";
     return 1;
   }
   const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
-  out << fmt::format("wrote {}/{}.hpp and {}.cpp ({} dof;", printable(final_dir), name, name, eom->ndof());
+  out << fmt::format("wrote {}/{}.hpp{} ({} dof;", printable(final_dir), name,
+                     a.python ? fmt::format(", {}.cpp and {}.py", name, name) : fmt::format(" and {}.cpp", name), eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());
   out << ")\n";
   return 0;

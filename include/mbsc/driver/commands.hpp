@@ -47,6 +47,7 @@ struct GenerateArgs {
   bool minimal_state = false;       // --state minimal
   bool multipliers = false;         // --formulation multipliers
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
+  bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)
   WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
