@@ -4,7 +4,8 @@
 # `install_deps.sh test` adds pdflatex (texlive-latex-base without its recommends: 16
 # packages, under a minute), which the test of `print --standalone` compiles with.
 set -euo pipefail
-pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2)
+# python3-numpy: the test of `generate --python` (tests/cli/python_module_test.cpp) runs the module.
+pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2 python3-numpy)
 lean=()  # installed without their recommends
 if [ "${1:-}" = sanitize ]; then pkgs+=(clang-14 libclang-rt-14-dev); fi
 if [ "${1:-}" = test ]; then lean+=(texlive-latex-base); fi

@@ -10,6 +10,7 @@
 //   position_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   conditioning: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27
 //   rhs_alt1: 42 adds, 147 muls, 0 divs, 6 calls, 12 solve flops, total 207
 //   conditioning_alt1: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27
@@ -29,6 +30,7 @@
 // this exception from the files your version generates.
 #include "four_bar_toggle.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -541,6 +543,29 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*
   return 0;
 }
 
+int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = x[0];
+  OUT[1] = x[1];
+  OUT[2] = x[2];
+  OUT[3] = x[3];
+  OUT[4] = x[4];
+  OUT[5] = x[5];
+  OUT[6] = x[6];
+  OUT[7] = x[7];
+  OUT[8] = x[8];
+  OUT[9] = x[9];
+  OUT[10] = x[10];
+  OUT[11] = x[11];
+  OUT[12] = x[12];
+  OUT[13] = x[13];
+  OUT[14] = x[14];
+  OUT[15] = x[15];
+  OUT[16] = x[16];
+  OUT[17] = x[17];
+  if (!all_finite(OUT, 18)) return 2;
+  return 0;
+}
+
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
@@ -813,6 +838,10 @@ extern "C" int mbsc_four_bar_toggle_energy(double t, const double* x, const doub
 
 extern "C" int mbsc_four_bar_toggle_outputs(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::four_bar_toggle::outputs(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_four_bar_toggle_full_state(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::four_bar_toggle::full_state(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_four_bar_toggle_conditioning(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -10,6 +10,7 @@
 //   position_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   conditioning: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27
 //   rhs_alt1: 42 adds, 147 muls, 0 divs, 6 calls, 12 solve flops, total 207
 //   conditioning_alt1: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27
@@ -41,6 +42,9 @@ inline constexpr int kNp = 8;
 inline constexpr int kNc = 8;
 inline constexpr int kNposc = 8;
 inline constexpr int kNy = 2;
+inline constexpr int kNqFull = 9;
+inline constexpr int kNuFull = 9;
+inline constexpr int kNxFull = 18;
 inline constexpr int kNpartitions = 3;
 inline constexpr int kNblocks = 1;
 
@@ -94,6 +98,26 @@ inline constexpr const char* kPositionConstraintNames[] = {
 
 inline constexpr const char* kOutputNames[] = {"crank_angle", "rocker_angle"};
 
+inline constexpr const char* kFullStateNames[] = {
+    "crank.x",
+    "crank.y",
+    "crank.theta",
+    "coupler.x",
+    "coupler.y",
+    "coupler.theta",
+    "rocker.x",
+    "rocker.y",
+    "rocker.theta",
+    "crank.u",
+    "crank.v",
+    "crank.w",
+    "coupler.u",
+    "coupler.v",
+    "coupler.w",
+    "rocker.u",
+    "rocker.v",
+    "rocker.w"};
+
 inline constexpr const char* kPartitionNames[] = {"crank.w", "rocker.w", "coupler.w"};
 
 inline constexpr const char* kBlockNames[] = {
@@ -105,84 +129,105 @@ inline constexpr double kParamDefaults[] = {0.6, 0.6, 0.9, 1.0, 9.81, 0.6, 0.6, 
 /// OUT: xdot, kNx values (row-major). Cost: 42 adds, 153 muls, 0 divs, 6 calls, 12 solve flops, total 213.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 14 adds, 60 muls, 0 divs, 6 calls, 11 solve flops, total 91.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 22 adds, 93 muls, 0 divs, 6 calls, 11 solve flops, total 132.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// position constraint residuals (kConstraintNames, position ones)
+/// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 16 adds, 24 muls, 0 divs, 6 calls, 0 solve flops, total 46.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// A = d(velocity residuals)/d(q1), row-major kNc x kNu
-/// OUT: A, kNc*kNu values (row-major). Cost: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22.
+/// A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull
+/// OUT: A, kNc*kNuFull values (row-major). Cost: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
-/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22.
+/// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
+/// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the full state (all q0, all q1; kFullStateNames): a copy of x in the full layout
+/// OUT: x_full, kNxFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// state derivative computed with partition 1 (independent: rocker.w); see rhs_partition
 /// OUT: xdot, kNx values (row-major). Cost: 42 adds, 147 muls, 0 divs, 6 calls, 12 solve flops, total 207.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int rhs_alt1(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// conditioning of the blocks rhs_alt1 solves
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int conditioning_alt1(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// state derivative computed with partition 2 (independent: coupler.w); see rhs_partition
 /// OUT: xdot, kNx values (row-major). Cost: 44 adds, 158 muls, 0 divs, 6 calls, 12 solve flops, total 220.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int rhs_alt2(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// conditioning of the blocks rhs_alt2 solves
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 19 solve flops, total 27.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int conditioning_alt2(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds
@@ -210,6 +255,7 @@ int mbsc_four_bar_toggle_constraint_jacobian(double t, const double* x, const do
 int mbsc_four_bar_toggle_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_toggle_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_toggle_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_four_bar_toggle_full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_toggle_conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_toggle_rhs_alt1(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_toggle_conditioning_alt1(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -10,6 +10,7 @@
 //   position_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
 //   energy: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   conditioning: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388
 //
 // structural parameter (loop bound or index): N = 3
@@ -27,6 +28,7 @@
 // this exception from the files your version generates.
 #include "parallelogram_chain.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -1445,6 +1447,53 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*
   return 0;
 }
 
+int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = x[0];
+  OUT[1] = x[1];
+  OUT[2] = x[2];
+  OUT[3] = x[3];
+  OUT[4] = x[4];
+  OUT[5] = x[5];
+  OUT[6] = x[6];
+  OUT[7] = x[7];
+  OUT[8] = x[8];
+  OUT[9] = x[9];
+  OUT[10] = x[10];
+  OUT[11] = x[11];
+  OUT[12] = x[12];
+  OUT[13] = x[13];
+  OUT[14] = x[14];
+  OUT[15] = x[15];
+  OUT[16] = x[16];
+  OUT[17] = x[17];
+  OUT[18] = x[18];
+  OUT[19] = x[19];
+  OUT[20] = x[20];
+  OUT[21] = x[21];
+  OUT[22] = x[22];
+  OUT[23] = x[23];
+  OUT[24] = x[24];
+  OUT[25] = x[25];
+  OUT[26] = x[26];
+  OUT[27] = x[27];
+  OUT[28] = x[28];
+  OUT[29] = x[29];
+  OUT[30] = x[30];
+  OUT[31] = x[31];
+  OUT[32] = x[32];
+  OUT[33] = x[33];
+  OUT[34] = x[34];
+  OUT[35] = x[35];
+  OUT[36] = x[36];
+  OUT[37] = x[37];
+  OUT[38] = x[38];
+  OUT[39] = x[39];
+  OUT[40] = x[40];
+  OUT[41] = x[41];
+  if (!all_finite(OUT, 42)) return 2;
+  return 0;
+}
+
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
@@ -1531,6 +1580,10 @@ extern "C" int mbsc_parallelogram_chain_energy(double t, const double* x, const 
 
 extern "C" int mbsc_parallelogram_chain_outputs(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::parallelogram_chain::outputs(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_parallelogram_chain_full_state(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::parallelogram_chain::full_state(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_parallelogram_chain_conditioning(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -10,6 +10,7 @@
 //   position_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
 //   energy: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   conditioning: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388
 //
 // structural parameter (loop bound or index): N = 3
@@ -39,6 +40,9 @@ inline constexpr int kNp = 5;
 inline constexpr int kNc = 20;
 inline constexpr int kNposc = 20;
 inline constexpr int kNy = 1;
+inline constexpr int kNqFull = 21;
+inline constexpr int kNuFull = 21;
+inline constexpr int kNxFull = 42;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
 
@@ -140,6 +144,50 @@ inline constexpr const char* kPositionConstraintNames[] = {
 
 inline constexpr const char* kOutputNames[] = {"crank_angle"};
 
+inline constexpr const char* kFullStateNames[] = {
+    "crank_0.x",
+    "crank_0.y",
+    "crank_0.theta",
+    "crank_1.x",
+    "crank_1.y",
+    "crank_1.theta",
+    "crank_2.x",
+    "crank_2.y",
+    "crank_2.theta",
+    "crank_3.x",
+    "crank_3.y",
+    "crank_3.theta",
+    "coupler_1.x",
+    "coupler_1.y",
+    "coupler_1.theta",
+    "coupler_2.x",
+    "coupler_2.y",
+    "coupler_2.theta",
+    "coupler_3.x",
+    "coupler_3.y",
+    "coupler_3.theta",
+    "crank_0.u",
+    "crank_0.v",
+    "crank_0.w",
+    "crank_1.u",
+    "crank_1.v",
+    "crank_1.w",
+    "crank_2.u",
+    "crank_2.v",
+    "crank_2.w",
+    "crank_3.u",
+    "crank_3.v",
+    "crank_3.w",
+    "coupler_1.u",
+    "coupler_1.v",
+    "coupler_1.w",
+    "coupler_2.u",
+    "coupler_2.v",
+    "coupler_2.w",
+    "coupler_3.u",
+    "coupler_3.v",
+    "coupler_3.w"};
+
 inline constexpr const char* kPartitionNames[] = {"crank_0.w"};
 
 inline constexpr const char* kBlockNames[] = {
@@ -151,60 +199,77 @@ inline constexpr double kParamDefaults[] = {0.5, 0.3, 9.81, 0.3, 0.5};
 /// OUT: xdot, kNx values (row-major). Cost: 122 adds, 374 muls, 0 divs, 14 calls, 145 solve flops, total 655.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 38 adds, 148 muls, 0 divs, 14 calls, 144 solve flops, total 344.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 66 adds, 232 muls, 0 divs, 14 calls, 144 solve flops, total 456.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// position constraint residuals (kConstraintNames, position ones)
+/// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 47 adds, 42 muls, 0 divs, 14 calls, 0 solve flops, total 103.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 44 adds, 60 muls, 0 divs, 14 calls, 0 solve flops, total 118.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// A = d(velocity residuals)/d(q1), row-major kNc x kNu
-/// OUT: A, kNc*kNu values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
+/// A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull
+/// OUT: A, kNc*kNuFull values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)
-/// OUT: J, kNposc*kNq values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
+/// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
+/// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the full state (all q0, all q1; kFullStateNames): a copy of x in the full layout
+/// OUT: x_full, kNxFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
 int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds
@@ -232,6 +297,7 @@ int mbsc_parallelogram_chain_constraint_jacobian(double t, const double* x, cons
 int mbsc_parallelogram_chain_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_parallelogram_chain_full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);

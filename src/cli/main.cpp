@@ -139,6 +139,8 @@ int main(int argc, char** argv) {
       ->default_val("full");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
+  g->add_flag("--python", gen.python,
+              "also write OUT/<name>/<name>.py: a ctypes + numpy module over the extern \"C\" functions (README, \"Using it\")");
   g->add_flag("--force", gen.force,
               "write into OUT/<name> even when mbsc did not write that folder (only its own files are replaced)");
   g->add_option("--depfile", gen.depfile,

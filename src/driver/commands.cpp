@@ -254,6 +254,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<emit::GeneratedModel> g;
   emit::GeneratedFiles files;
   std::vector<std::string> sources;  // the model and the files it includes (--depfile)
+  std::string python;
   Diagnostics diags;
   bool internal = false;
   const bool ok = monitored(a.work, diags, err, [&] {
@@ -269,6 +270,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     checkpoint("emitting", "the C++ files", m->name_pos, 0, 0);
     try {
       files = emit::emit(*g);
+      if (a.python) python = emit::emit_python(*g);
     } catch (const std::exception& e) {
       diags.error(m->name_pos, std::string("internal error while emitting: ") + e.what());
       internal = true;
@@ -279,7 +281,8 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   if (!ok) return internal ? 2 : 1;
   // The symbolic work is over (and its monitor stopped): write, all or nothing.
   const std::string& name = g->name;
-  const std::vector<OutputFile> outputs = {{name + ".hpp", files.header}, {name + ".cpp", files.source}};
+  std::vector<OutputFile> outputs = {{name + ".hpp", files.header}, {name + ".cpp", files.source}};
+  if (a.python) outputs.push_back({name + ".py", python});
   const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
   std::string error;
   StagedFile depfile;  // staged first, moved into place once the folder is written
@@ -291,7 +294,8 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     err << error << "\n";
     return 1;
   }
-  out << fmt::format("wrote {}/{}.hpp and {}.cpp ({} dof;", printable(final_dir), name, name, eom->ndof());
+  out << fmt::format("wrote {}/{}.hpp{} ({} dof;", printable(final_dir), name,
+                     a.python ? fmt::format(", {}.cpp and {}.py", name, name) : fmt::format(" and {}.cpp", name), eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());
   out << ")\n";
   return 0;

@@ -68,7 +68,13 @@ std::optional<PartitionSpecs> partition_specs(const model::Model& m, const sym::
     if (k == 0) out.block_labels = conditioning_labels(cond);
     out.table.rhs.push_back(rhs.name);
     out.table.conditioning.push_back(cond.outputs.empty() ? std::string() : cond.name);
-    if (!cond.outputs.empty()) out.specs.push_back(cond);
+    if (!cond.outputs.empty()) {
+      out.specs.push_back(cond);
+    } else if (k == 0) {
+      // `conditioning` is in the common ABI: with no block to watch it has zero outputs.
+      cond.steps.clear();
+      out.specs.push_back(cond);
+    }
   }
   return out;
 }

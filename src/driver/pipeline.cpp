@@ -126,21 +126,25 @@ std::vector<ir::Step> solve_steps(const model::Model& m, const sym::Eom& eom) {
   return steps;
 }
 
+ir::LoweredFunction undefined_energy(const model::Model& m) {
+  // Kept in the common ABI for a model whose energy is not defined (a custom leaf without
+  // 'kinetic'): NaN values and status 4, never a number that looks right.
+  ir::LoweredFunction f;
+  f.name = "energy";
+  f.doc = fmt::format("energy: not defined for model '{}' (a custom leaf has no 'kinetic' term)", m.name);
+  f.returns = "Returns 4 (not defined for this model), with NaN in OUT.";
+  f.out_name = "E";
+  f.out_shape = "3";
+  f.nout = 3;
+  f.body = "  OUT[0] = std::nan(\"\");\n  OUT[1] = std::nan(\"\");\n  OUT[2] = std::nan(\"\");\n  return 4;";
+  return f;
+}
+
 }  // namespace
 
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
-  if (!opt.functions.empty()) {
-    // Jacobians over all speeds / all coordinates: full-state notions.
-    for (const char* full_only : {"constraint_jacobian", "position_jacobian"})
-      if (minimal && opt.functions.count(full_only))
-        diags.error(SourcePos{}, fmt::format("--outputs {}: the Jacobian over all {} is emitted with --state full only", full_only,
-                                             std::string(full_only) == "constraint_jacobian" ? "speeds" : "coordinates"));
-    if (!minimal && opt.functions.count("full_state"))
-      diags.error(SourcePos{}, "--outputs full_state: only --state minimal has a state to expand");
-    if (diags.has_errors()) return {};
-  }
   for (const auto& name : opt.functions) {
     if (std::find(all_function_names().begin(), all_function_names().end(), name) == all_function_names().end()) {
       diags.error(SourcePos{}, fmt::format("--outputs: unknown function '{}' (known: {})", name,
@@ -152,6 +156,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   const int nd = eom.ndof();
   auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
 
+  // Every function of the common ABI is emitted whatever the model holds (README, "The
+  // generated ABI"): one with nothing to compute has zero outputs and no steps.
   // --state minimal: coordinates and speeds outside the state come first in every function.
   std::vector<ir::Step> rebuild;
   if (minimal) {
@@ -204,17 +210,18 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     }
     specs.push_back(f);
   }
-  if (wanted("mass_matrix") && nd > 0) {
+  if (wanted("mass_matrix")) {
     preparing("mass_matrix");
     ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
-                       "M", "kNdof*kNdof", with_rebuild(solve_steps(m, eom)), {}};
+                       "M", "kNdof*kNdof", nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
     for (int i = 0; i < nd; ++i)
       for (int j = 0; j < nd; ++j) f.outputs.push_back(fin(eom.M(i, j)));
     specs.push_back(f);
   }
-  if (wanted("forcing") && nd > 0) {
+  if (wanted("forcing")) {
     preparing("forcing");
-    ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof", with_rebuild(solve_steps(m, eom)), {}};
+    ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof",
+                       nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
     for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
     specs.push_back(f);
   }
@@ -222,29 +229,35 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   for (const auto& c : m.constraints)
     if (c.level == model::Constraint::Level::Position) pos.push_back(fin(c.residual));
   for (const auto& v : sym::velocity_residuals(m)) vel.push_back(fin(v));
-  if (wanted("position_constraints") && !pos.empty()) {
+  // The rebuilt state only where something reads it.
+  auto rebuild_for = [&](bool any) { return any ? rebuild : std::vector<ir::Step>{}; };
+  if (wanted("position_constraints")) {
     preparing("position_constraints");
-    ir::FunctionSpec f{"position_constraints", "position constraint residuals (kConstraintNames, position ones)", "r",
-                       "kNposc", rebuild, pos};
+    ir::FunctionSpec f{"position_constraints", "position constraint residuals (kPositionConstraintNames)", "r",
+                       "kNposc", rebuild_for(!pos.empty()), pos};
     specs.push_back(f);
   }
-  if (wanted("velocity_constraints") && !vel.empty()) {
+  if (wanted("velocity_constraints")) {
     preparing("velocity_constraints");
     ir::FunctionSpec f{"velocity_constraints", "velocity-level residuals of all constraints (kConstraintNames)", "r", "kNc",
-                       rebuild, vel};
+                       rebuild_for(!vel.empty()), vel};
     specs.push_back(f);
   }
-  if (wanted("constraint_jacobian") && !vel.empty() && !minimal) {
+  // The Jacobians are over every speed / every coordinate (the full layout, kFullStateNames):
+  // with --state minimal they are evaluated at the rebuilt full state.
+  if (wanted("constraint_jacobian")) {
     preparing("constraint_jacobian");
-    ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1), row-major kNc x kNu", "A", "kNc*kNu", {}, {}};
+    ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull",
+                       "A", "kNc*kNuFull", rebuild_for(!vel.empty()), {}};
     for (const auto& v : vel)
       for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
     specs.push_back(f);
   }
-  if (wanted("position_jacobian") && !pos.empty() && !minimal) {
+  if (wanted("position_jacobian")) {
     preparing("position_jacobian");
-    ir::FunctionSpec f{"position_jacobian", "d(position residuals)/d(q0), row-major kNposc x kNq (for assembly)", "J",
-                       "kNposc*kNq", {}, {}};
+    ir::FunctionSpec f{"position_jacobian",
+                       "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
+                       "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
     for (const auto& g : pos)
       for (const auto& q : m.coords) f.outputs.push_back(g.diff(q.sym));
     specs.push_back(f);
@@ -258,15 +271,17 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     diags.error(SourcePos{}, fmt::format("--outputs energy: model '{}' has a custom leaf without a 'kinetic' term, so its "
                                          "energy is not defined", m.name));
   }
-  if (wanted("outputs") && !m.outputs.empty()) {
+  if (wanted("outputs")) {
     preparing("outputs");
-    ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", rebuild, {}};
+    ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", rebuild_for(!m.outputs.empty()), {}};
     for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
     specs.push_back(f);
   }
-  if (wanted("full_state") && minimal) {
+  if (wanted("full_state")) {
     preparing("full_state");
-    ir::FunctionSpec f{"full_state", "the full state (all q0, all q1; kFullStateNames) rebuilt from the minimal one",
+    ir::FunctionSpec f{"full_state",
+                       minimal ? "the full state (all q0, all q1; kFullStateNames) rebuilt from the minimal one"
+                               : "the full state (all q0, all q1; kFullStateNames): a copy of x in the full layout",
                        "x_full", "kNxFull", rebuild, {}};
     for (const auto& q : m.coords) f.outputs.push_back(q.sym);
     for (const auto& u : m.speeds) f.outputs.push_back(u.sym);
@@ -291,16 +306,13 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   const BaumgarteGains gains;
   std::vector<ir::FunctionSpec> specs;
   if (opt.multipliers) {
-    for (const char* reduced : {"mass_matrix", "forcing"})
-      if (opt.functions.count(reduced))
-        diags.error(SourcePos{}, fmt::format("--outputs {}: the reduced mass matrix and forcing belong to --formulation "
-                                             "complement",
-                                             reduced));
-    GenerateOptions rest = opt;  // the functions both formulations share
+    // The functions both formulations share, the reduced M z' = h of the declared
+    // independent set included (the common ABI).
+    GenerateOptions rest = opt;
     if (rest.functions.empty())
       for (const auto& n : all_function_names()) rest.functions.insert(n);
-    for (const char* own : {"rhs", "mass_matrix", "forcing", "full_state", "multipliers", "reaction_forces"})
-      rest.functions.erase(own);
+    for (const char* own : {"rhs", "multipliers", "reaction_forces", "conditioning"}) rest.functions.erase(own);
+    if (opt.functions.empty() && !eom.has_energy) rest.functions.erase("energy");  // undefined_energy below
     specs = multiplier_specs(m, eom, opt, gains);
     if (!rest.functions.empty())
       for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(f);
@@ -398,12 +410,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
                   {"kParamNames", params},  {"kConstraintNames", cons}, {"kPositionConstraintNames", position_cons},
                   {"kOutputNames", outs}};
   g.double_lists = {{"kParamDefaults", defaults}};
-  if (ms) {
-    g.int_constants.push_back({"kNqFull", nq_full});
-    g.int_constants.push_back({"kNuFull", nu_full});
-    g.int_constants.push_back({"kNxFull", nq_full + nu_full});
-    g.name_lists.push_back({"kFullStateNames", full_state});
-  }
+  // The full layout (what full_state returns, what the Jacobians are taken over), in
+  // every model: equal to kNq, kNu, kNx with --state full.
+  g.int_constants.push_back({"kNqFull", nq_full});
+  g.int_constants.push_back({"kNuFull", nu_full});
+  g.int_constants.push_back({"kNxFull", nq_full + nu_full});
+  g.name_lists.push_back({"kFullStateNames", full_state});
   if (partitions) {
     g.int_constants.push_back({"kNpartitions", npart});
     g.int_constants.push_back({"kNblocks", static_cast<long>(partitions->block_labels.size())});
@@ -427,6 +439,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
       return std::nullopt;
     }
   }
+  if (opt.functions.empty() && !eom.has_energy) g.functions.push_back(undefined_energy(m));
   return g;
 }
 

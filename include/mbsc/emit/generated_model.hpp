@@ -37,6 +37,10 @@ struct GeneratedFiles {
 /// Renders templates/model.hpp.in and templates/model.cpp.in.
 GeneratedFiles emit(const GeneratedModel& model);
 
+/// Renders templates/model.py.in: NAME.py of `generate --python`, a ctypes module over
+/// the extern "C" functions of NAME.cpp with the sizes and name tables of NAME.hpp.
+std::string emit_python(const GeneratedModel& model);
+
 /// Shortest decimal text that reads back as the same double ("0.1", "1e-12", "3").
 std::string format_double(double v);
 
