@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -224,6 +225,11 @@ void check_against_full(std::mt19937& rng, bool compare_reduced) {
 }  // namespace
 
 TEST_CASE("one generic harness compiles and runs against every shipped model", "[abi]") {
+  // Every model in models/ is checked below: a new model must be added here.
+  int shipped = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
+    shipped += e.path().extension() == ".mbs";
+  REQUIRE(shipped == 16);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
