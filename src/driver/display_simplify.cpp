@@ -235,8 +235,8 @@ class Simplifier {
     std::vector<std::pair<std::string, GiNaC::ex>> found;
     for (auto it = x.preorder_begin(); it != x.preorder_end(); ++it) {
       if (!is_trig(*it)) continue;
-      for (const auto& [atom, n] : split_angle(it->op(0))) {
-        (void)n;
+      for (const auto& part : split_angle(it->op(0))) {
+        const GiNaC::ex& atom = part.first;  // (a lambda cannot capture a structured binding in C++17)
         const bool seen = std::any_of(found.begin(), found.end(), [&](const auto& f) { return f.second.is_equal(atom); });
         if (!seen) found.push_back({canonical_text(atom, false), atom});
       }
