@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../cli/run_command.hpp"
+#include "test_support.hpp"
 #include "gantry_crane/gantry_crane.hpp"
 #include "gantry_massless_cart/gantry_massless_cart.hpp"
 #include "massless_rod_and_flywheel/massless_rod_and_flywheel.hpp"
@@ -78,6 +79,26 @@ TEST_CASE("massless warning at the reference configuration exactly when the rhs 
   // The reviewer's case: the massless cart fails there, the massive one does not.
   CHECK(status_at_reference<GC::kNx, GC::kNin>(GC::rhs, GC::kParamDefaults) == 1);
   CHECK(status_at_reference<G::kNx, G::kNin>(G::rhs, G::kParamDefaults) == 0);
+}
+
+TEST_CASE("massless warning: the tolerance follows M's scale", "[numeric][massless]") {
+  // The same crane in micro units (masses in the nanogram range, a 1 mm cable): M's
+  // entries are ~1e-15, far below any absolute tolerance. A massive cart is still
+  // regular (no warning, rhs status 0) and a massless one still singular (warning, 1).
+  namespace G = mbsc_gen::gantry_crane;
+  for (const double cart : {1e-8, 0.0}) {
+    std::vector<double> p(G::kParamDefaults, G::kParamDefaults + G::kNp);
+    p[static_cast<std::size_t>(index_of(G::kParamNames, G::kNp, "M"))] = cart;
+    p[static_cast<std::size_t>(index_of(G::kParamNames, G::kNp, "m"))] = 2e-9;
+    p[static_cast<std::size_t>(index_of(G::kParamNames, G::kNp, "L"))] = 1e-3;
+    const int status = status_at_reference<G::kNx, G::kNin>(G::rhs, p.data());
+    INFO("cart mass " << cart << ": rhs status " << status);
+    CHECK(status == (cart == 0.0 ? 1 : 0));
+    const Checked k = check("tests/data/planar/gantry_crane.mbs", cart == 0.0 ? "--freeze M=0 m=2e-9 L=1e-3"
+                                                                              : "--freeze M=1e-8 m=2e-9 L=1e-3");
+    INFO(k.output);
+    CHECK(k.massless_warning == (status == 1));
+  }
 }
 
 TEST_CASE("massless bodies are not blamed for a singularity they do not move in", "[numeric][massless]") {
