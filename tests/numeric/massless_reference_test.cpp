@@ -14,6 +14,7 @@
 #include "test_support.hpp"
 #include "gantry_crane/gantry_crane.hpp"
 #include "gantry_massless_cart/gantry_massless_cart.hpp"
+#include "gantry_massless_cart_mult/gantry_massless_cart_mult.hpp"
 #include "massless_rod_and_flywheel/massless_rod_and_flywheel.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "spherical_pendulum_angles/spherical_pendulum_angles.hpp"
@@ -76,8 +77,11 @@ TEST_CASE("massless warning at the reference configuration exactly when the rhs 
                                     : "positive definite at a generic configuration and at the reference configuration") !=
           std::string::npos);
   }
-  // The reviewer's case: the massless cart fails there, the massive one does not.
+  // The reviewer's case: the massless cart fails there, the massive one does not; the
+  // multipliers form's [M -A^T; A 0] is singular at the same state.
+  namespace GM = mbsc_gen::gantry_massless_cart_mult;
   CHECK(status_at_reference<GC::kNx, GC::kNin>(GC::rhs, GC::kParamDefaults) == 1);
+  CHECK(status_at_reference<GM::kNx, GM::kNin>(GM::rhs, GM::kParamDefaults) == 1);
   CHECK(status_at_reference<G::kNx, G::kNin>(G::rhs, G::kParamDefaults) == 0);
 }
 
