@@ -44,6 +44,26 @@ std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
   return fmt::format("{}", fmt::join(v, ", "));
 }
 
+/// Where `check` says the reduced mass matrix of a model with massless bodies was
+/// checked: at a generic configuration (parameter values, a generic state) and at the
+/// reference configuration (coordinates, speeds and t at 0).
+std::string where_positive_definite(const sym::Eom& eom) {
+  using sym::MassAtReference;
+  if (!eom.mass_matrix_spd) return "NOT positive definite at a generic configuration";
+  const std::string generic = "positive definite at a generic configuration";
+  switch (eom.mass_at_reference) {
+    case MassAtReference::PositiveDefinite: return generic + " and at the reference configuration";
+    case MassAtReference::SingularMassless:
+      return generic + " but singular at the reference configuration, where massless bodies carry a motion (see the warning)";
+    case MassAtReference::SingularOtherwise:
+      return generic + " but singular at the reference configuration, in a motion that moves no massless body";
+    case MassAtReference::NotEvaluated:
+      return generic + " (the reference configuration was not checked: the constraints cannot be solved there)";
+    case MassAtReference::NotChecked: break;
+  }
+  return generic;
+}
+
 /// Loads and derives into `diags`. Returns false (exit 1) on user errors. The
 /// `alternative` independent sets are derived too, so their mistakes are reported here;
 /// `partitions` (when given) receives each partition's independent speeds, `sources` the
@@ -104,8 +124,8 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
                      m->constraints.size(), m->outputs.size() + (m->output_energy ? 1 : 0));
   out << fmt::format("  independent speeds: {}\n", speed_names(*m, eom->independent));
   if (!eom->massless.empty())
-    out << fmt::format("  massless bodies: {}; the reduced mass matrix is {}positive definite at the parameter defaults\n",
-                       fmt::join(eom->massless, ", "), eom->mass_matrix_spd ? "" : "NOT ");
+    out << fmt::format("  massless bodies: {}; the reduced mass matrix is {}\n", fmt::join(eom->massless, ", "),
+                       where_positive_definite(*eom));
   if (partitions.size() > 1)
     out << fmt::format("  partitions for run-time re-selection (rhs_partition): {}\n", fmt::join(partitions, " | "));
   out << "subsystem tree (leaves to root):\n";

@@ -633,9 +633,13 @@ class Deriver {
       // Massless bodies are allowed while M stays positive definite; when they leave it
       // singular, the error is theirs (at their mass or inertia).
       if (!eom_.mass_matrix_spd && report_massless_directions(m_, eom_, probe_, Mn, diags_)) return false;
-      if (!eom_.mass_matrix_spd)
+      if (!eom_.mass_matrix_spd) {
         diags_.warning(m_.nodes[m_.root()].pos, "the reduced mass matrix is not positive definite at a generic configuration "
                                                "(massless directions or a singular independent set)");
+      } else {
+        // Regular there, massless bodies may still leave it singular where the model starts.
+        eom_.mass_at_reference = check_massless_at_reference(m_, eom_, reference_, diags_);
+      }
     }
     return true;
   }

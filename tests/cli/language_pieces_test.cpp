@@ -132,6 +132,22 @@ TEST_CASE("massless links: check names the massless bodies", "[cli][massless]") 
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK(r.output.find("1 degree(s) of freedom") != std::string::npos);
-  CHECK(r.output.find("massless bodies: rod (mass 0, inertia 0); the reduced mass matrix is positive definite") !=
-        std::string::npos);
+  CHECK(r.output.find("massless bodies: rod (mass 0, inertia 0); the reduced mass matrix is positive definite at a generic "
+                      "configuration and at the reference configuration") != std::string::npos);
+}
+
+TEST_CASE("massless links: one cause, one error naming every body of the motion", "[cli][massless]") {
+  // The user freezes the bob's mass to 0: the rod already had no inertia. One motion
+  // (the rod turning) moves nothing with inertia; the error is at what the user changed.
+  const std::string model = std::string(MBSC_SOURCE_DIR) + "/models/massless_rod_pendulum.mbs";
+  auto r = run(kMbsc + " check " + quote(model) + " --freeze m=0");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  int errors = 0;
+  for (auto at = r.output.find(": error: "); at != std::string::npos; at = r.output.find(": error: ", at + 1)) ++errors;
+  CHECK(errors == 1);
+  CHECK(r.output.find(model + ":14:30: error: bodies 'bob' (mass 0, with --freeze m=0) and 'rod' (inertia 0) carry no "
+                              "inertia and the reduced mass matrix is singular: the motion along rod.w moves bob (bob.u, "
+                              "bob.v) and turns rod (rod.w) and nothing with inertia; give 'bob' a mass or 'rod' an "
+                              "inertia, or constrain that motion") != std::string::npos);
 }

@@ -61,6 +61,16 @@ struct Options {
   int partition = 0;
 };
 
+/// The reduced mass matrix at the model's reference configuration, for a model with
+/// massless bodies (sym/massless_check.hpp).
+enum class MassAtReference {
+  NotChecked,         // no massless body, or M not positive definite generically
+  NotEvaluated,       // M does not evaluate there (a dependent block singular there)
+  PositiveDefinite,
+  SingularMassless,   // singular, massless bodies move in the motion without inertia (warned)
+  SingularOtherwise,  // singular, but no massless body moves in that motion
+};
+
 /// Derived equations of a whole model.
 struct Eom {
   const model::Model* model = nullptr;
@@ -78,6 +88,7 @@ struct Eom {
   bool has_energy = false;
   bool mass_matrix_spd = true;     // M positive definite at the probe point: solved by Cholesky
   std::vector<std::string> massless;  // bodies with mass or inertia 0 ("rod (mass 0, inertia 0)"), for `check`
+  MassAtReference mass_at_reference = MassAtReference::NotChecked;
   std::map<std::string, double> param_values;  // defaults, with frozen values
   std::vector<int> free_params;    // parameters left in p[] (not frozen)
   int ndof() const { return static_cast<int>(independent.size()); }

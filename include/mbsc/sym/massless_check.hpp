@@ -5,9 +5,13 @@
 /// i.e. every motion the constraints allow moves something with inertia. When M is
 /// singular at the probe point (parameter defaults, a generic state), the null motions
 /// of M are followed to every speed; the bodies without mass or inertia that move in
-/// them are what leaves M singular, and the error is reported at their `mass 0` or
-/// `inertia 0`, naming the independent speeds of the motion and the body's speeds that
-/// carry no inertia.
+/// them are what leaves M singular. Bodies that move in the same null motion are one
+/// cause: one error names them all, at the `mass 0` or `inertia 0` the user most likely
+/// just changed (one a --freeze made zero, else the one written last), with the
+/// independent speeds of the motion, each body's speeds that carry no inertia and what
+/// to give which body. M regular at the probe point may still be singular at the
+/// model's reference configuration (a massless cart and cable with the load hanging
+/// straight below): check_massless_at_reference warns there, the same way.
 #include <Eigen/Dense>
 
 #include <string>
@@ -29,5 +33,13 @@ std::vector<std::string> massless_bodies(const model::Model& m, const Probe& pro
 /// true when it reported one (otherwise the singularity has another cause).
 bool report_massless_directions(const model::Model& m, const Eom& eom, const Probe& probe, const Eigen::MatrixXd& Mn,
                                 Diagnostics& diags);
+
+/// Called when M is positive definite at the probe point: M at the model's reference
+/// configuration (Probe::reference; the numeric solves and named variables evaluated
+/// there as the generated code does). Warns, per group of massless bodies that move in
+/// a motion without inertia there, at the group's site; a singularity in which no
+/// massless body moves (a coordinate singularity) is not theirs and is not reported.
+MassAtReference check_massless_at_reference(const model::Model& m, const Eom& eom, const Probe& reference,
+                                            Diagnostics& diags);
 
 }  // namespace mbsc::sym
