@@ -157,8 +157,8 @@ class Builder {
         case Kind::Component:
           if (components_.count(s->name)) {
             const SourcePos& first = components_[s->name]->name_pos;
-          diags_.error(s->name_pos,
-                       fmt::format("component '{}' is defined twice (first at {})", s->name, position_text(first, s->name_pos)));
+            diags_.error(s->name_pos, fmt::format("component '{}' is defined twice (first at {})", s->name,
+                                                  position_text(first, s->name_pos)));
           } else {
             components_[s->name] = s.get();
           }
