@@ -67,7 +67,7 @@ function(mbsc_add_model target)
   set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/mbsc_generated)
   set(depfile ${out_dir}/${name}.d)
   # --force: this folder in the build tree is mbsc's by construction (older builds may
-  # have written it without the marker); --quiet: no progress line in build logs.
+  # have written it without the marker); --quiet: nothing in build logs on success (no progress line, no summary).
   set(args generate ${model_path} -o ${out_dir} --name ${name} --force --quiet)
   if(ARG_STATE)
     list(APPEND args --state ${ARG_STATE})

@@ -67,13 +67,14 @@ struct WorkFlags {
     cmd->add_option("--max-memory", memory_mib, "memory budget of the symbolic work, in MiB")
         ->check(CLI::Range(std::size_t{16}, std::size_t{1} << 30))
         ->capture_default_str();
-    cmd->add_flag("-q,--quiet", quiet, "no progress line");
+    cmd->add_flag("-q,--quiet", quiet, "no progress line; generate prints nothing on success (errors and warnings still)");
     cmd->add_flag("--progress", progress, "show progress even when stderr is not a terminal");
   }
   mbsc::driver::WorkArgs args() const {
     mbsc::driver::WorkArgs w;
     w.budget.seconds = seconds;
     w.budget.memory_mib = memory_mib;
+    w.quiet = quiet;
     w.progress = quiet ? mbsc::driver::ProgressMode::Never
                        : progress ? mbsc::driver::ProgressMode::Always : mbsc::driver::ProgressMode::Auto;
     return w;

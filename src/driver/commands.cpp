@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/depfile.hpp"
 #include "mbsc/driver/latex_layout.hpp"
 #include "mbsc/driver/latex_names.hpp"
@@ -18,6 +20,7 @@
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/print_matrix.hpp"
 #include "mbsc/driver/staged_file.hpp"
+#include "mbsc/emit/python_module_names.hpp"
 #include "mbsc/parse/parse.hpp"
 
 namespace mbsc::driver {
@@ -36,7 +39,29 @@ bool parse_assignment(const std::string& text, std::string& name, double& value)
   return parse::literal_out_of_double_range(v.substr(v[0] == '+' || v[0] == '-' ? 1 : 0)) == nullptr;
 }
 
+const std::vector<std::string>& print_items() {
+  static const std::vector<std::string> items = {"eom", "M", "h", "invariants", "rates", "A", "B", "C", "S", "f", "fbar"};
+  return items;
+}
+
 namespace {
+
+/// Option values that need no model are checked before any work: "mbsc: error: ..." on
+/// `err` and false for the first unknown --what item or --outputs function.
+bool known_option_values(const std::vector<std::string>& what, const std::set<std::string>& functions,
+                         std::ostream& err) {
+  for (const auto& w : what)
+    if (std::find(print_items().begin(), print_items().end(), w) == print_items().end()) {
+      err << fmt::format("mbsc: error: --what: unknown item '{}'{} (known: {})\n", printable(w),
+                         did_you_mean(w, print_items()), fmt::join(print_items(), " "));
+      return false;
+    }
+  if (const std::string unknown = unknown_function_message(functions); !unknown.empty()) {
+    err << "mbsc: error: " << printable(unknown) << "\n";
+    return false;
+  }
+  return true;
+}
 
 std::string speed_names(const model::Model& m, const std::vector<int>& speeds) {
   std::vector<std::string> v;
@@ -214,6 +239,7 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
 }  // namespace
 
 int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
+  if (!known_option_values(a.stats ? std::vector<std::string>{} : a.what, a.functions, err)) return 1;
   std::optional<model::Model> m;
   std::optional<sym::Eom> eom;
   std::string text;
@@ -262,6 +288,7 @@ bool stage_depfile(const std::string& path, const std::string& final_dir, const 
 }  // namespace
 
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
+  if (!known_option_values({}, a.functions, err)) return 1;
   if (!a.name.empty()) {
     if (const std::string why = ir::namespace_name_problem(a.name); !why.empty()) {
       err << fmt::format("mbsc: error: --name '{}' {}; it names the generated C++ namespace and files\n",
@@ -287,6 +314,13 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.name = a.name;
     g = generate(*m, *eom, opt, diags);
     if (!g) return false;
+    if (a.python && emit::is_python_module_name(g->name))
+      diags.warning(a.name.empty() ? m->name_pos : SourcePos{m->name_pos.file, 0, 0},
+                    fmt::format("'{0}' is also the name of {1}: `import {0}` may load that module instead of {0}.py, "
+                                "or {0}.py may hide it from the code that needs it; name the generated files otherwise "
+                                "with --name (e.g. --name {0}_model)",
+                                g->name, g->name == "numpy" ? "numpy, which the generated module imports"
+                                                            : "a module of Python's standard library"));
     checkpoint("emitting", "the C++ files", m->name_pos, 0, 0);
     try {
       files = emit::emit(*g);
@@ -314,6 +348,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     err << error << "\n";
     return 1;
   }
+  if (a.work.quiet) return 0;  // --quiet: nothing on success (mbsc_add_model's builds)
   out << fmt::format("wrote {}/{}.hpp{} ({} dof;", printable(final_dir), name,
                      a.python ? fmt::format(", {}.cpp and {}.py", name, name) : fmt::format(" and {}.cpp", name), eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());

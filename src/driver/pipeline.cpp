@@ -12,6 +12,7 @@
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -33,6 +34,15 @@ const std::vector<std::string>& all_function_names() {
                                                  "reaction_forces",
                                                  "conditioning"};
   return names;
+}
+
+std::string unknown_function_message(const std::set<std::string>& functions) {
+  const auto& known = all_function_names();
+  for (const auto& name : functions)
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      return fmt::format("--outputs: unknown function '{}'{} (known: {})", name, did_you_mean(name, known),
+                         fmt::join(known, ", "));
+  return "";
 }
 
 std::string text_hash(const std::string& text) {
@@ -145,12 +155,10 @@ ir::LoweredFunction undefined_energy(const model::Model& m) {
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
-  for (const auto& name : opt.functions) {
-    if (std::find(all_function_names().begin(), all_function_names().end(), name) == all_function_names().end()) {
-      diags.error(SourcePos{}, fmt::format("--outputs: unknown function '{}' (known: {})", name,
-                                           fmt::join(all_function_names(), ", ")));
-      return {};
-    }
+  // (The commands check the names before any work; this is for other callers.)
+  if (const std::string unknown = unknown_function_message(opt.functions); !unknown.empty()) {
+    diags.error(SourcePos{m.name_pos.file, 0, 0}, unknown);
+    return {};
   }
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
   const int nd = eom.ndof();
@@ -268,7 +276,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
     specs.push_back(f);
   } else if (!opt.functions.empty() && opt.functions.count("energy") && !eom.has_energy) {
-    diags.error(SourcePos{}, fmt::format("--outputs energy: model '{}' has a custom leaf without a 'kinetic' term, so its "
+    diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs energy: model '{}' has a custom leaf without a 'kinetic' term, so its "
                                          "energy is not defined", m.name));
   }
   if (wanted("outputs")) {
@@ -299,7 +307,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   }
   const sym::MinimalState* ms = minimal ? &*minimal : nullptr;
   if (opt.multipliers && ms) {
-    diags.error(SourcePos{}, "--formulation multipliers integrates the full state (all coordinates and speeds); "
+    diags.error(SourcePos{m.name_pos.file, 0, 0}, "--formulation multipliers integrates the full state (all coordinates and speeds); "
                              "drop --state minimal");
     return std::nullopt;
   }
@@ -319,7 +327,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   } else {
     for (const char* own : {"multipliers", "reaction_forces"})
       if (opt.functions.count(own))
-        diags.error(SourcePos{}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
+        diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
     if (!diags.has_errors()) specs = function_specs(m, eom, opt, diags, ms);
   }
   if (diags.has_errors()) return std::nullopt;

@@ -37,6 +37,8 @@ using Kind = ast::Statement::Kind;
 
 /// `global.NAME` names a parameter or input from anywhere (a body's own `u` cannot hide it).
 constexpr const char* kGlobalScope = "global";
+/// The one named constant of expressions (ExprConverter): no declaration may take it.
+constexpr const char* kReservedConstant = "pi";
 
 std::string join(const std::string& prefix, const std::string& name) {
   return prefix.empty() ? name : prefix + "." + name;
@@ -59,21 +61,28 @@ struct Pending {
 };
 
 class Builder {
-  /// What a name in the table stands for.
+  /// What a name in the table stands for, and (for "already declared" messages) what
+  /// declared it and where.
   struct Entry {
     enum Kind { Time, Param, Input, Coord, Speed, NodeName, Formal, Let } kind;
     int index;
     GiNaC::symbol sym;
+    std::string what = "";  // "a parameter", "a body", "the time variable"...
+    SourcePos pos = {};     // where it is declared (line 0 for the time variable)
   };
  public:
   Builder(Diagnostics& diags, const std::map<std::string, double>& frozen) : diags_(diags), frozen_(frozen) {}
 
   std::optional<Model> run(const ast::File& file) {
+    top_ = &file.statements;
+    check_reserved_names(file.statements);
+    if (diags_.has_errors()) return std::nullopt;  // (a name taken twice would also clash below)
     collect_globals(file.statements);
     if (diags_.has_errors()) return std::nullopt;
     // Pass A: nodes and variables, post-order.
     declare_node(file.statements, "", SourcePos{file.path, 1, 1}, nullptr, 0);
     check_gravity_size();
+    check_frozen_names(file.path);
     if (diags_.has_errors()) return std::nullopt;
     // Pass B: expressions (everything is declared now).
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
@@ -93,7 +102,7 @@ class Builder {
  private:
   // ---- globals: model name, parameters, inputs, gravity, components ----
   void collect_globals(const std::vector<ast::StatementPtr>& stmts) {
-    table_["t"] = Entry{Entry::Time, 0, m_.time};
+    table_["t"] = Entry{Entry::Time, 0, m_.time, "the time variable"};
     for (const auto& s : stmts) {
       switch (s->kind) {
         case Kind::Model:
@@ -116,6 +125,7 @@ class Builder {
           if (!s->value) {
             diags_.error(s->name_pos, fmt::format("parameter '{}' needs a default value", s->name));
           } else {
+            global_context_ = fmt::format("the default of parameter '{}'", s->name);
             ExprConverter conv = converter(-1);
             auto e = conv.convert(*s->value);
             if (e) {
@@ -129,7 +139,7 @@ class Builder {
               }
             }
           }
-          table_[s->name] = Entry{Entry::Param, static_cast<int>(m_.params.size()), v.sym};
+          table_[s->name] = Entry{Entry::Param, static_cast<int>(m_.params.size()), v.sym, "a parameter", s->name_pos};
           m_.params.push_back(v);
           m_.param_defaults.push_back(value);
           param_values_[v.sym] = value;
@@ -140,13 +150,15 @@ class Builder {
         case Kind::Input: {
           if (!declare_global(s->name, s->name_pos, "input")) break;
           Variable v{s->name, 0, GiNaC::symbol(s->name), s->name_pos};
-          table_[s->name] = Entry{Entry::Input, static_cast<int>(m_.inputs.size()), v.sym};
+          table_[s->name] = Entry{Entry::Input, static_cast<int>(m_.inputs.size()), v.sym, "an input", s->name_pos};
           m_.inputs.push_back(v);
           break;
         }
         case Kind::Component:
           if (components_.count(s->name)) {
-            diags_.error(s->name_pos, fmt::format("component '{}' is defined twice", s->name));
+            const SourcePos& first = components_[s->name]->name_pos;
+            diags_.error(s->name_pos, fmt::format("component '{}' is defined twice (first at {})", s->name,
+                                                  position_text(first, s->name_pos)));
           } else {
             components_[s->name] = s.get();
           }
@@ -165,6 +177,7 @@ class Builder {
     if (m_.name.empty()) diags_.error(SourcePos{file_of(stmts), 1, 1}, "missing 'model NAME' statement");
     if (gravity_stmt_) {
       m_.gravity_pos = gravity_stmt_->pos;
+      global_context_ = "gravity";
       ExprConverter conv = converter(-1);
       for (const auto& g : gravity_stmt_->exprs) {
         auto e = conv.convert(*g);
@@ -199,6 +212,7 @@ class Builder {
 
   // ground { point NAME (x, y)  axis NAME (px, py) (dx, dy) }: fixed points and lines.
   void declare_ground(const Statement& g) {
+    global_context_ = "the ground block";
     ExprConverter conv = converter(-1);
     for (const auto& sp : g.body) {
       const Statement& s = *sp;
@@ -222,6 +236,85 @@ class Builder {
     return stmts.empty() ? std::string() : stmts.front()->pos.file;
   }
 
+  /// The kind of name a statement declares ("parameter", "point"...), or nullptr.
+  static const char* declared_kind(const Statement& s) {
+    switch (s.kind) {
+      case Kind::Parameter: return "parameter";
+      case Kind::Input: return "input";
+      case Kind::Component: return "component";
+      case Kind::Subsystem: return "subsystem";
+      case Kind::Coordinate: return "coordinate";
+      case Kind::Speed: return "speed";
+      case Kind::Let: return "let";
+      case Kind::Output: return s.value ? "output" : nullptr;
+      case Kind::Point: return "point";
+      case Kind::Axis: return "axis";
+      case Kind::Joint: return "joint";
+      case Kind::Spring: return "spring";
+      case Kind::Damper: return "damper";
+      default: return nullptr;
+    }
+  }
+
+  /// `pi` always means the constant π in an expression, so no declaration may take that
+  /// name (it would take a p[] slot, or a variable, that no expression could read).
+  /// Checked over the whole file, component bodies included, once per statement.
+  void check_reserved_names(const std::vector<ast::StatementPtr>& stmts) {
+    for (const auto& s : stmts) {
+      const char* what = declared_kind(*s);
+      auto refuse = [&](const SourcePos& pos, const char* kind) {
+        diags_.error(pos, fmt::format("{} '{}' clashes with the constant pi (every 'pi' in an expression means "
+                                      "3.14159...); choose another name",
+                                      kind, kReservedConstant));
+      };
+      if (what && s->name == kReservedConstant) refuse(s->name_pos, what);
+      for (std::size_t i = 0; i < s->formals.size(); ++i)
+        if (s->formals[i] == kReservedConstant) refuse(s->formal_pos[i], "component parameter");
+      check_reserved_names(s->body);
+    }
+  }
+
+  /// Every --freeze name must be a parameter of the model (a typo would otherwise
+  /// freeze nothing, silently).
+  void check_frozen_names(const std::string& file) {
+    std::vector<std::string> params;
+    for (const auto& p : m_.params) params.push_back(p.name);
+    for (const auto& [name, value] : frozen_) {
+      const auto it = table_.find(name);
+      if (it != table_.end() && it->second.kind == Entry::Param) continue;
+      const std::string is = it != table_.end() && !it->second.what.empty() ? fmt::format(" ('{}' is {})", name, it->second.what)
+                                                                             : did_you_mean(name, params);
+      diags_.error(SourcePos{file, 0, 0}, fmt::format("--freeze: model '{}' has no parameter '{}'{}", m_.name, name, is));
+    }
+  }
+
+  /// The statement that declares `path` where the lets are not read yet (parameter
+  /// defaults, gravity, the ground): a let (at the top or in a subsystem, by its dotted
+  /// path), or a parameter or input declared further down. Nullptr when there is none.
+  const Statement* not_yet_declared(const std::string& path, const SourcePos& use) const {
+    const std::vector<ast::StatementPtr>* stmts = top_;
+    std::string rest = path;
+    for (std::size_t dot = rest.find('.'); stmts && dot != std::string::npos; dot = rest.find('.')) {
+      const std::string head = rest.substr(0, dot);
+      const std::vector<ast::StatementPtr>* inner = nullptr;
+      for (const auto& s : *stmts)
+        if (s->kind == Kind::Subsystem && s->name == head) inner = &s->body;
+      stmts = inner;
+      rest = rest.substr(dot + 1);
+    }
+    if (!stmts) return nullptr;
+    const bool top = stmts == top_;
+    const auto after_use = [&](const SourcePos& p) {
+      return p.file == use.file && (p.line > use.line || (p.line == use.line && p.col > use.col));
+    };
+    for (const auto& s : *stmts) {
+      if (s->name != rest) continue;
+      if (s->kind == Kind::Let) return s.get();
+      if (top && (s->kind == Kind::Parameter || s->kind == Kind::Input) && after_use(s->name_pos)) return s.get();
+    }
+    return nullptr;
+  }
+
   bool declare_global(const std::string& name, const SourcePos& pos, const char* what) {
     if (name == "t") {
       diags_.error(pos, fmt::format("{} 't' clashes with the time variable", what));
@@ -229,10 +322,21 @@ class Builder {
     }
     auto it = table_.find(name);
     if (it != table_.end()) {
-      diags_.error(pos, fmt::format("{} '{}' is already declared", what, name));
+      diags_.error(pos, fmt::format("{} '{}' is already declared{}", what, name, declared_as(it->second, pos)));
       return false;
     }
     return true;
+  }
+
+  /// " as a parameter at 3:11" (the file too when it is another one), " as the time variable".
+  static std::string declared_as(const Entry& e, const SourcePos& here) {
+    if (e.what.empty()) return "";
+    return fmt::format(" as {}{}", e.what, e.pos.line > 0 ? " at " + position_text(e.pos, here) : "");
+  }
+
+  /// "3:11", or "other.mbs:3:11" when `pos` is in another file than `here`.
+  static std::string position_text(const SourcePos& pos, const SourcePos& here) {
+    return fmt::format("{}{}:{}", pos.file == here.file ? "" : pos.file + ":", pos.line, pos.col);
   }
 
   /// e with every parameter replaced by its value: the default, or (with_frozen) the
@@ -299,7 +403,7 @@ class Builder {
         std::string full = join(prefix, comp->formals[i]);
         if (!declare_local(full, comp->formal_pos[i], "formal parameter")) continue;
         GiNaC::symbol sym(full);
-        table_[full] = Entry{Entry::Formal, 0, sym};
+        table_[full] = Entry{Entry::Formal, 0, sym, "a component parameter", comp->formal_pos[i]};
         formal_args_.push_back({full, decl->exprs[i], prefix});
         m_.formals[full] = Formal{sym, 0};
       }
@@ -313,8 +417,10 @@ class Builder {
                                               kGlobalScope));
         continue;
       }
-      if (!declare_local(child, s->name_pos, "subsystem")) continue;
-      table_[child] = Entry{Entry::NodeName, 0, GiNaC::symbol()};
+      LeafKind leaf;
+      const bool body = leaf_kind_from_name(s->kind_name, leaf) && leaf != LeafKind::Custom;
+      if (!declare_local(child, s->name_pos, body ? "body" : "subsystem")) continue;
+      table_[child] = Entry{Entry::NodeName, 0, GiNaC::symbol(), body ? "a body" : "a subsystem", s->name_pos};
       int c = declare_node(s->body, child, s->name_pos, s.get(), depth + 1);
       if (c >= 0) children.push_back(c);
     }
@@ -331,8 +437,8 @@ class Builder {
     const char* const speeds3[] = {"u", "v", "w"};
     auto add_kinematic = [&](const char* const* qs, const char* const* us, int n) {
       for (int i = 0; i < n; ++i) {
-        int q = add_variable(id, join(prefix, qs[i]), pos, /*coordinate=*/true);
-        int u = add_variable(id, join(prefix, us[i]), pos, /*coordinate=*/false);
+        int q = add_variable(id, join(prefix, qs[i]), pos, /*coordinate=*/true, /*builtin=*/true);
+        int u = add_variable(id, join(prefix, us[i]), pos, /*coordinate=*/false, /*builtin=*/true);
         if (q >= 0 && u >= 0) builtin_rates_[q] = m_.speeds[u].sym;
       }
     };
@@ -352,7 +458,7 @@ class Builder {
           const char* const us[] = {ux.c_str(), uy.c_str()};
           add_kinematic(qs, us, 2);
         }
-        add_variable(id, join(prefix, "w"), pos, /*coordinate=*/false);
+        add_variable(id, join(prefix, "w"), pos, /*coordinate=*/false, /*builtin=*/true);
         if (npoints < 2)
           diags_.error(pos, fmt::format("rigid2d_nodal body '{}' needs at least two points (its nodes); it has {}", prefix,
                                         npoints));
@@ -391,7 +497,7 @@ class Builder {
   bool declare_local(const std::string& full, const SourcePos& pos, const char* what) {
     auto it = table_.find(full);
     if (it != table_.end()) {
-      diags_.error(pos, fmt::format("{} '{}' is already declared", what, full));
+      diags_.error(pos, fmt::format("{} '{}' is already declared{}", what, full, declared_as(it->second, pos)));
       return false;
     }
     return true;
@@ -399,7 +505,7 @@ class Builder {
 
   void declare_let(int node, const std::string& full, const Statement& s) {
     if (!declare_local(full, s.name_pos, "let")) return;
-    table_[full] = Entry{Entry::Let, lets_.declare(full, node, s), GiNaC::symbol()};
+    table_[full] = Entry{Entry::Let, lets_.declare(full, node, s), GiNaC::symbol(), "a let", s.name_pos};
   }
 
   /// A let's value in the scope of `node`, every level allowed (each use checks its own).
@@ -434,22 +540,25 @@ class Builder {
     return r;
   }
 
-  int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate) {
+  /// A coordinate or speed; `builtin` for those a leaf kind brings (declared at the body).
+  int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate, bool builtin = false) {
     if (!declare_local(full, pos, coordinate ? "coordinate" : "speed")) return -1;
+    const std::string what = fmt::format("{}{}", coordinate ? "a coordinate" : "a speed",
+                                         builtin ? fmt::format(" of the {} body", to_string(m_.nodes[node].kind)) : "");
     Variable v{full, node, GiNaC::symbol(full), pos};
     if (coordinate) {
       int i = static_cast<int>(m_.coords.size());
       m_.coords.push_back(v);
       m_.nodes[node].coords.push_back(i);
       coord_dot_.push_back(GiNaC::symbol(full + "'"));
-      table_[full] = Entry{Entry::Coord, i, v.sym};
+      table_[full] = Entry{Entry::Coord, i, v.sym, what, pos};
       return i;
     }
     int i = static_cast<int>(m_.speeds.size());
     m_.speeds.push_back(v);
     m_.speed_dots.push_back(GiNaC::symbol(full + "'"));
     m_.nodes[node].speeds.push_back(i);
-    table_[full] = Entry{Entry::Speed, i, v.sym};
+    table_[full] = Entry{Entry::Speed, i, v.sym, what, pos};
     return i;
   }
 
@@ -496,6 +605,17 @@ class Builder {
       if (it != table_.end()) matches.emplace_back(path, &it->second);
     }
     if (matches.empty()) {
+      if (const Statement* later = node < 0 ? not_yet_declared(path, pos) : nullptr) {
+        if (later->kind == Kind::Let)
+          diags_.error(pos, fmt::format("let '{}' cannot be used in {}: lets are read after the parameters, gravity and "
+                                        "the ground (write its expression here instead)",
+                                        path, global_context_));
+        else
+          diags_.error(pos, fmt::format("{} '{}' is declared after {} (at {}); declare it first",
+                                        declared_kind(*later), path, global_context_,
+                                        position_text(later->name_pos, pos)));
+        return std::nullopt;
+      }
       diags_.error(pos, fmt::format("unknown name '{}'{}", path, suggestion(path, node, false)));
       return std::nullopt;
     }
@@ -673,7 +793,9 @@ class Builder {
             break;
           }
           (s.kind == Kind::Mass ? mass_given_ : inertia_given_).insert(id);  // even if its value fails below
-          auto e = convert(id, s.value, false, false, false);
+          // Speeds are let through here so that check_masses names them with the rest of
+          // what may not vary (a coordinate, an input, t).
+          auto e = convert(id, s.value, true, false, false);
           if (!e) break;
           if (s.kind == Kind::Mass) {
             node.mass = *e;
@@ -731,8 +853,9 @@ class Builder {
           } else {
             auto e = convert(id, s.value, true, false, false);
             std::string name = join(node.name, s.name);
-            if (!output_names_.insert(name).second) {
-              diags_.error(s.name_pos, fmt::format("output '{}' is already declared", name));
+            if (const auto [first, fresh] = output_names_.emplace(name, s.name_pos); !fresh) {
+              diags_.error(s.name_pos, fmt::format("output '{}' is already declared at {}", name,
+                                                   position_text(first->second, s.name_pos)));
             } else if (e) {
               m_.outputs.push_back(NamedExpr{name, *e, s.pos});
             }
@@ -876,6 +999,12 @@ class Builder {
     }
     if (found->kind == Entry::NodeName) {
       diags_.error(s.path.pos, fmt::format("latex: '{}' is a subsystem; give the symbols of its variables", full));
+      return;
+    }
+    if (found->kind == Entry::Let) {
+      diags_.error(s.path.pos, fmt::format("latex: '{}' is a let (a named expression substituted where it is used); it "
+                                           "has no symbol of its own to name in LaTeX",
+                                           full));
       return;
     }
     if (found->kind == Entry::Formal) {
@@ -1054,10 +1183,26 @@ class Builder {
       diags_.error(c.pos, fmt::format("velocity constraint '{}' contains no speed; write it as a position constraint", c.name));
   }
 
-  /// Masses and inertias may not be negative, at the parameters' defaults or their
-  /// --freeze values (which the message names, since the file alone looks right). Zero
-  /// is allowed (a massless link); the derivation then checks that the reduced mass
-  /// matrix stays positive definite (sym/massless_check.hpp).
+  /// What makes e vary with the motion: "coordinate 'q'", "speed 'b.u'", "input 'F'",
+  /// "the time t"; "" when e holds parameters and numbers only.
+  std::string varying_part(const GiNaC::ex& e) const {
+    for (const auto& q : m_.coords)
+      if (e.has(q.sym)) return fmt::format("coordinate '{}'", q.name);
+    for (const auto& u : m_.speeds)
+      if (e.has(u.sym)) return fmt::format("speed '{}'", u.name);
+    for (const auto& in : m_.inputs)
+      if (e.has(in.sym)) return fmt::format("input '{}'", in.name);
+    if (e.has(m_.time)) return "the time t";
+    return "";
+  }
+
+  /// Masses and inertias are constants: a body's inertia forces are m v' and J w', which
+  /// lack the terms of dm/dt when m changes with the motion. So they read parameters
+  /// only (directly, through a let or through a component's argument). They may not be
+  /// negative, at the parameters' defaults or their --freeze values (which the message
+  /// names, since the file alone looks right). Zero is allowed (a massless link); the
+  /// derivation then checks that the reduced mass matrix stays positive definite
+  /// (sym/massless_check.hpp).
   void check_masses() {
     GiNaC::exmap formals;
     for (auto& [name, f] : m_.formals) {
@@ -1077,6 +1222,13 @@ class Builder {
             const auto next = guarded_subs(with_formals, formals, why);
             if (!next) throw std::runtime_error(why);
             with_formals = *next;
+          }
+          if (const std::string varying = varying_part(with_formals); !varying.empty()) {
+            diags_.error(pos, fmt::format("{} of body '{}' must be constant: it reads {} (masses and inertias may use "
+                                          "parameters only; a body whose {} changes with the motion needs the terms of "
+                                          "its rate: write it as a custom leaf with its own forces)",
+                                          what, node.name, varying, what));
+            return;
           }
           v = substitute_param_defaults(with_formals, true);
         } catch (const std::exception& ex) {
@@ -1138,8 +1290,10 @@ class Builder {
   std::set<int> has_mass_;
   std::set<int> mass_given_, inertia_given_;  // bodies with a mass / inertia statement (valid or not)
   std::map<int, SourcePos> inertia_pos_;
-  std::set<std::string> output_names_;
+  std::map<std::string, SourcePos> output_names_;  // where each output is declared
   std::map<std::string, SourcePos> latex_pos_;  // where each name's `latex` statement is
+  const std::vector<ast::StatementPtr>* top_ = nullptr;  // the file's statements
+  std::string global_context_;  // what converter(-1) is reading: "gravity", "the default of parameter 'm'"...
   bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;
 };
 

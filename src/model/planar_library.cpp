@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "mbsc/diag/name_suggestions.hpp"
+
 #include <tuple>
 
 namespace mbsc::model {
@@ -35,10 +37,19 @@ void PlanarLibrary::add_point(int node, const std::string& name, const GiNaC::ex
     return;
   }
   if (points_.count(full) || axes_.count(full)) {
-    diags_.error(pos, fmt::format("point '{}' is declared twice", full));
+    diags_.error(pos, fmt::format("point '{}' is declared twice{}", full, first_declared(full, pos)));
     return;
   }
-  points_[full] = Point{node, ex, ey};
+  points_[full] = Point{node, ex, ey, pos};
+}
+
+std::string PlanarLibrary::first_declared(const std::string& full, const SourcePos& here) const {
+  const auto p = points_.find(full);
+  const auto a = axes_.find(full);
+  const char* what = p != points_.end() ? "a point" : "an axis";
+  const SourcePos first = p != points_.end() ? p->second.pos : a != axes_.end() ? a->second.pos : SourcePos{};
+  if (first.line <= 0) return fmt::format(" (as {} built into the ground)", what);
+  return fmt::format(" (as {} at {}{}:{})", what, first.file == here.file ? "" : first.file + ":", first.line, first.col);
 }
 
 void PlanarLibrary::add_failed(int node, const std::string& name) {
@@ -72,7 +83,7 @@ void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex&
     return;
   }
   if (points_.count(full) || axes_.count(full)) {
-    diags_.error(pos, fmt::format("axis '{}' is declared twice", full));
+    diags_.error(pos, fmt::format("axis '{}' is declared twice{}", full, first_declared(full, pos)));
     return;
   }
   // A direction of length zero defines no line (checked with the parameters' defaults).
@@ -80,7 +91,7 @@ void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex&
     diags_.error(pos, fmt::format("axis '{}' has a zero direction vector", full));
     return;
   }
-  axes_[full] = Axis{node, px, py, dx, dy};
+  axes_[full] = Axis{node, px, py, dx, dy, pos};
 }
 
 double PlanarLibrary::at_defaults(const GiNaC::ex& e) const {
@@ -262,7 +273,8 @@ std::optional<PlanarLibrary::Located> PlanarLibrary::point(int owner, const std:
     return Located{node, r.first, r.second};
   }
   if (failed(owner, path)) return std::nullopt;  // its declaration's error is reported
-  diags_.error(pos, fmt::format("unknown point '{}' (a point of a rigid2d body or the ground, or a particle2d body)", path));
+  diags_.error(pos, fmt::format("unknown point '{}'{} (a point of a rigid2d body or the ground, or a particle2d body)", path,
+                                suggest_element(owner, path, true)));
   return std::nullopt;
 }
 
@@ -276,8 +288,37 @@ std::optional<std::pair<PlanarLibrary::Located, std::pair<GiNaC::ex, GiNaC::ex>>
     return std::make_pair(Located{node, base.first, base.second}, rotate(node, a->dx, a->dy));
   }
   if (failed(owner, path)) return std::nullopt;  // its declaration's error is reported
-  diags_.error(pos, fmt::format("unknown axis '{}' (an axis of a rigid2d body or the ground)", path));
+  diags_.error(pos, fmt::format("unknown axis '{}'{} (an axis of a rigid2d body or the ground)", path,
+                                suggest_element(owner, path, false)));
   return std::nullopt;
+}
+
+std::string PlanarLibrary::suggest_element(int owner, const std::string& path, bool point) const {
+  // A full name as written at `owner`: relative to the innermost scope that holds it.
+  auto written = [&](const std::string& full) {
+    for (int n = owner; n >= 0; n = m_.nodes[n].parent) {
+      const std::string& scope = m_.nodes[n].name;
+      if (!scope.empty() && full.rfind(scope + ".", 0) == 0) return full.substr(scope.size() + 1);
+      if (m_.nodes[n].parent < 0) break;
+    }
+    return full;
+  };
+  const auto dot = path.rfind('.');
+  const std::optional<int> b = dot == std::string::npos ? std::nullopt : body(owner, path.substr(0, dot));
+  std::vector<std::string> candidates;
+  auto add = [&](const std::string& full, int node) {
+    if (!b) candidates.push_back(written(full));
+    else if (node == *b) candidates.push_back(path.substr(0, dot) + full.substr(full.rfind('.')));
+  };
+  if (point) {
+    for (const auto& [full, p] : points_) add(full, p.node);
+    if (!b)
+      for (const auto& n : m_.nodes)
+        if (n.kind == LeafKind::Particle2d) candidates.push_back(written(n.name));
+  } else {
+    for (const auto& [full, a] : axes_) add(full, a.node);
+  }
+  return did_you_mean(path, candidates);
 }
 
 // ---- forces ----
@@ -505,10 +546,10 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
   const bool joint = e.kind == "revolute" || e.kind == "prismatic" || e.kind == "weld" || e.kind == "pin_in_slot" ||
                      e.kind == "gear" || e.kind == "rolling" || e.kind == "rolling_inside" || e.kind == "knife_edge";
   if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
-    diags_.error(e.kind_pos,
-                 fmt::format("unknown joint kind '{}' (known: revolute, prismatic, pin_in_slot, weld, gear, rolling, "
-                             "rolling_inside, knife_edge)",
-                             e.kind));
+    const std::vector<std::string> kinds = {"revolute", "prismatic", "pin_in_slot", "weld",
+                                            "gear",     "rolling",   "rolling_inside", "knife_edge"};
+    diags_.error(e.kind_pos, fmt::format("unknown joint kind '{}'{} (known: {})", e.kind, did_you_mean(e.kind, kinds),
+                                         fmt::join(kinds, ", ")));
     return;
   }
   const std::string name = e.name.empty() ? fmt::format("{}{}", e.kind, ++unnamed_) : e.name;

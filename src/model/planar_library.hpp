@@ -71,10 +71,12 @@ class PlanarLibrary {
   struct Point {
     int node;
     GiNaC::ex ex, ey;
+    SourcePos pos = {};  // where it is declared (line 0: built in)
   };
   struct Axis {
     int node;
     GiNaC::ex px, py, dx, dy;
+    SourcePos pos = {};
   };
   struct Located {  // a resolved point: its body and world position
     int node;
@@ -127,6 +129,11 @@ class PlanarLibrary {
   std::map<std::string, Axis> axes_;      // "ground.x_axis", "rocker.slot"
   std::set<std::string> failed_;          // points and axes whose declaration failed
   bool failed(int owner, const std::string& path) const;
+  /// " (as a point at 3:5)": what already holds the name `full`, for "declared twice".
+  std::string first_declared(const std::string& full, const SourcePos& here) const;
+  /// " (did you mean 'ground.origin'?)" for an unknown point or axis `path` written at
+  /// `owner`: the names of the body it names, or every one when that body is unknown too.
+  std::string suggest_element(int owner, const std::string& path, bool point) const;
   std::map<int, std::pair<GiNaC::ex, GiNaC::ex>> com_;  // rigid2d node -> mass centre in body coordinates
   int unnamed_ = 0;
 };

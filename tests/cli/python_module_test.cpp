@@ -50,7 +50,8 @@ TEST_CASE("generate --python: the module matches the C++ functions", "[python]")
                         Case{"tests/data/abi/dc_motor.mbs", "dc_motor"}}) {
     INFO("model " << c.model);
     const std::string model = kSource + "/" + c.model;
-    const auto gen = run(quote(kMbsc) + " generate " + quote(model) + " -o " + quote(dir.string()) + " --python --quiet");
+    // Not --quiet: the line it prints on success names the files.
+    const auto gen = run(quote(kMbsc) + " generate " + quote(model) + " -o " + quote(dir.string()) + " --python");
     INFO(gen.output);
     REQUIRE(gen.exit_code == 0);
     const fs::path out = dir / c.name;

@@ -16,6 +16,7 @@ namespace mbsc::driver {
 struct WorkArgs {
   WorkBudget budget;
   ProgressMode progress = ProgressMode::Auto;
+  bool quiet = false;  // --quiet: no progress line, and generate says nothing on success
 };
 
 struct CheckArgs {
@@ -58,5 +59,8 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 /// Parses "name=value" (for --freeze). Returns false on malformed text and on a value
 /// that is not a finite number a double holds (nan, inf, 1e400).
 bool parse_assignment(const std::string& text, std::string& name, double& value);
+
+/// The items `print --what` knows, in the order the help lists them.
+const std::vector<std::string>& print_items();
 
 }  // namespace mbsc::driver

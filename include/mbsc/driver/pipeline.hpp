@@ -20,6 +20,10 @@ namespace mbsc::driver {
 /// Every function generate can emit, in emission order.
 const std::vector<std::string>& all_function_names();
 
+/// "--outputs: unknown function 'enrgy' (did you mean 'energy'?) (known: rhs, ...)" for
+/// the first name in `functions` that generate does not know, or "" when all are known.
+std::string unknown_function_message(const std::set<std::string>& functions);
+
 struct GenerateOptions {
   std::set<std::string> functions;        // empty: all that the model defines
   std::map<std::string, double> frozen;   // --freeze name=value

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Command-line values a user mistypes (--freeze, --outputs, --what), generate --quiet, and
+// the warning for a model whose Python module would take a standard module's name.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = MBSC_BINARY;
+const std::string kPendulum = quote(std::string(MBSC_SOURCE_DIR) + "/models/double_pendulum.mbs");
+
+/// A one-body model named `name` (and a let, for --freeze L=...), written into `dir`.
+std::string write_model(const fs::path& dir, const std::string& name) {
+  const fs::path file = dir / (name + ".mbs");
+  std::ofstream(file) << "model " << name
+                      << "\nparameter m = 1, g = 9.81\nlet L = 2*m\ngravity (0, -g)\nbody b : particle2d { mass m }\n"
+                         "output o = L*b.y\n";
+  return quote(file.string());
+}
+
+}  // namespace
+
+TEST_CASE("mistyped option values: did you mean, in the mbsc: error form", "[cli][bad]") {
+  const fs::path out = fresh_dir("optvalues");
+  const std::string to = " -o " + quote(out.string());
+  auto r = run(kMbsc + " generate " + kPendulum + to + " --freeze gg=1");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("error: --freeze: model 'double_pendulum' has no parameter 'gg' (did you mean 'g'?)") !=
+        std::string::npos);
+  // A name the model has, but not as a parameter, says what it is.
+  const std::string mine = write_model(out, "lets");
+  r = run(kMbsc + " check " + mine + " --freeze L=3");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("has no parameter 'L' ('L' is a let)") != std::string::npos);
+
+  r = run(kMbsc + " generate " + kPendulum + to + " --outputs rhs,enrgy");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.rfind("mbsc: error: --outputs: unknown function 'enrgy' (did you mean 'energy'?) (known: rhs,", 0) == 0);
+  CHECK(r.output.find("<input>") == std::string::npos);
+  r = run(kMbsc + " print " + kPendulum + " --stats --outputs mass_matrx");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.rfind("mbsc: error: --outputs: unknown function 'mass_matrx' (did you mean 'mass_matrix'?)", 0) == 0);
+
+  r = run(kMbsc + " print " + kPendulum + " --what M,inavriants");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.rfind("mbsc: error: --what: unknown item 'inavriants' (did you mean 'invariants'?) (known: eom M h", 0) ==
+        0);
+  r = run(kMbsc + " print " + kPendulum + " --what zzz");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.rfind("mbsc: error: --what: unknown item 'zzz' (known: eom M h invariants rates A B C S f fbar)", 0) == 0);
+  CHECK(!fs::exists(out / "double_pendulum"));
+  fs::remove_all(out);
+}
+
+TEST_CASE("generate --quiet prints nothing on success, and still its warnings and errors", "[cli]") {
+  const fs::path out = fresh_dir("quiet");
+  const std::string to = " -o " + quote(out.string());
+  auto r = run(kMbsc + " generate " + kPendulum + to + " --quiet");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.empty());
+  CHECK(fs::exists(out / "double_pendulum" / "double_pendulum.cpp"));
+  // Without --quiet: the summary line.
+  r = run(kMbsc + " generate " + kPendulum + to);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.rfind("wrote ", 0) == 0);
+  // An error is still printed.
+  r = run(kMbsc + " generate " + kPendulum + to + " --quiet --freeze nosuch=1");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("error: --freeze") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("generate --python warns when the module name is a Python standard module", "[cli]") {
+  const fs::path out = fresh_dir("pyname");
+  const std::string to = " -o " + quote(out.string());
+  for (const std::string name : {"gc", "math", "random", "signal", "array", "numpy"}) {
+    INFO(name);
+    const std::string file = write_model(out, name);
+    auto r = run(kMbsc + " generate " + file + to + " --python --quiet");
+    INFO(r.output);
+    CHECK(r.exit_code == 0);  // a warning: the files are written
+    CHECK(r.output.find(name + ".mbs:1:7: warning: '" + name + "' is also the name of ") != std::string::npos);
+    CHECK(r.output.find("--name " + name + "_model") != std::string::npos);
+    CHECK(fs::exists(out / name / (name + ".py")));
+    // The way out the warning gives works, silently.
+    r = run(kMbsc + " generate " + file + to + " --python --quiet --name " + name + "_model");
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.empty());
+    // Without --python no module is written: nothing to warn about.
+    r = run(kMbsc + " generate " + file + to + " --quiet");
+    CHECK(r.output.empty());
+  }
+  // --name can bring the collision too; the warning then names the file only.
+  auto r = run(kMbsc + " generate " + kPendulum + to + " --python --quiet --name os");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("double_pendulum.mbs: warning: 'os' is also the name of a module of Python's standard library") !=
+        std::string::npos);
+  fs::remove_all(out);
+}
