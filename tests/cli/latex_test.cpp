@@ -68,8 +68,8 @@ TEST_CASE("print --standalone compiles with LaTeX for every shipped model and ev
   std::sort(models.begin(), models.end());
   REQUIRE(models.size() >= 10);
   const fs::path dir = fresh_dir("latex");
-  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (no term
-  // of the numerator or denominator can start a line of its own).
+  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (set as
+  // (numerator) / (denominator) to break).
   {
     std::string sum;
     for (int i = 1; i <= 2000; ++i)
