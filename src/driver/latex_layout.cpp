@@ -60,7 +60,7 @@ using latex_layout_detail::unfold_wide;
 
 /// The widest line of a displayed formula, in points: the text width of the standalone
 /// document (458pt) less a margin for the estimate's error.
-constexpr double kLineWidth = 410.0;
+constexpr double kLineWidth = 400.0;
 constexpr double kEquals = 13.4;  // "=" and its spaces
 constexpr double kQuad = 10.0;    // the indentation of a continued line
 constexpr std::size_t kMaxRows = 120;    // rows of one align*

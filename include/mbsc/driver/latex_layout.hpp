@@ -12,20 +12,24 @@
 namespace mbsc::driver {
 
 /// A labelled matrix: a comment naming its rows and columns (model names), then a pmatrix
-/// in an equation* when every entry is short, else its nonzero entries one per line in
-/// an align* (title_{i,j} = ..., or title_{i} for a column). The kinematic
+/// in an equation* when its columns fit on a line, else its nonzero entries one per line
+/// in an align* (\mathbf{M}_{i,j} = ..., or \mathbf{h}_{i} for a column): the method's
+/// letters are bold, apart from any symbol of the model. The kinematic
 /// transformations print as one equation per coordinate rate (\dot{q} = ...).
 /// `symbols`: the model's `latex` statements, for the row symbols of the rates.
 std::string latex_matrix(const std::string& title, const std::vector<std::string>& rows,
                          const std::vector<std::string>& cols, const std::vector<std::vector<std::string>>& cells,
                          const std::map<std::string, std::string>& symbols);
 
-/// One aligned equation: lhs = rhs, with an optional note set as text at its right.
+/// One aligned equation: lhs = rhs, with an optional note set as a tag at its right.
 struct LatexEquation {
   std::string lhs, rhs, note;
 };
 
-/// Equations in an align* under a comment line; "" when there are none.
+/// Equations in an align* under a comment line; "" when there are none. Every line fits
+/// the standalone document's text width: the right-hand sides broken (break_terms), a
+/// long left-hand side on lines of its own with "= ..." after them, a long list in
+/// several align* (TeX holds one alignment in memory at a time).
 std::string latex_equations(const std::string& comment, const std::vector<LatexEquation>& equations);
 
 /// `text` set in upright text mode: the characters LaTeX reserves are escaped.
