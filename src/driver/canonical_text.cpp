@@ -87,6 +87,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   // Factors as a person orders them: sums first, then symbols and their powers, then
   // functions ((m1 + m2)*l1^2, l1*l2*m2*cos(th1 - th2)); by text within each group.
   std::vector<std::pair<int, std::string>> num, den;
+  std::string lone_den;
   auto rank = [](const GiNaC::ex& f) {
     const GiNaC::ex b = GiNaC::is_a<GiNaC::power>(f) ? f.op(0) : f;
     return GiNaC::is_a<GiNaC::add>(b) ? 0 : GiNaC::is_a<GiNaC::function>(b) ? 2 : 1;
@@ -103,6 +104,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
         d = {d.text.substr(1), kPower};
       }
       den.push_back({rank(f), wrap(d, kProduct, latex)});
+      lone_den = d.text;  // a \frac's only denominator needs no parentheses
     } else {
       Printed pf = print(f, latex);
       // A sum factor is printed sign-normalised; its sign moves to the coefficient.
@@ -140,6 +142,7 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
   if (!den.empty()) {
     std::string bottom;
     for (const auto& d : den) bottom += (bottom.empty() ? "" : times) + d.second;
+    if (latex && den.size() == 1) bottom = lone_den;
     out = latex ? "\\frac{" + top + "}{" + bottom + "}" : top + "/" + (den.size() > 1 ? "(" + bottom + ")" : bottom);
   }
   return {negative ? "-" + out : out, kProduct, negative};

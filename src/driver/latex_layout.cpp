@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 
 #include "mbsc/driver/latex_names.hpp"
@@ -11,91 +12,6 @@
 namespace mbsc::driver {
 
 namespace latex_layout_detail {
-namespace {
-
-bool is_letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
-
-/// The command word that starts at text[i] == '\\' ("" for a control symbol such as \,).
-std::string command_at(const std::string& text, std::size_t i) {
-  std::size_t j = i + 1;
-  while (j < text.size() && is_letter(text[j])) ++j;
-  return text.substr(i + 1, j - i - 1);
-}
-
-}  // namespace
-
-int latex_width(const std::string& latex) {
-  int w = 0;
-  for (std::size_t i = 0; i < latex.size(); ++i) {
-    const char c = latex[i];
-    if (c == '\\') {
-      const std::string word = command_at(latex, i);
-      if (word.empty()) {  // \, \{ ...
-        w += latex.compare(i, 2, "\\,") == 0 ? 0 : 1;
-        ++i;
-        continue;
-      }
-      i += word.size();
-      static const char* const silent[] = {"left", "right", "frac", "mathrm", "dot", "ddot", "dddot", "bar",
-                                           "operatorname", "text", "sqrt"};
-      static const char* const spelled[] = {"sin", "cos", "tan", "ln", "log", "exp", "sinh", "cosh", "tanh",
-                                            "arcsin", "arccos", "arctan"};
-      bool done = false;
-      for (const char* s : silent) done = done || word == s;
-      for (const char* s : spelled)
-        if (!done && word == s) {
-          w += static_cast<int>(word.size());
-          done = true;
-        }
-      if (word == "quad") w += 2;
-      else if (!done) w += 1;
-      continue;
-    }
-    if (c == '{' || c == '}' || c == '^' || c == '_' || c == ' ') continue;
-    ++w;
-  }
-  return w;
-}
-
-std::vector<std::string> break_terms(const std::string& rhs, int width) {
-  std::vector<std::string> lines;
-  std::vector<char> open;  // 'b' a brace group, 'l' a \left ... \right pair
-  std::string prefix;      // \left. openers that start the current line
-  std::size_t start = 0;
-  for (std::size_t i = 0; i < rhs.size(); ++i) {
-    const char c = rhs[i];
-    if (c == '\\') {
-      const std::string word = command_at(rhs, i);
-      if (word.empty()) {
-        ++i;  // an escaped character: \{ counts for no group
-        continue;
-      }
-      if (word == "left") open.push_back('l');
-      if (word == "right" && !open.empty()) open.pop_back();
-      i += word.size();
-      continue;
-    }
-    if (c == '{') open.push_back('b');
-    if (c == '}' && !open.empty()) open.pop_back();
-    const bool term = rhs.compare(i, 3, " + ") == 0 || rhs.compare(i, 3, " - ") == 0;
-    if (!term) continue;
-    bool in_braces = false;
-    for (char o : open) in_braces = in_braces || o == 'b';
-    if (in_braces) continue;
-    const std::string piece = prefix + rhs.substr(start, i - start);
-    if (latex_width(piece) < width) continue;
-    std::string closers, openers;
-    for (std::size_t k = 0; k < open.size(); ++k) {
-      closers += " \\right.";
-      openers += "\\left. ";
-    }
-    lines.push_back(piece + closers);
-    prefix = openers;
-    start = i + 1;  // the next line starts with the sign
-  }
-  lines.push_back(prefix + rhs.substr(start));
-  return lines;
-}
 
 std::string wrap_source(const std::string& text, std::size_t columns) {
   const std::string indent = "    ";
@@ -139,18 +55,24 @@ std::string wrap_source(const std::string& text, std::size_t columns) {
 namespace {
 
 using latex_layout_detail::break_terms;
-using latex_layout_detail::latex_width;
+using latex_layout_detail::latex_points;
+using latex_layout_detail::unfold_wide;
 
-constexpr int kLineWidth = 56;    // glyphs on one line of a displayed formula
-constexpr int kCellWidth = 22;    // the widest entry a pmatrix takes
+/// The widest line of a displayed formula, in points: the text width of the standalone
+/// document (458pt) less a margin for the estimate's error.
+constexpr double kLineWidth = 400.0;
+constexpr double kEquals = 13.4;  // "=" and its spaces
+constexpr double kQuad = 10.0;    // the indentation of a continued line
+constexpr std::size_t kMaxRows = 120;    // rows of one align*
 constexpr std::size_t kMaxColumns = 10;  // amsmath's pmatrix limit (MaxMatrixCols)
 
-/// The letter of a matrix title: M, h, ...; fbar is \bar{f}; a phrase is upright text.
+/// The symbol of a matrix of the method: bold (\mathbf{M}, \bar{\mathbf{f}}), so that it
+/// never reads as a model's own symbol (a parameter M); a phrase is upright text.
 std::string title_symbol(const std::string& title) {
-  if (title == "fbar") return "\\bar{f}";
+  if (title == "fbar") return "\\bar{\\mathbf{f}}";
   for (char c : title)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return "\\text{" + latex_escape_text(title) + "}";
-  return latex_symbol(title);
+    if (!std::isalpha(static_cast<unsigned char>(c))) return "\\text{" + latex_escape_text(title) + "}";
+  return "\\mathbf{" + title + "}";
 }
 
 }  // namespace
@@ -181,14 +103,35 @@ std::string latex_escape_text(const std::string& text) {
 
 std::string latex_equations(const std::string& comment, const std::vector<LatexEquation>& equations) {
   if (equations.empty()) return "";
+  // A left-hand side longer than this gets lines of its own (M z' of an equation of
+  // motion); the others share the first column, whose width every line then loses.
+  const double long_lhs = 0.3 * kLineWidth;
+  double column = 0;
+  for (const auto& eq : equations) {
+    const double w = latex_points(eq.lhs);
+    if (w <= long_lhs) column = std::max(column, w);
+  }
+  const double room = kLineWidth - column;
+  std::vector<std::string> lines;  // the rows of the align*
+  for (const auto& eq : equations) {
+    const std::string tag = eq.note.empty() ? "" : " \\tag*{" + latex_escape_text(eq.note) + "}";
+    const auto rhs = break_terms(unfold_wide(eq.rhs, room - kQuad - 20.0), room - kEquals, room - kQuad);
+    if (latex_points(eq.lhs) <= long_lhs) {
+      lines.push_back("  " + eq.lhs + " &= " + rhs[0] + tag);
+    } else {
+      const auto lhs = break_terms(unfold_wide(eq.lhs, room - kQuad - 20.0), room, room - kQuad);
+      lines.push_back("  & " + lhs[0] + tag);
+      for (std::size_t j = 1; j < lhs.size(); ++j) lines.push_back("  &\\quad " + lhs[j]);
+      lines.push_back("  &= " + rhs[0]);
+    }
+    for (std::size_t j = 1; j < rhs.size(); ++j) lines.push_back("  &\\quad " + rhs[j]);
+  }
+  // TeX holds a whole alignment in memory: a long one goes on in a new align*.
   std::string out = "% " + comment + "\n\\begin{align*}\n";
-  for (std::size_t k = 0; k < equations.size(); ++k) {
-    const auto& eq = equations[k];
-    const auto lines = break_terms(eq.rhs, kLineWidth);
-    out += "  " + eq.lhs + " &= " + lines[0];
-    if (!eq.note.empty()) out += " && \\text{" + latex_escape_text(eq.note) + "}";
-    for (std::size_t j = 1; j < lines.size(); ++j) out += " \\\\\n  &\\quad " + lines[j];
-    out += k + 1 < equations.size() ? " \\\\\n" : "\n";
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const bool last = k + 1 == lines.size(), cut = !last && (k + 1) % kMaxRows == 0;
+    out += lines[k] + (last || cut ? "\n" : " \\\\\n");
+    if (cut) out += "\\end{align*}\n\\begin{align*}\n";
   }
   out += "\\end{align*}\n\n";
   return latex_layout_detail::wrap_source(out, 100);
@@ -207,15 +150,15 @@ std::string latex_matrix(const std::string& title, const std::vector<std::string
   }
   const std::string letter = title_symbol(title);
   if (rows.empty() || cols.empty()) return "% " + comment + ": empty\n\n";
+  // A pmatrix when it fits on a line: its columns as wide as their widest entries.
   bool small = cols.size() <= kMaxColumns;
-  for (const auto& row : cells) {
-    int width = 0;
-    for (const auto& cell : row) {
-      small = small && latex_width(cell) <= kCellWidth;
-      width += latex_width(cell) + 2;
-    }
-    small = small && width <= kLineWidth;
+  double width = latex_points(letter) + kEquals + 12.0;
+  for (std::size_t j = 0; small && j < cols.size(); ++j) {
+    double widest = 0;
+    for (const auto& row : cells) widest = std::max(widest, latex_points(row[j]));
+    width += widest + 10.0;
   }
+  small = small && width <= kLineWidth;
   if (small) {
     std::string out = "% " + comment + "\n\\begin{equation*}\n  " + letter + " = \\begin{pmatrix}\n";
     for (std::size_t i = 0; i < cells.size(); ++i)

@@ -47,7 +47,8 @@ TEST_CASE("print shows the matrices of a subsystem, in text and LaTeX", "[cli]")
   r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --what M --latex");
   CHECK(r.exit_code == 0);
   // A matrix when its entries are short, else one entry per line (tests/cli/latex_test.cpp).
-  CHECK((r.output.find("M = \\begin{pmatrix}") != std::string::npos || r.output.find("M_{1,1} &= ") != std::string::npos));
+  CHECK((r.output.find("\\mathbf{M} = \\begin{pmatrix}") != std::string::npos ||
+         r.output.find("\\mathbf{M}_{1,1} &= ") != std::string::npos));
   r = run(kMbsc + " print " + model("double_pendulum.mbs") + " --stats");
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("rhs") != std::string::npos);

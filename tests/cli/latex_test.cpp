@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // mbsc print --latex --standalone writes documents that LaTeX compiles: every shipped
 // model, every item of --what, run through pdflatex (or lualatex) as a user would, with
-// -halt-on-error. Without a LaTeX on the PATH the check is skipped, and says so (ctest
-// reports it as skipped: tests/cli/CMakeLists.txt).
+// -halt-on-error, and no line of them runs past the margin by more than a few points (an
+// "Overfull \hbox" in LaTeX's log). Without a LaTeX on the PATH the check is skipped,
+// and says so (ctest reports it as skipped: tests/cli/CMakeLists.txt).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -18,7 +19,9 @@ using namespace mbsc_test;
 namespace {
 
 const std::string kMbsc = MBSC_BINARY;
-const std::string kAll = "rates,A,B,C,S,f,fbar,M,h,invariants";
+const std::string kAll = "rates,A,B,C,S,f,fbar,M,h,eom,invariants";
+/// How far a line may run past the margin (LaTeX's "Overfull \hbox"), in points.
+constexpr double kOverfullPoints = 20.0;
 
 /// pdflatex, else lualatex, else "".
 std::string latex_program() {
@@ -42,9 +45,16 @@ void compile(const std::string& latex, const fs::path& dir, const std::string& n
   CHECK(fs::exists(dir / (name + ".pdf")));
 }
 
+std::string fmt_lines(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+
 }  // namespace
 
-TEST_CASE("print --standalone compiles with LaTeX for every shipped model and every item", "[latex]") {
+TEST_CASE("print --standalone compiles with LaTeX for every shipped model and every item, within the margins",
+          "[latex]") {
   const std::string latex = latex_program();
   if (latex.empty()) {
     WARN("LaTeX compile check skipped: neither pdflatex nor lualatex is on the PATH "
@@ -58,8 +68,8 @@ TEST_CASE("print --standalone compiles with LaTeX for every shipped model and ev
   std::sort(models.begin(), models.end());
   REQUIRE(models.size() >= 10);
   const fs::path dir = fresh_dir("latex");
-  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (no term
-  // of the numerator or denominator can start a line of its own).
+  // Entries far longer than a line: a sum of 2000 terms, and a fraction of one (set as
+  // (numerator) / (denominator) to break).
   {
     std::string sum;
     for (int i = 1; i <= 2000; ++i)
@@ -68,24 +78,55 @@ TEST_CASE("print --standalone compiles with LaTeX for every shipped model and ev
     std::ofstream(models.back()) << "model long_entries\nbody b : particle2d { mass 1 }\nforce b.u : " << sum
                                  << "\nforce b.v : 1/(1 + " << sum << ")\n";
   }
+  // The documents: every model with every item, as printed and in closed form (--expand),
+  // and each subsystem with constraints of its own (not a reused instance) by itself.
+  std::vector<std::pair<std::string, std::string>> documents;  // name, print options
   for (const auto& model : models) {
-    const std::string name = model.stem().string();
-    const auto r = run(kMbsc + " print " + quote(model.string()) + " --standalone -q --what " + kAll);
-    INFO(name << ":\n" << r.output);
-    REQUIRE(r.exit_code == 0);
-    CHECK(r.output.rfind("% Written by mbsc", 0) == 0);
-    CHECK(r.output.find("\\end{document}") != std::string::npos);
-    std::ofstream(dir / (name + ".tex")) << r.output;
+    const std::string name = model.stem().string(), file = quote(model.string());
+    documents.push_back({name, file});
+    documents.push_back({name + "_expand", file + " --expand"});
+    const auto check = run(kMbsc + " check " + file);
+    std::istringstream lines(check.output);
+    int k = 0;
+    for (std::string line; std::getline(lines, line);) {
+      const auto colon = line.find(" [");
+      if (line.rfind("    ", 0) != 0 || colon == std::string::npos || line.find(" 0 constraint(s)") != std::string::npos ||
+          line.find("constraint(s)") == std::string::npos || line.find("reused") != std::string::npos ||
+          line.find("<top>") != std::string::npos)
+        continue;
+      const std::string node = line.substr(line.find_first_not_of(' '), colon - line.find_first_not_of(' '));
+      documents.push_back({name + "_node" + std::to_string(++k), file + " --node " + quote(node)});
+    }
   }
-  // All at once (each LaTeX run is mostly start-up): a line per document that failed.
-  const auto r = run("cd " + quote(dir.string()) + " && for f in *.tex; do (" + latex +
-                     " -interaction=nonstopmode -halt-on-error -no-shell-escape \"$f\" </dev/null >/dev/null 2>&1 || "
-                     "echo \"FAILED $f\") & done; wait");
-  for (const auto& model : models) {
-    const std::string name = model.stem().string();
-    INFO(name << ".tex:\n" << read(dir / (name + ".tex")) << "\n" << latex << " said:\n" << read(dir / (name + ".log")));
+  REQUIRE(documents.size() > 2 * models.size());
+  // Printed and compiled all at once (each LaTeX run is mostly start-up): a line per
+  // document that failed.
+  std::string prints = "cd " + quote(dir.string()) + " && { ";
+  for (const auto& [name, options] : documents)
+    prints += "(" + kMbsc + " print " + options + " --standalone -q --what " + kAll + " > " + name + ".tex || echo FAILED " +
+              name + ".tex) & ";
+  auto r = run(prints + "wait; }");
+  CHECK(r.output.find("FAILED") == std::string::npos);
+  r = run("cd " + quote(dir.string()) + " && for f in *.tex; do (" + latex +
+          " -interaction=nonstopmode -halt-on-error -no-shell-escape \"$f\" </dev/null >/dev/null 2>&1 || "
+          "echo \"FAILED $f\") & done; wait");
+  for (const auto& [name, options] : documents) {
+    const std::string tex = read(dir / (name + ".tex")), log = read(dir / (name + ".log"));
+    INFO(name << ".tex (print " << options << "):\n" << tex.substr(0, 20000) << "\n" << latex << " said:\n" << log);
+    CHECK(tex.rfind("% Written by mbsc", 0) == 0);
+    CHECK(tex.find("\\end{document}") != std::string::npos);
     CHECK(r.output.find("FAILED " + name + ".tex") == std::string::npos);
     CHECK(fs::exists(dir / (name + ".pdf")));
+    // Nothing runs past the margin: LaTeX's "Overfull \hbox (Xpt too wide)", X at most 20pt.
+    std::vector<std::string> overfull;
+    std::istringstream lines(log);
+    for (std::string line; std::getline(lines, line);) {
+      const std::string mark = "Overfull \\hbox (";
+      if (line.rfind(mark, 0) != 0) continue;
+      if (std::stod(line.substr(mark.size())) > kOverfullPoints) overfull.push_back(line);
+    }
+    INFO("boxes wider than the text by more than " << kOverfullPoints << "pt:\n" << fmt_lines(overfull));
+    CHECK(overfull.empty());
   }
   fs::remove_all(dir);
 }
@@ -159,5 +200,21 @@ TEST_CASE("print --latex warns when two names print as one symbol", "[cli]") {
   CHECK(r.output.find("\\vartheta_{1}") != std::string::npos);
   std::ofstream(model) << "model same\nparameter th1 = 1, theta1 = 2\nbody b : particle2d { mass th1 + theta1 }\n";
   CHECK(run(kMbsc + " print " + quote(model.string()) + " -q --what M").output.find("warning") == std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("print --latex: the method's matrices are bold, apart from a model's own symbol M", "[cli]") {
+  const fs::path dir = fresh_dir("latex_bold");
+  const fs::path model = dir / "heavy.mbs";
+  std::ofstream(model) << "model heavy\nparameter M = 2, h = 1\ngravity (0, -h)\nbody b : particle2d { mass M }\n";
+  const auto r = run(kMbsc + " print " + quote(model.string()) + " --latex -q --what M,h,fbar,C");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  // The matrix is \mathbf{M}, its entries read the parameter M; h is the parameter, \mathbf{h} the vector.
+  CHECK(r.output.find("\\mathbf{M} = \\begin{pmatrix}\n    M & 0 \\\\") != std::string::npos);
+  CHECK(r.output.find("\\mathbf{h} = \\begin{pmatrix}") != std::string::npos);
+  CHECK(r.output.find("-M h") != std::string::npos);
+  CHECK(r.output.find("\\bar{\\mathbf{f}} = ") != std::string::npos);
+  CHECK(r.output.find("\\mathbf{C} = ") != std::string::npos);
   fs::remove_all(dir);
 }

@@ -19,6 +19,10 @@ TEST_CASE("canonical_text: factors as a person orders them", "[print][text]") {
   CHECK(canonical_text((m1 / 3 + m2) * pow(l1, 2), false) == "(1/3*m1 + m2)*l1^2");
   CHECK(canonical_text(-(m1 / 2 + m2) * a, false) == "-(1/2*m1 + m2)*a");
   CHECK(canonical_text((m1 / 2 + m2) * a, true) == "\\left(\\frac{1}{2} m_{1} + m_{2}\\right) a");
+  // A fraction's bar groups: its only denominator has no parentheses in LaTeX (two do).
+  CHECK(canonical_text(a / (m1 + m2), true) == "\\frac{a}{m_{1} + m_{2}}");
+  CHECK(canonical_text(a / ((m1 + m2) * b), true) == "\\frac{a}{\\left(m_{1} + m_{2}\\right) b}");
+  CHECK(canonical_text(a / (m1 + m2), false) == "a/(m1 + m2)");
 }
 
 TEST_CASE("canonical_text: the sign of an odd function leaves products, powers and denominators", "[print][text]") {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The layout of mbsc print --latex: long formulas broken at their terms with their
-// \left ... \right pairs kept balanced on every line, long source lines split at spaces
+// The layout of mbsc print --latex: the estimated widths of formulas, long formulas
+// broken at their terms (or factors) within a width with their \left ... \right pairs
+// kept balanced on every line, wide fractions made breakable, long source lines split at spaces
 // only, and the choice between a pmatrix and one entry per line.
 #include <catch2/catch.hpp>
 
@@ -44,45 +45,89 @@ std::string long_sum(int n) {
 
 }  // namespace
 
-TEST_CASE("latex width counts glyphs, not markup", "[latex]") {
-  CHECK(latex_width("x") == 1);
-  CHECK(latex_width("\\theta_{1}") == 2);
-  CHECK(latex_width("\\frac{a}{b}") == 2);
-  CHECK(latex_width("\\sin\\left(x\\right)") == 6);  // sin ( x )
-  CHECK(latex_width("m_{\\mathrm{crank}}") == 6);
+TEST_CASE("latex_points: the width of the glyphs, not of the markup", "[latex]") {
+  const double x = latex_points("x");
+  CHECK(x > 4.0);
+  CHECK(x < 7.0);
+  // Scripts are smaller, and a subscript and a superscript stack.
+  CHECK(latex_points("x_{1}") < x + 5.0);
+  CHECK(latex_points("x_{1}^{2}") == Approx(latex_points("x_{1}")));
+  // A fraction is as wide as its wider part, an accent adds nothing.
+  CHECK(latex_points("\\frac{a + b}{c}") < latex_points("a + b") + 3.0);
+  CHECK(latex_points("\\dot{w}") == Approx(latex_points("w")));
+  // Upright words are narrower than italic ones; the markup counts for nothing.
+  CHECK(latex_points("\\mathrm{crank}") < latex_points("crank"));
+  CHECK(latex_points("\\sin\\left(x\\right)") > latex_points("x") + 15.0);
+  CHECK(latex_points("m_{\\mathrm{crank}}") < 30.0);
 }
 
-TEST_CASE("break_terms: lines of about the width, nothing lost, groups balanced", "[latex]") {
+TEST_CASE("break_terms: lines within the width, nothing lost, groups balanced", "[latex]") {
   const std::string sum = long_sum(40);
-  const auto lines = break_terms(sum, 30);
+  const auto lines = break_terms(sum, 150, 140);
   REQUIRE(lines.size() > 2);
   std::string joined;
-  for (const auto& l : lines) {
-    CHECK(latex_width(l) < 30 + 8);  // at most one term past the width
-    CHECK(braces_balanced(l));
-    joined += (joined.empty() ? "" : " ") + l;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    CHECK(latex_points(lines[k]) <= (k == 0 ? 150 : 140));
+    if (k + 1 < lines.size()) CHECK(latex_points(lines[k]) > 100);  // filled
+    CHECK(braces_balanced(lines[k]));
+    joined += (joined.empty() ? "" : " ") + lines[k];
   }
   CHECK(joined == sum);
   // A short formula stays on one line.
-  CHECK(break_terms("a + b", 30) == std::vector<std::string>{"a + b"});
+  CHECK(break_terms("a + b", 150, 150) == std::vector<std::string>{"a + b"});
+}
+
+TEST_CASE("break_terms: a short last term is not left alone on a line", "[latex]") {
+  // Two long terms and a short one: the greedy cut would leave "- \tau_{3}" alone.
+  const std::string big = "\\left(" + long_sum(6) + "\\right) l_{1}";
+  const std::string f = big + " + " + big + " - \\tau_{3}";
+  const double width = latex_points(big + " + " + big) + 2.0;
+  const auto lines = break_terms(f, width, width);
+  for (const auto& l : lines) CHECK(l != "- \\tau_{3}");
+  CHECK(latex_points(lines.back()) > 0.25 * width);
 }
 
 TEST_CASE("break_terms: inside \\left( ... \\right) a break closes with \\right. and reopens with \\left.", "[latex]") {
   const std::string f = "m_{1} \\left(" + long_sum(40) + "\\right) - c";
-  const auto lines = break_terms(f, 30);
+  const auto lines = break_terms(f, 150, 150);
   REQUIRE(lines.size() > 2);
   for (const auto& l : lines) {
     INFO(l);
     CHECK(count(l, "\\left") == count(l, "\\right"));
     CHECK(braces_balanced(l));
+    CHECK(latex_points(l) <= 150);
   }
   CHECK(lines.front().find("\\right.") != std::string::npos);
-  CHECK(lines.back().rfind("\\left. ", 0) == 0);
+  CHECK(lines.back().find("\\left. ") != std::string::npos);
 }
 
-TEST_CASE("break_terms never breaks inside braces (a fraction's numerator)", "[latex]") {
-  const std::string f = "\\frac{" + long_sum(40) + "}{d}";
-  CHECK(break_terms(f, 30).size() == 1);
+TEST_CASE("break_terms: a product wider than a line breaks between its factors", "[latex]") {
+  std::string f;
+  for (int i = 1; i <= 40; ++i) f += (i > 1 ? " " : "") + std::string("m_{") + std::to_string(i) + "}";
+  const auto lines = break_terms(f, 120, 120);
+  REQUIRE(lines.size() > 2);
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    CHECK(latex_points(lines[k]) <= 120);
+    if (k > 0) CHECK(lines[k].rfind("\\cdot ", 0) == 0);  // the product goes on
+  }
+}
+
+TEST_CASE("break_terms never breaks inside braces; unfold_wide makes a wide fraction breakable", "[latex]") {
+  const std::string f = "\\frac{" + long_sum(40) + "}{d + e}";
+  CHECK(break_terms(f, 150, 150).size() == 1);
+  const std::string open = unfold_wide(f, 150);
+  CHECK(open == "\\left(" + long_sum(40) + "\\right) / \\left(d + e\\right)");
+  const auto lines = break_terms(open, 150, 150);
+  CHECK(lines.size() > 2);
+  for (const auto& l : lines) {
+    CHECK(latex_points(l) <= 150);
+    CHECK(count(l, "\\left") == count(l, "\\right"));
+  }
+  // Narrow fractions stay; a wide one's narrow parts too; a wrapped part keeps its parentheses.
+  CHECK(unfold_wide("a + \\frac{1}{2} b", 150) == "a + \\frac{1}{2} b");
+  CHECK(unfold_wide("-\\frac{\\frac{1}{2} " + long_sum(20) + "}{\\left(a + b\\right)}", 150) ==
+        "-\\left(\\frac{1}{2} " + long_sum(20) + "\\right) / \\left(a + b\\right)");
+  CHECK(unfold_wide("\\sqrt{" + long_sum(30) + "}", 150) == "\\left(" + long_sum(30) + "\\right)^{1/2}");
 }
 
 TEST_CASE("wrap_source: short lines, split at spaces, comments and escaped spaces kept", "[latex]") {
@@ -116,13 +161,13 @@ TEST_CASE("latex_matrix: a pmatrix when the entries are short, else one entry pe
   const std::vector<std::vector<std::string>> small = {{"m_{1}", "0"}, {"0", "m_{2}"}};
   const std::string a = latex_matrix("M", {"w1'", "w2'"}, {"w1'", "w2'"}, small, {});
   CHECK(a.find("\\begin{equation*}") != std::string::npos);
-  CHECK(a.find("M = \\begin{pmatrix}") != std::string::npos);
+  CHECK(a.find("\\mathbf{M} = \\begin{pmatrix}") != std::string::npos);
   CHECK(a.find("% M: rows (w1', w2'), columns (w1', w2')") == 0);
   const std::vector<std::vector<std::string>> wide = {{long_sum(30), "0"}, {"0", "b"}};
   const std::string b = latex_matrix("M", {"w1'", "w2'"}, {"w1'", "w2'"}, wide, {});
   CHECK(b.find("\\begin{align*}") != std::string::npos);
-  CHECK(b.find("M_{1,1} &= ") != std::string::npos);
-  CHECK(b.find("M_{2,2} &= b") != std::string::npos);
+  CHECK(b.find("\\mathbf{M}_{1,1} &= ") != std::string::npos);
+  CHECK(b.find("\\mathbf{M}_{2,2} &= b") != std::string::npos);
   CHECK(b.find("M_{1,2}") == std::string::npos);  // zero entries are left out
   CHECK(braces_balanced(b));
   // More columns than a pmatrix takes (amsmath's limit is 10).
@@ -133,7 +178,7 @@ TEST_CASE("latex_matrix: a pmatrix when the entries are short, else one entry pe
                                      {{"w_{1}"}, {"w_{\\mathrm{crank}}"}}, {{"crank.theta", "\\varphi"}});
   CHECK(r.find("\\dot{\\theta}_{1} &= w_{1}") != std::string::npos);
   CHECK(r.find("\\dot{\\varphi} &= w_{\\mathrm{crank}}") != std::string::npos);
-  CHECK(latex_matrix("fbar", {"w1'"}, {"value"}, {{"a"}}, {}).find("\\bar{f} = ") != std::string::npos);
+  CHECK(latex_matrix("fbar", {"w1'"}, {"value"}, {{"a"}}, {}).find("\\bar{\\mathbf{f}} = ") != std::string::npos);
 }
 
 TEST_CASE("latex text and documents escape what LaTeX reserves", "[latex]") {
