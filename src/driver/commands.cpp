@@ -256,14 +256,16 @@ int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err) {
 namespace {
 
 /// Stages the depfile of `generate`: every output file in `final_dir` depends on every
-/// source file. False (with `error`) when it cannot be written, or would overwrite an
-/// output or a source.
+/// source file. False (with `error`) when it cannot be written, would overwrite an
+/// output or a source, or lies inside OUT/NAME. Run after the output folder's checks.
 bool stage_depfile(const std::string& path, const std::string& final_dir, const std::vector<OutputFile>& outputs,
                    const std::vector<std::string>& sources, StagedFile& staged, std::string& error) {
   std::vector<std::string> targets;
   for (const auto& f : outputs) targets.push_back((fs::path(final_dir) / f.name).string());
+  // The same file by path, or by inode when both exist (a hard link has a path of its own).
   auto same_file = [](const fs::path& x, const fs::path& y) {
     std::error_code ec;
+    if (fs::exists(x, ec) && fs::exists(y, ec) && fs::equivalent(x, y, ec) && !ec) return true;
     const fs::path cx = fs::weakly_canonical(fs::absolute(x, ec), ec);
     return !ec && cx == fs::weakly_canonical(fs::absolute(y, ec), ec) && !ec;
   };
@@ -281,6 +283,22 @@ bool stage_depfile(const std::string& path, const std::string& final_dir, const 
                           printable(path));
       return false;
     }
+  // OUT/NAME is mbsc's: a depfile there would be staged inside the folder before its
+  // checks, and belongs to no run's list of outputs.
+  {
+    std::error_code ec;
+    const fs::path dir = fs::weakly_canonical(fs::absolute(final_dir, ec), ec);
+    const fs::path file = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (!ec) {
+      const auto [d, f] = std::mismatch(dir.begin(), dir.end(), file.begin(), file.end());
+      if (d == dir.end() && f != file.end()) {
+        error = fmt::format("mbsc: error: --depfile '{}' is inside the output folder '{}', which mbsc "
+                            "creates and owns; name a file outside it (e.g. '{}.d')",
+                            printable(path), printable(final_dir), printable(final_dir));
+        return false;
+      }
+    }
+  }
   std::string text;
   return depfile_text(targets, sources, text, error) && staged.stage(path, text, "--depfile", error);
 }
@@ -339,8 +357,9 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   if (a.python) outputs.push_back({name + ".py", python});
   const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
   std::string error;
-  StagedFile depfile;  // staged first, moved into place once the folder is written
-  if (!a.depfile.empty() && !stage_depfile(a.depfile, final_dir, outputs, sources, depfile, error)) {
+  StagedFile depfile;  // staged once the output folder's checks pass, moved into place once it is written
+  if (!a.depfile.empty() && (!check_output_folder(a.out_dir, name, outputs, a.force, error) ||
+                             !stage_depfile(a.depfile, final_dir, outputs, sources, depfile, error))) {
     err << error << "\n";
     return 1;
   }

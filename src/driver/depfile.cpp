@@ -7,12 +7,18 @@
 
 namespace mbsc::driver {
 
+// Make, Ninja and CMake read a depfile alike for these: "\ " and "\<tab>" are a space and a
+// tab inside a name, and 2N+1 backslashes before them are N backslashes and the escaped
+// character (so backslashes right before a space or tab are doubled); "\#" is a '#', and
+// any backslashes before it stay as they are; "$$" is a '$'.
 std::string make_escaped(const std::string& path) {
   std::string out;
   std::size_t backslashes = 0;  // in a row, just written
   for (char c : path) {
-    if (c == ' ' || c == '\t' || c == '#') {
+    if (c == ' ' || c == '\t') {
       out.append(backslashes, '\\');  // so that they stay backslashes, not an escape
+      out += '\\';
+    } else if (c == '#') {
       out += '\\';
     } else if (c == '$') {
       out += '$';
@@ -29,6 +35,17 @@ bool depfile_text(const std::vector<std::string>& targets, const std::vector<std
     for (const auto& p : *list)
       if (p.find_first_of("\n\r") != std::string::npos) {
         error = fmt::format("mbsc: error: the path '{}' has a line break, which a depfile cannot hold", printable(p));
+        return false;
+      } else if (p.find("\\#") != std::string::npos) {
+        error = fmt::format("mbsc: error: the path '{}' has a '\\' before a '#', which make and ninja read differently "
+                            "in a depfile (rename the file or folder, or generate without --depfile)",
+                            printable(p));
+        return false;
+      } else if (p.find(':') != std::string::npos) {
+        // make reads a ':' as the end of the targets.
+        error = fmt::format("mbsc: error: the path '{}' has a ':', which make reads as the end of a rule's targets; "
+                            "a depfile cannot hold it (rename the file or folder, or generate without --depfile)",
+                            printable(p));
         return false;
       }
   text.clear();

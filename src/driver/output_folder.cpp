@@ -92,10 +92,10 @@ void discard_stale(const fs::path& out_dir, const std::string& name, const std::
 
 std::string shown(const fs::path& p) { return printable(p.string()); }
 
-}  // namespace
-
-bool write_output_folder(const std::string& out_dir_text, const std::string& name, const std::vector<OutputFile>& files_in,
-                         bool force, std::string& error) {
+/// The checks before anything is written: may mbsc write `files` into OUT/NAME? Sets
+/// `fresh` when the folder does not exist, else `previous` (what its marker lists).
+bool inspect(const std::string& out_dir_text, const std::string& name, const std::vector<OutputFile>& files_in,
+             bool force, bool& fresh, std::set<std::string>& previous, std::string& error) {
   const fs::path out_dir = out_dir_text.empty() ? fs::path(".") : fs::path(out_dir_text);
   const fs::path target = out_dir / name;
   std::vector<OutputFile> files = files_in;
@@ -108,8 +108,6 @@ bool write_output_folder(const std::string& out_dir_text, const std::string& nam
 
   // What is there now decides what may be replaced.
   std::error_code ec;
-  bool fresh = false;
-  std::set<std::string> previous;  // files the marker says mbsc wrote before
   const auto st = fs::symlink_status(target, ec);
   if (ec && ec != std::errc::no_such_file_or_directory) {
     error = fmt::format("mbsc: error: cannot inspect '{}': {}", shown(target), ec.message());
@@ -142,6 +140,29 @@ bool write_output_folder(const std::string& out_dir_text, const std::string& nam
         return false;
       }
     }
+
+  return true;
+}
+
+}  // namespace
+
+bool check_output_folder(const std::string& out_dir_text, const std::string& name, const std::vector<OutputFile>& files_in,
+                         bool force, std::string& error) {
+  bool fresh = false;
+  std::set<std::string> previous;
+  return inspect(out_dir_text, name, files_in, force, fresh, previous, error);
+}
+
+bool write_output_folder(const std::string& out_dir_text, const std::string& name, const std::vector<OutputFile>& files_in,
+                         bool force, std::string& error) {
+  const fs::path out_dir = out_dir_text.empty() ? fs::path(".") : fs::path(out_dir_text);
+  const fs::path target = out_dir / name;
+  std::vector<OutputFile> files = files_in;
+  files.push_back({kMarkerName, marker_text(files_in)});
+  bool fresh = false;
+  std::set<std::string> previous;  // files the marker says mbsc wrote before
+  if (!inspect(out_dir_text, name, files_in, force, fresh, previous, error)) return false;
+  std::error_code ec;
 
   // Write everything into a fresh temporary folder next to the target.
   fs::create_directories(out_dir, ec);

@@ -20,6 +20,7 @@ StagedFile::~StagedFile() {
   if (temp_.empty()) return;
   std::error_code ec;
   fs::remove(temp_, ec);
+  for (const auto& d : created_) fs::remove(d, ec);  // deepest first; only while empty
 }
 
 bool StagedFile::stage(const std::string& path, const std::string& text, const std::string& what, std::string& error) {
@@ -32,6 +33,11 @@ bool StagedFile::stage(const std::string& path, const std::string& text, const s
   }
   const fs::path dir = dest.parent_path();
   if (!dir.empty()) {
+    // The folders this creates go again when the file is never committed.
+    for (fs::path d = dir; !d.empty() && !fs::exists(fs::symlink_status(d, ec)); d = d.parent_path()) {
+      created_.push_back(d.string());
+      if (d == d.parent_path()) break;
+    }
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir, ec)) {
       error = fmt::format("mbsc: error: cannot create folder '{}' for {}: {}", printable(dir.string()), what,
@@ -74,6 +80,7 @@ bool StagedFile::commit(std::string& error) {
     return false;
   }
   temp_.clear();
+  created_.clear();
   return true;
 }
 

@@ -31,13 +31,13 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
+}  // namespace
+
 std::string join(const std::vector<std::string>& parts, const std::string& sep) {
   std::string out;
   for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
   return out;
 }
-
-}  // namespace
 
 // Every line of `text` behind a comment marker ("// ", or "//" for an empty line), with
 // carriage returns dropped and trailing backslashes removed (they would splice lines).

@@ -15,12 +15,6 @@ namespace mbsc::emit {
 
 namespace {
 
-std::string join(const std::vector<std::string>& parts, const std::string& sep) {
-  std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
-  return out;
-}
-
 // A Python tuple literal: "()", "(a,)", "(a, b)".
 std::string tuple(const std::vector<std::string>& items) {
   if (items.size() == 1) return "(" + items[0] + ",)";

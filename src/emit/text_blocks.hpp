@@ -2,6 +2,7 @@
 #pragma once
 /// Text pieces every emitted file shares (private to src/emit; defined in emit.cpp).
 #include <string>
+#include <vector>
 
 #include "mbsc/emit/generated_model.hpp"
 
@@ -9,6 +10,9 @@ namespace mbsc::emit {
 
 /// Defined in the build directory's embedded_templates.cpp (cmake/embed_templates.cmake).
 const std::string& template_text(const std::string& name);
+
+/// The parts with `sep` between them ("a, b, c").
+std::string join(const std::vector<std::string>& parts, const std::string& sep);
 
 /// Every line of `text` behind a comment marker ("//", "#"), control characters made
 /// spaces, trailing blanks and backslashes dropped.

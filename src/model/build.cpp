@@ -987,6 +987,14 @@ class Builder {
   void set_latex_symbol(int node, const Statement& s) {
     std::string full;
     const Entry* found = nullptr;
+    // global.NAME: a parameter, input or t, from anywhere (as in an expression).
+    const std::string global_prefix = std::string(kGlobalScope) + ".";
+    if (s.path.text.rfind(global_prefix, 0) == 0) {
+      full = s.path.text.substr(global_prefix.size());
+      const auto it = table_.find(full);
+      if (it != table_.end() && is_global(it->second)) found = &it->second;
+      node = -1;  // no scope search
+    }
     for (int n = node; n >= 0 && !found; n = m_.nodes[n].parent) {
       full = join(m_.nodes[n].name, s.path.text);
       const auto it = table_.find(full);

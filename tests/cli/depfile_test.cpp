@@ -131,3 +131,48 @@ TEST_CASE("generate --depfile is written with the code or not at all", "[cli][de
     CHECK(e.path().filename().string().find("mbsc-tmp") == std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("generate --depfile inside OUT/NAME is refused before anything is created, in either order", "[cli][depfile]") {
+  const fs::path dir = fresh_dir("depfile_inside");
+  write_model(dir);
+  // First use, nothing there yet: refused, and no folder left to block the next run.
+  auto r = run(in(dir, kMbsc + " generate main.mbs -o out --depfile out/pend/pend.d --quiet"));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("--depfile 'out/pend/pend.d' is inside the output folder 'out/pend'") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  r = run(in(dir, kMbsc + " generate main.mbs -o out --quiet"));
+  CHECK(r.exit_code == 0);
+  const std::string code = read(dir / "out" / "pend" / "pend.cpp");
+  // The folder written first: refused the same way (deeper too), the folder as it was.
+  r = run(in(dir, kMbsc + " generate main.mbs -o out --depfile out/pend/deps/pend.d --quiet"));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("is inside the output folder") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "out" / "pend" / "deps"));
+  CHECK(read(dir / "out" / "pend" / "pend.cpp") == code);
+  CHECK(run(in(dir, kMbsc + " generate main.mbs -o out --depfile out/pend.d --quiet")).exit_code == 0);
+  CHECK(fs::exists(dir / "out" / "pend.d"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("generate --depfile: a refused output folder leaves no depfile folder behind", "[cli][depfile]") {
+  const fs::path dir = fresh_dir("depfile_no_folder");
+  write_model(dir);
+  write(dir / "out" / "pend" / "mine.txt", "a user's file\n");  // not mbsc's: refused
+  const auto r = run(in(dir, kMbsc + " generate main.mbs -o out --depfile deps/sub/pend.d --quiet"));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("was not written by mbsc") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "deps"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("generate --depfile that is a hard link of the model is refused", "[cli][depfile]") {
+  const fs::path dir = fresh_dir("depfile_hard_link");
+  write_model(dir);
+  fs::create_hard_link(dir / "lib" / "more.mbs", dir / "deps.d");
+  const auto r = run(in(dir, kMbsc + " generate main.mbs -o out --depfile deps.d --quiet"));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("--depfile 'deps.d' is the model or a file it includes") != std::string::npos);
+  CHECK(read(dir / "lib" / "more.mbs") == "parameter g = 9.81\n");
+  CHECK_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}

@@ -8,6 +8,8 @@
 #include <regex>
 #include <sstream>
 
+#include "run_command.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -66,4 +68,38 @@ TEST_CASE("docs: no citation of files outside the repository", "[docs]") {
     INFO(file.string());
     CHECK_FALSE(std::regex_search(text, m, outside));
   }
+}
+
+TEST_CASE("docs: the sample header of docs/backend.md is what mbsc generates", "[docs]") {
+  const fs::path root = MBSC_SOURCE_DIR;
+  const std::string doc = slurp(root / "docs" / "backend.md");
+  const std::string open = "```cpp\n", intro = "Header `<name>.hpp`";
+  const auto at = doc.find(intro);
+  REQUIRE(at != std::string::npos);
+  const auto begin = doc.find(open, at);
+  REQUIRE(begin != std::string::npos);
+  const auto end = doc.find("```", begin + open.size());
+  const std::string sample = doc.substr(begin + open.size(), end - begin - open.size());
+  // The model the text describes, generated as it says.
+  const fs::path dir = mbsc_test::fresh_dir("docs_header");
+  std::ofstream(dir / "pendulum.mbs") << "model pendulum\nparameter g = 9.81, l = 1\n"
+                                         "subsystem p : custom {\n  coordinate q\n  speed w = q'\n  force w : -g/l*sin(q)\n}\n";
+  const auto r = mbsc_test::run("cd " + mbsc_test::quote(dir.string()) + " && " + std::string(MBSC_BINARY) +
+                                " generate pendulum.mbs -o out --freeze l=1 --outputs rhs --quiet");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string header = slurp(dir / "out" / "pendulum" / "pendulum.hpp");
+  // Every declaration, doc comment and constant of the sample, as a whole line.
+  std::istringstream lines(sample);
+  int checked = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("///", 0) != 0 && line.rfind("int ", 0) != 0 && line.rfind("inline constexpr", 0) != 0 &&
+        line.rfind("//   ", 0) != 0 && line.rfind("// kInputNames", 0) != 0)
+      continue;
+    INFO(line);
+    CHECK(header.find("\n" + line + "\n") != std::string::npos);
+    ++checked;
+  }
+  CHECK(checked >= 15);
+  fs::remove_all(dir);
 }

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
 #include <sstream>
 
 #include "run_command.hpp"
@@ -216,5 +218,62 @@ TEST_CASE("print --latex: the method's matrices are bold, apart from a model's o
   CHECK(r.output.find("-M h") != std::string::npos);
   CHECK(r.output.find("\\bar{\\mathbf{f}} = ") != std::string::npos);
   CHECK(r.output.find("\\mathbf{C} = ") != std::string::npos);
+}
+
+TEST_CASE("latex statements: every command the allow-list takes compiles in the --standalone preamble", "[latex]") {
+  const std::string latex = latex_program();
+  if (latex.empty()) {
+    WARN("LaTeX compile check skipped: neither pdflatex nor lualatex is on the PATH "
+         "(Debian: apt-get install texlive-latex-base)");
+    return;
+  }
+  // Each command of src/parse/latex_text.cpp at least once, in the form a symbol uses it.
+  const std::vector<std::string> texts = {
+      "\\alpha\\beta\\gamma\\delta\\epsilon\\varepsilon\\zeta\\eta\\theta\\vartheta\\iota\\kappa",
+      "\\lambda\\mu\\nu\\xi\\pi\\varpi\\rho\\varrho\\sigma\\varsigma\\tau\\upsilon\\phi\\varphi\\chi\\psi\\omega",
+      "\\Gamma\\Delta\\Theta\\Lambda\\Xi\\Pi\\Sigma\\Upsilon\\Phi\\Psi\\Omega",
+      "\\varGamma\\varDelta\\varTheta\\varLambda\\varXi\\varPi\\varSigma\\varUpsilon\\varPhi\\varPsi\\varOmega",
+      "x^{\\prime}\\ell\\hbar\\imath\\jmath\\partial\\nabla\\infty\\emptyset\\aleph",
+      "a\\cdot b\\times c\\ast d\\star e\\circ f\\bullet g^{\\dagger\\ddagger}\\pm\\mp\\perp\\parallel",
+      "a\\quad b\\qquad c\\,d\\;e\\:f\\!g\\>h\\ i\\{j\\}\\|\\_\\%\\$\\#\\&",
+      "\\mathrm{d}\\mathbf{r}\\mathit{ab}\\mathsf{s}\\mathtt{t}\\mathcal{L}\\boldsymbol{\\omega}\\operatorname{tr}",
+      "\\bar{x}\\hat\\theta\\dot{x}\\ddot{x}\\dddot{x}\\tilde{x}\\vec{r}\\breve{x}\\check{x}\\acute{x}\\grave{x}",
+      "\\widehat{xy}\\widetilde{xy}\\overline{xy}\\underline{xy}\\text{load 1, max.}",
+      "\\left(a\\right)\\left[b\\right]\\left|c\\right.\\left\\{d\\right\\}\\left\\|e\\right/",
+      "\\left\\langle f\\right\\rangle\\left\\lvert g\\right\\rvert\\left\\lVert h\\right\\rVert",
+      "\\left\\lfloor i\\right\\rfloor\\left\\lceil j\\right\\rceil\\left\\vert k\\right\\Vert",
+  };
+  // mbsc accepts them (mbsc check on a model that gives each to a parameter) ...
+  const fs::path dir = fresh_dir("latex_allowed");
+  std::string model = "model allowed\nbody b : particle2d { mass 1 }\n", body;
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    model += "parameter p" + std::to_string(i) + " = 1\nlatex p" + std::to_string(i) + " \"" + texts[i] + "\"\n";
+    body += "$" + texts[i] + "$\\par\n$\\begin{pmatrix}{" + texts[i] + "}^{2}\\end{pmatrix}$\\par\n";
+  }
+  std::ofstream(dir / "allowed.mbs") << model;
+  const auto r = run(kMbsc + " check " + quote((dir / "allowed.mbs").string()) + " -q");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // ... and LaTeX compiles each, alone and with a power in a matrix cell.
+  compile(latex, dir, "allowed", "\\documentclass{article}\n\\usepackage{amsmath}\n\\begin{document}\n" + body + "\\end{document}\n");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("latex global.NAME gives a parameter its symbol from inside a body", "[cli]") {
+  const fs::path dir = fresh_dir("latex_global");
+  // The body has a coordinate x of its own; global.x is the parameter (docs/language.md).
+  std::ofstream(dir / "g.mbs") << "model g\nparameter M = 2, x = 3\ngravity (0, -x)\n"
+                                  "body b : particle2d {\n  mass M\n  latex global.M \"\\mathcal{M}\"\n"
+                                  "  latex global.x \"g_{0}\"\n  latex x \"\\xi\"\n}\n";
+  auto r = run(kMbsc + " print " + quote((dir / "g.mbs").string()) + " --latex -q --what M,h");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("\\mathcal{M}") != std::string::npos);
+  CHECK(r.output.find("g_{0}") != std::string::npos);
+  // Not a parameter, input or t: the error names it.
+  std::ofstream(dir / "bad.mbs") << "model bad\nbody b : particle2d {\n  mass 1\n  latex global.x \"\\xi\"\n}\n";
+  r = run(kMbsc + " check " + quote((dir / "bad.mbs").string()) + " -q");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("bad.mbs:4:9: error: unknown name 'global.x' in latex statement") != std::string::npos);
   fs::remove_all(dir);
 }

@@ -8,6 +8,7 @@
 // in a debug build.
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -24,7 +25,12 @@ namespace {
 
 const std::string kSource = MBSC_SOURCE_DIR;
 const std::string kMbsc = MBSC_BINARY;
-const std::string kPython = "/usr/bin/python3";
+/// Debian's python3 (the one with python3-numpy); MBSC_TEST_PYTHON overrides it (the
+/// python_module_skip entry of tests/cli/CMakeLists.txt points it at one without numpy).
+std::string python() {
+  const char* p = std::getenv("MBSC_TEST_PYTHON");
+  return p && *p ? p : "/usr/bin/python3";
+}
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -39,9 +45,13 @@ struct Case {
 }  // namespace
 
 TEST_CASE("generate --python: the module matches the C++ functions", "[python]") {
-  const auto numpy = run(kPython + " -c 'import numpy'");
-  INFO("the test needs Debian's python3-numpy (scripts/install_deps.sh installs it): " << numpy.output);
-  REQUIRE(numpy.exit_code == 0);
+  const std::string interpreter = python();
+  const auto numpy = run(interpreter + " -c 'import numpy'");
+  if (numpy.exit_code != 0) {
+    WARN("Python module check skipped: " << interpreter << " cannot import numpy (Debian: apt-get install python3-numpy, "
+         "as scripts/install_deps.sh does): " << numpy.output);
+    return;
+  }
 
   const fs::path dir = mbsc_test::fresh_dir("python");
   // Constrained with parameters (no input); constrained with inputs; a custom leaf with
@@ -83,7 +93,7 @@ TEST_CASE("generate --python: the module matches the C++ functions", "[python]")
     REQUIRE(ref.exit_code == 0);
 
     // The module, its library found next to it by default.
-    const auto py = run(kPython + " " + quote(kSource + "/tests/data/abi/check_python_module.py") + " " + quote(out.string()) +
+    const auto py = run(interpreter + " " + quote(kSource + "/tests/data/abi/check_python_module.py") + " " + quote(out.string()) +
                         " " + c.name + " " + quote((out / "reference.txt").string()));
     INFO(py.output);
     REQUIRE(py.exit_code == 0);

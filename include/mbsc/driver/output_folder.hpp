@@ -27,4 +27,10 @@ struct OutputFile {
 bool write_output_folder(const std::string& out_dir, const std::string& name, const std::vector<OutputFile>& files,
                          bool force, std::string& error);
 
+/// The checks write_output_folder makes before it writes anything, alone: false with
+/// `error` set when it would refuse. Changes nothing (generate runs it before it stages
+/// a --depfile, so that a refused run creates no folder).
+bool check_output_folder(const std::string& out_dir, const std::string& name, const std::vector<OutputFile>& files,
+                         bool force, std::string& error);
+
 }  // namespace mbsc::driver

@@ -5,8 +5,10 @@
 /// stage() writes the text into a fresh temporary file next to the destination, so that
 /// every way the write can fail (no such folder, no permission, disk full) shows before
 /// anything is replaced; commit() then renames it over the destination in one step. A
-/// staged file that is never committed is removed by the destructor.
+/// staged file that is never committed is removed by the destructor, with the folders
+/// stage() created for it.
 #include <string>
+#include <vector>
 
 namespace mbsc::driver {
 
@@ -28,6 +30,7 @@ class StagedFile {
 
  private:
   std::string path_, temp_, what_;
+  std::vector<std::string> created_;  // folders stage() created, deepest first
 };
 
 }  // namespace mbsc::driver

@@ -21,6 +21,20 @@ TEST_CASE("depfile: paths are escaped as make reads them", "[driver][depfile]") 
   // "\\ " as an escaped backslash and a separator); others stay as they are.
   CHECK(make_escaped("a\\ b") == "a\\\\\\ b");
   CHECK(make_escaped("a\\b") == "a\\b");
+  CHECK(make_escaped("a\\\t") == "a\\\\\\\t");
+}
+
+TEST_CASE("depfile: a path with a colon, or a backslash before '#', is refused, naming it", "[driver][depfile]") {
+  std::string text = "unchanged", error;
+  CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", "lib/a:b.mbs"}, text, error));
+  CHECK(error.find("'lib/a:b.mbs' has a ':'") != std::string::npos);
+  CHECK_FALSE(depfile_text({"o:/x/x.hpp"}, {"x.mbs"}, text, error));
+  CHECK(error.find("'o:/x/x.hpp' has a ':'") != std::string::npos);
+  // A path a\#b: make reads a depfile's a\\\#b as a\#b, ninja as a\\#b; ninja reads a\\#b
+  // as a\#b, make as a\ and a comment.
+  CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", "lib/a\\#b.mbs"}, text, error));
+  CHECK(error.find("'lib/a\\#b.mbs' has a '\\' before a '#'") != std::string::npos);
+  CHECK(text == "unchanged");
 }
 
 TEST_CASE("depfile: one rule for every target, and an empty rule per included file", "[driver][depfile]") {

@@ -13,7 +13,10 @@ using mbsc::parse::latex_text_problem;
 
 TEST_CASE("latex text: symbols a formula takes are safe", "[latex][parse]") {
   for (const char* ok : {"\\theta", "\\varphi_{\\mathrm{crank}}", "m_{1}", "x^{*}", "\\dot{x}", "\\{a\\}", "a\\,b",
-                         "\\left(a\\right)", "q'", "\\bar{F}", "x_ 1", "\\mathbf{r}_{G}", "\\text{load}"}) {
+                         "\\left(a\\right)", "q'", "\\bar{F}", "x_ 1", "\\mathbf{r}_{G}", "\\text{load}",
+                         "\\varGamma", "\\hat\\theta", "\\left\\langle x\\right\\rangle", "{\\left(a\\right)}_{2}",
+                         "\\left.x\\right|", "\\left\\{a\\right\\}", "\\operatorname{tr}", "\\text{load 1, max.}",
+                         "\\boldsymbol{\\omega}^{\\prime}", "\\hbar\\,\\ell\\quad\\partial\\nabla\\infty", "a\\cdot b\\times c"}) {
     INFO(ok);
     CHECK(latex_text_problem(ok).empty());
   }
@@ -36,11 +39,31 @@ TEST_CASE("latex text: what would break the formula or the document is refused",
       {"x\\", "lone '\\'"},
       {"x^", "'^' with nothing after it"},
       {"x_{a_}", "'_' with nothing after it"},
-      {"\\end{equation*}", "'\\end'"},
-      {"\\begin{x}", "'\\begin'"},
-      {"\\def\\x{1}", "'\\def'"},
-      {"\\input{f}", "'\\input'"},
-      {"\\par", "'\\par'"},
+      {"\\end{equation*}", "'\\end', which is not a command for symbols"},
+      {"\\begin{x}", "'\\begin', which is not a command for symbols"},
+      {"\\def\\x{1}", "'\\def', which is not a command for symbols"},
+      {"\\input{f}", "'\\input', which is not a command for symbols"},
+      {"\\par", "'\\par', which is not a command for symbols"},
+      // Commands a deny-list missed: code run by lualatex, the end of the file, a macro.
+      {"\\directlua{os.remove('victim.txt')}m", "'\\directlua', which is not a command for symbols"},
+      {"\\endinput g", "'\\endinput', which is not"},
+      {"\\expandafter x", "'\\expandafter', which is not"},
+      {"\\mathfrak{g}", "'\\mathfrak', which is not"},  // needs a package --standalone does not load
+      {"\\thetax", "'\\thetax', which is not"},
+      // \left ... \right: a pair per brace group, a delimiter after each.
+      {"{\\left(}\\right)", "'\\left' whose '\\right' is not in the same brace group"},
+      {"\\left({\\right)}", "'\\right' without its '\\left' in the same brace group"},
+      {"\\left x\\right)", "'\\left' without a delimiter"},
+      {"\\left(x\\right\\alpha", "'\\right' without a delimiter"},
+      {"\\left(x\\right", "'\\right' without a delimiter"},
+      // Accents and fonts need something to apply to; \text takes words only.
+      {"x\\hat", "'\\hat' with nothing after it"},
+      {"\\mathrm}", "'\\mathrm' with nothing after it"},
+      {"\\text{\\alpha}", "'\\' in '\\text{...}'"},
+      {"\\text{a_b}", "'_' in '\\text{...}'"},
+      {"\\text{a{b}}", "'{' in '\\text{...}'"},
+      {"\\text x", "'\\text' without '{words}'"},
+      {"\\text{ab", "'{' that is not closed"},
       {"\\[x\\]", "'\\['"},
       {"\\left(x", "'\\left' without its '\\right'"},
       {"x\\right)", "'\\right' without its '\\left'"},
