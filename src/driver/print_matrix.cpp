@@ -134,6 +134,19 @@ class Intermediates {
     if (expand) close_dependent_speeds(m, eom, n);
   }
 
+  /// With expand: the dependent speeds that entries still read (no affordable closed
+  /// form, or one the rebuild cannot give), by name.
+  std::vector<std::string> dependent_read(const std::vector<std::vector<GiNaC::ex>>& entries) const {
+    std::vector<std::string> out;
+    for (const auto& [name, sym] : dependent_) {
+      bool read = false;
+      for (const auto& row : entries)
+        for (const auto& e : row) read = read || e.has(sym);
+      if (read) out.push_back(name);
+    }
+    return out;
+  }
+
   /// x with the pure aliases replaced by their values (the form shown without --expand).
   GiNaC::ex resolve(const GiNaC::ex& x) const { return model::subs_present(x, aliases_); }
 
@@ -243,6 +256,7 @@ class Intermediates {
                                    [&](int s) { return std::find(z.begin(), z.end(), s) != z.end(); }),
                     dependent.end());
     if (dependent.empty()) return;
+    for (int s : dependent) dependent_.push_back({m.speeds[s].name, m.speeds[s].sym});
     auto is_dependent = [&](const GiNaC::ex& x) {
       for (int s : dependent)
         if (x.is_equal(m.speeds[s].sym)) return true;
@@ -275,6 +289,7 @@ class Intermediates {
   GiNaC::exmap closed_;
   GiNaC::exmap aliases_;  // pure aliases: symbol -> the symbol or number it equals
   GiNaC::exmap speeds_;   // with expand: dependent speed -> closed form in z and q0
+  std::vector<std::pair<std::string, GiNaC::symbol>> dependent_;  // with expand: node n's dependent speeds
 };
 
 /// The "where" list under printed equations.
@@ -422,7 +437,20 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
     checkpoint("printing", fmt::format("{} of subsystem '{}'", w, who), m.nodes[n].pos, k, what.size());
     if (w == "eom" || w == "M" || w == "h") {
       const PrintedEquations& p = equations();
-      if (!noted) out += numeric_note(p, expand, latex);
+      if (!noted) {
+        out += numeric_note(p, expand, latex);
+        std::vector<std::vector<GiNaC::ex>> both = p.M;
+        both.insert(both.end(), p.h.begin(), p.h.end());
+        const auto left = expand ? inter.dependent_read(both) : std::vector<std::string>{};
+        if (!left.empty()) {
+          const std::string note = fmt::format(
+              "note: h reads the dependent speed{} {} as the state holds {}: {} closed form in the independent speeds "
+              "would be too large to print, or the velocity constraints do not give {} linearly",
+              left.size() > 1 ? "s" : "", fmt::join(left, ", "), left.size() > 1 ? "them" : "it",
+              left.size() > 1 ? "their" : "its", left.size() > 1 ? "them" : "it");
+          out += latex ? "% " + note + "\n" : note + "\n\n";
+        }
+      }
       noted = true;
       if (w == "M") out += matrix_text("M", inames, inames, p.M, latex);
       else if (w == "h") out += matrix_text("h", inames, {"value"}, p.h, latex);

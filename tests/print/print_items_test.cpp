@@ -98,6 +98,17 @@ TEST_CASE("print --expand: dependent speeds through the independent ones", "[pri
   CHECK(has(print(crane, "--what h").output, "c*cart.u"));
 }
 
+TEST_CASE("print --expand: a dependent speed without a closed form is named in a note", "[print][expand]") {
+  // The extra speed's constraint is not linear in bob.u: the rebuild cannot give it.
+  const fs::path model = fs::path(MBSC_SOURCE_DIR) / "models" / "spherical_pendulum_extra_speed.mbs";
+  const auto r = print(model, "--what M,h --expand");
+  REQUIRE(r.exit_code == 0);
+  CHECK(has(r.output, "note: h reads the dependent speed"));
+  CHECK(has(r.output, "bob.u"));
+  // The crane's closed form reads z only: no note.
+  CHECK(!has(print(write_model("crane", kCrane), "--what M,h --expand").output, "note: h reads"));
+}
+
 TEST_CASE("print --what with no item is an error, not a silent default", "[print][cli]") {
   const fs::path offset = write_model("offset", kOffset);
   for (const char* flags : {"--what ''", "--what ,", "--what ' '"}) {
