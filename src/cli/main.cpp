@@ -164,6 +164,7 @@ int main(int argc, char** argv) {
     if (*p) {
       print.work = print_work.args();
       print.what = split_list(what);
+      print.what_given = p->count("--what") > 0;
       for (const auto& o : split_list(print_outputs)) print.functions.insert(o);
       print.minimal_state = print_state == "minimal";
       if (!add_freezes(print_freeze, print.frozen)) return 1;

@@ -196,6 +196,11 @@ Printed print(const GiNaC::ex& e, bool latex) {
     }
     if (latex && e.op(1).is_equal(GiNaC::numeric(1, 2))) return {"\\sqrt{" + print(e.op(0), latex).text + "}", kAtom};
     Printed b = print(e.op(0), latex);
+    // An even power of a sum with a leading plus, (a - b)^2: GiNaC keeps either sign of
+    // the sum inside, by its internal term order, which changes from run to run.
+    if (GiNaC::is_a<GiNaC::add>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
+        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_even() && !b.text.empty() && b.text[0] == '-')
+      b = print((-e.op(0)).expand(), latex);
     // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
     bool negative = false;
     if (b.negative && GiNaC::is_a<GiNaC::function>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&

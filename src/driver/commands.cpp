@@ -222,6 +222,12 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     return true;
   }
   if (a.latex || a.standalone) warn_same_latex_symbols(m, diags);
+  // `--what ''` (an empty variable in a script) is a mistake, not a request for the default.
+  if (a.what_given && a.what.empty()) {
+    diags.error(file, "--what: no item given (known: eom M h invariants rates A B C S f fbar); leave --what out for the "
+                      "default set");
+    return false;
+  }
   std::vector<std::string> what = a.what;
   // What users look for first (M, h, M z' = h, the constraints), then the method's letters.
   if (what.empty()) what = node == m.root() ? std::vector<std::string>{"M", "h", "eom", "invariants", "rates", "B", "C", "fbar"}

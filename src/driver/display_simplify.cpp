@@ -127,6 +127,18 @@ class Simplifier {
     candidates.push_back(sym::tidy(GiNaC::collect_common_factors(x)));
     // A product or power of sums, simplified factor by factor, keeps its shape.
     if (!GiNaC::is_a<GiNaC::add>(in)) candidates.push_back(piecewise(in));
+    // A sum, its terms grouped by what they hold besides sines, cosines and symbols.
+    if (GiNaC::is_a<GiNaC::add>(in) && grouping_) {
+      const std::size_t total_before = total_;
+      try {
+        const GiNaC::ex g = grouped(in);
+        if (!g.is_zero() || in.is_zero()) candidates.push_back(g);
+      } catch (const AbandonAll&) {
+        // Grouping spent the call's budget: drop it (once; the rest goes on without it).
+        total_ = total_before;
+        grouping_ = false;
+      }
+    }
     GiNaC::ex best = candidates.front();
     std::size_t best_size = display_size(best);
     for (std::size_t i = 1; i < candidates.size(); ++i) {
@@ -150,6 +162,47 @@ class Simplifier {
       return sym::tidy(GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops)));
     }
     return sym::tidy(e);
+  }
+
+  /// A factor the expansion handles term by term: a number, a symbol, a sine or cosine,
+  /// or a positive integer power of one.
+  static bool plain_factor(const GiNaC::ex& f) {
+    if (GiNaC::is_a<GiNaC::numeric>(f) || GiNaC::is_a<GiNaC::symbol>(f) || is_trig(f)) return true;
+    return GiNaC::is_a<GiNaC::power>(f) && (GiNaC::is_a<GiNaC::symbol>(f.op(0)) || is_trig(f.op(0))) &&
+           GiNaC::is_a<GiNaC::numeric>(f.op(1)) && GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_pos_integer();
+  }
+
+  /// The sum `in` with its terms grouped by their other factors (a power of a sum, a
+  /// denominator, a function): each group is key * (sum of plain cofactors), the key
+  /// simplified factor by factor and the cofactors' sum as a whole (sin^2 + cos^2 = 1
+  /// and the folding of products into sums of angles within the group), without
+  /// expanding the keys. Zero when grouping changes nothing (all terms plain).
+  GiNaC::ex grouped(const GiNaC::ex& in) {
+    struct Group {
+      GiNaC::ex key, sum;
+    };
+    std::map<std::string, Group> groups;  // by the key's text: the same order in every run
+    for (std::size_t i = 0; i < in.nops(); ++i) {
+      const GiNaC::ex t = in.op(i);
+      GiNaC::ex key = 1, cof = 1;
+      const std::size_t nf = GiNaC::is_a<GiNaC::mul>(t) ? t.nops() : 1;
+      for (std::size_t j = 0; j < nf; ++j) {
+        const GiNaC::ex f = nf == 1 ? t : t.op(j);
+        if (plain_factor(f)) cof *= f;
+        else key *= f;
+      }
+      Group& g = groups[canonical_text(key, false)];
+      g.key = key;
+      g.sum += cof;
+    }
+    if (groups.size() == 1 && groups.begin()->second.key.is_equal(1)) return 0;
+    GiNaC::exvector terms;
+    for (const auto& [text, g] : groups) {
+      (void)text;
+      const GiNaC::ex sum = GiNaC::is_a<GiNaC::add>(g.sum) ? run(g.sum) : g.sum;
+      terms.push_back(g.key.is_equal(1) ? sum : piecewise(g.key) * sum);
+    }
+    return sym::tidy(GiNaC::add(terms));
   }
 
   /// Simplifies what the expansion treats as opaque: the bases of negative or
@@ -379,6 +432,7 @@ class Simplifier {
   std::vector<GiNaC::ex> atoms_;
   std::size_t work_ = 0;   // this expression's products of waves
   std::size_t total_ = 0;  // the whole call's
+  bool grouping_ = true;   // false once grouping ran out of budget
 };
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/full_complement.hpp"
+#include "mbsc/sym/minimal_state.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -99,16 +100,24 @@ std::vector<std::string> names_of(const model::Model& m, const std::vector<int>&
 }
 
 /// The named variables (e_, r_) and numeric-solve results (X_) of the derivation, in
-/// evaluation order, with the closed form of each where it is affordable.
+/// evaluation order, with the closed form of each where it is affordable. A pure alias
+/// (a variable equal to one symbol or a number, e_cart_u = e_cable_u) is not listed:
+/// what reads it shows its value instead. With `expand`, also the dependent speeds of
+/// node n in terms of its independent ones (what `--state minimal` code evaluates), so
+/// that closed forms read only coordinates and independent speeds.
 class Intermediates {
  public:
-  Intermediates(const model::Model& m, const sym::Eom& eom) {
+  Intermediates(const model::Model& m, const sym::Eom& eom, int n, bool expand) {
     for (const auto& step : eom.pre_steps) {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         Step s;
-        s.define = ir::Define{d->sym, finalize(m, eom, d->value), d->named};
+        s.define = ir::Define{d->sym, model::subs_present(finalize(m, eom, d->value), aliases_), d->named};
         const GiNaC::ex closed = model::subs_present(s.define.value, closed_);
         if (nodes_of(closed, kMaxClosedNodes) <= kMaxClosedNodes) closed_[d->sym] = closed;
+        if (GiNaC::is_a<GiNaC::symbol>(s.define.value) || GiNaC::is_a<GiNaC::numeric>(s.define.value)) {
+          aliases_[d->sym] = s.define.value;
+          continue;
+        }
         steps_.push_back(std::move(s));
         continue;
       }
@@ -117,17 +126,37 @@ class Intermediates {
       Step s;
       s.is_solve = true;
       s.solve = solve;
-      for (auto& e : s.solve.A) e = finalize(m, eom, e);
-      for (auto& e : s.solve.B) e = finalize(m, eom, e);
-      close_solve(s.solve);
+      for (auto& e : s.solve.A) e = model::subs_present(finalize(m, eom, e), aliases_);
+      for (auto& e : s.solve.B) e = model::subs_present(finalize(m, eom, e), aliases_);
+      close_solve(s.solve, closed_);
       steps_.push_back(std::move(s));
     }
+    if (expand) close_dependent_speeds(m, eom, n);
   }
 
-  /// x with every closed form substituted, or x itself when the result would be too large.
+  /// With expand: the dependent speeds that entries still read (no affordable closed
+  /// form, or one the rebuild cannot give), by name.
+  std::vector<std::string> dependent_read(const std::vector<std::vector<GiNaC::ex>>& entries) const {
+    std::vector<std::string> out;
+    for (const auto& [name, sym] : dependent_) {
+      bool read = false;
+      for (const auto& row : entries)
+        for (const auto& e : row) read = read || e.has(sym);
+      if (read) out.push_back(name);
+    }
+    return out;
+  }
+
+  /// x with the pure aliases replaced by their values (the form shown without --expand).
+  GiNaC::ex resolve(const GiNaC::ex& x) const { return model::subs_present(x, aliases_); }
+
+  /// x with every closed form substituted (the intermediates, then the dependent speeds),
+  /// each stage kept only when its result is not too large.
   GiNaC::ex expand(const GiNaC::ex& x) const {
-    const GiNaC::ex e = model::subs_present(x, closed_);
-    return nodes_of(e, 20 * kMaxClosedNodes) <= 20 * kMaxClosedNodes ? e : x;
+    GiNaC::ex e = model::subs_present(x, closed_);
+    if (nodes_of(e, 20 * kMaxClosedNodes) > 20 * kMaxClosedNodes) return resolve(x);
+    const GiNaC::ex f = model::subs_present(e, speeds_);
+    return nodes_of(f, 20 * kMaxClosedNodes) <= 20 * kMaxClosedNodes ? f : e;
   }
 
   /// The intermediates `shown` reads, directly or through each other, in evaluation order.
@@ -192,13 +221,14 @@ class Intermediates {
   };
 
   /// X = A^-1 B by Cramer's rule for a small block (numerator and determinant each in
-  /// display form); nothing when the block is large, singular or the result too big.
-  void close_solve(const ir::Solve& s) {
+  /// display form, the closed forms in `known` put in); nothing when the block is large,
+  /// singular or the result too big.
+  static void close_solve(const ir::Solve& s, GiNaC::exmap& known) {
     if (s.n > kMaxClosedSolve) return;
     GiNaC::matrix A(s.n, s.n);
     for (int i = 0; i < s.n; ++i)
       for (int j = 0; j < s.n; ++j) {
-        A(i, j) = model::subs_present(s.A[i * s.n + j], closed_);
+        A(i, j) = model::subs_present(s.A[i * s.n + j], known);
         if (nodes_of(A(i, j), kMaxClosedNodes) > kMaxClosedNodes) return;
       }
     const GiNaC::ex det = display_simplify(A.determinant(GiNaC::determinant_algo::laplace));
@@ -206,17 +236,60 @@ class Intermediates {
     for (int l = 0; l < s.k; ++l) {
       for (int i = 0; i < s.n; ++i) {
         GiNaC::matrix Ai = A;
-        for (int r = 0; r < s.n; ++r) Ai(r, i) = model::subs_present(s.B[r * s.k + l], closed_);
+        for (int r = 0; r < s.n; ++r) Ai(r, i) = model::subs_present(s.B[r * s.k + l], known);
         const GiNaC::ex num = display_simplify(Ai.determinant(GiNaC::determinant_algo::laplace));
         const GiNaC::ex x = num / det;
         if (nodes_of(x, kMaxClosedNodes) > kMaxClosedNodes) continue;
-        closed_[s.X[i * s.k + l]] = x;
+        known[s.X[i * s.k + l]] = x;
       }
+    }
+  }
+
+  /// The dependent speeds of node n's subtree (every speed there but n's independent
+  /// ones) in terms of n's independent speeds and the coordinates: the top-down rebuild
+  /// of the minimal state, each step with the ones before it put in, small numeric
+  /// blocks by Cramer's rule. A speed without an affordable closed form stays a symbol.
+  void close_dependent_speeds(const model::Model& m, const sym::Eom& eom, int n) {
+    std::vector<int> dependent = sym::subtree_speeds(m, n);
+    const auto& z = eom.nodes[n].independent;
+    dependent.erase(std::remove_if(dependent.begin(), dependent.end(),
+                                   [&](int s) { return std::find(z.begin(), z.end(), s) != z.end(); }),
+                    dependent.end());
+    if (dependent.empty()) return;
+    for (int s : dependent) dependent_.push_back({m.speeds[s].name, m.speeds[s].sym});
+    auto is_dependent = [&](const GiNaC::ex& x) {
+      for (int s : dependent)
+        if (x.is_equal(m.speeds[s].sym)) return true;
+      return false;
+    };
+    Diagnostics quiet;  // a model the rebuild cannot handle keeps its dependent speeds
+    std::optional<sym::MinimalState> rebuild;
+    try {
+      rebuild = sym::minimal_state(m, eom, quiet);
+    } catch (const std::exception&) {
+      return;
+    }
+    if (!rebuild) return;
+    for (const auto& step : rebuild->speeds) {
+      if (const auto* d = std::get_if<ir::Define>(&step)) {
+        if (!is_dependent(d->sym)) continue;
+        const GiNaC::ex value = model::subs_present(finalize(m, eom, d->value), speeds_);
+        if (nodes_of(value, kMaxClosedNodes) <= kMaxClosedNodes) speeds_[d->sym] = value;
+        continue;
+      }
+      ir::Solve s = std::get<ir::Solve>(step);
+      if (s.condition || !std::all_of(s.X.begin(), s.X.end(), is_dependent)) continue;
+      for (auto& e : s.A) e = finalize(m, eom, e);
+      for (auto& e : s.B) e = finalize(m, eom, e);
+      close_solve(s, speeds_);
     }
   }
 
   std::vector<Step> steps_;
   GiNaC::exmap closed_;
+  GiNaC::exmap aliases_;  // pure aliases: symbol -> the symbol or number it equals
+  GiNaC::exmap speeds_;   // with expand: dependent speed -> closed form in z and q0
+  std::vector<std::pair<std::string, GiNaC::symbol>> dependent_;  // with expand: node n's dependent speeds
 };
 
 /// The "where" list under printed equations.
@@ -292,7 +365,7 @@ PrintedEquations equations_of(const model::Model& m, const sym::Eom& eom, int n,
     for (unsigned i = 0; i < X.rows(); ++i)
       for (unsigned j = 0; j < X.cols(); ++j) {
         const GiNaC::ex e = finalize(m, eom, X(i, j));
-        v[i][j] = display_simplify(expand ? inter.expand(e) : e);
+        v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
       }
     return v;
   };
@@ -321,7 +394,7 @@ std::string numeric_note(const PrintedEquations& p, bool expand, bool latex) {
 }  // namespace
 
 PrintedEquations printed_equations(const model::Model& m, const sym::Eom& eom, int node, bool expand) {
-  const Intermediates inter(m, eom);
+  const Intermediates inter(m, eom, node, expand);
   return equations_of(m, eom, node, expand, inter);
 }
 
@@ -336,7 +409,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
   const auto ynames = names_of(m, r.y, true);
   const auto inames = names_of(m, r.independent, true);
   checkpoint("printing", "the closed forms of the named intermediates", m.nodes[n].pos, 0, what.size());
-  const Intermediates inter(m, eom);
+  const Intermediates inter(m, eom, n, expand);
   std::optional<PrintedEquations> eq;
   auto equations = [&]() -> const PrintedEquations& {
     if (!eq) eq = equations_of(m, eom, n, expand, inter);
@@ -348,7 +421,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
     for (unsigned i = 0; i < X.rows(); ++i)
       for (unsigned j = 0; j < X.cols(); ++j) {
         const GiNaC::ex e = finalize(m, eom, X(i, j));
-        v[i][j] = display_simplify(expand ? inter.expand(e) : e);
+        v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
       }
     return v;
   };
@@ -356,23 +429,39 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
     bool numeric = false, closed = true;
     return where_text(inter.needed(v, numeric, closed), inter, latex);
   };
-  bool noted = false, listed = false;
+  bool noted = false;
+  std::vector<std::vector<GiNaC::ex>> run_reads;  // the entries of the current run of M, h, eom
   for (size_t k = 0; k < what.size(); ++k) {
     const std::string& w = what[k];
     // The budget (--budget) and the progress line see the printing too.
     checkpoint("printing", fmt::format("{} of subsystem '{}'", w, who), m.nodes[n].pos, k, what.size());
     if (w == "eom" || w == "M" || w == "h") {
       const PrintedEquations& p = equations();
-      if (!noted) out += numeric_note(p, expand, latex);
+      if (!noted) {
+        out += numeric_note(p, expand, latex);
+        std::vector<std::vector<GiNaC::ex>> both = p.M;
+        both.insert(both.end(), p.h.begin(), p.h.end());
+        const auto left = expand ? inter.dependent_read(both) : std::vector<std::string>{};
+        if (!left.empty()) {
+          const std::string note = fmt::format(
+              "note: h reads the dependent speed{} {} as the state holds {}: {} closed form in the independent speeds "
+              "would be too large to print, or the velocity constraints do not give {} linearly",
+              left.size() > 1 ? "s" : "", fmt::join(left, ", "), left.size() > 1 ? "them" : "it",
+              left.size() > 1 ? "their" : "its", left.size() > 1 ? "them" : "it");
+          out += latex ? "% " + note + "\n" : note + "\n\n";
+        }
+      }
       noted = true;
       if (w == "M") out += matrix_text("M", inames, inames, p.M, latex);
       else if (w == "h") out += matrix_text("h", inames, {"value"}, p.h, latex);
       else out += eom_text(m, r.independent, p, latex);
-      // One "where" list after the last of a run of M, h and eom.
+      if (w != "h") run_reads.insert(run_reads.end(), p.M.begin(), p.M.end());
+      if (w != "M") run_reads.insert(run_reads.end(), p.h.begin(), p.h.end());
+      // One "where" list after the last of a run of M, h and eom: what that run reads.
       const bool run_goes_on = k + 1 < what.size() && (what[k + 1] == "eom" || what[k + 1] == "M" || what[k + 1] == "h");
-      if (!run_goes_on && !listed) {
-        out += where_text(p.where, inter, latex);
-        listed = true;
+      if (!run_goes_on) {
+        out += where_of(run_reads);
+        run_reads.clear();
       }
     } else if (w == "rates") {
       std::vector<std::vector<GiNaC::ex>> v;
@@ -418,7 +507,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         GiNaC::ex e = hx(i, 0);
         for (size_t j = 0; j < vars.size(); ++j) e -= Mx(i, j) * m.speed_dots[vars[j]];
         e = finalize(m, eom, e);
-        v.push_back({display_simplify(expand ? inter.expand(e) : e)});
+        v.push_back({display_simplify(expand ? inter.expand(e) : inter.resolve(e))});
       }
       out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex) + where_of(v);
     } else if (w == "invariants") {

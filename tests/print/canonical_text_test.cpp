@@ -35,3 +35,15 @@ TEST_CASE("canonical_text: the sign of an odd function leaves products, powers a
   CHECK(canonical_text(1 / pow(sin(y - x), 3), false) == "-1/sin(x - y)^3");
   CHECK(canonical_text(a * pow(cos(y - x), 3), false) == "a*cos(x - y)^3");
 }
+
+TEST_CASE("canonical_text: an even power of a sum reads with a leading plus, whatever sign GiNaC keeps", "[print][text]") {
+  // GiNaC stores (b - a)^2 as it is or as (a - b)^2 by its internal term order (which
+  // depends on the order symbols were made in); the text must not.
+  symbol b("b"), a("a"), k("k");
+  for (const ex& base : {ex(a - b), ex(b - a), ex(-a - k * b), ex(a + k * b)}) {
+    const std::string plus = canonical_text(base, false)[0] == '-' ? canonical_text(-base, false) : canonical_text(base, false);
+    CHECK(canonical_text(pow(base, 2), false) == "(" + plus + ")^2");
+    CHECK(canonical_text(k / pow(base, 4), false) == "k/(" + plus + ")^4");
+  }
+  CHECK(canonical_text(pow(b - a, 2), false) == "(a - b)^2");
+}

@@ -78,6 +78,24 @@ TEST_CASE("display_simplify: sines and cosines folded into sums and differences 
   check_simplifies(2 * k * sin(x) * cos(x), "k*sin(2*x)");
 }
 
+TEST_CASE("display_simplify: identities within groups of a sum that is shortest unexpanded", "[print][display]") {
+  // The review's reproduction: the square of a rational function of sines and cosines
+  // grows when expanded, so the whole was printed as it came, sin^2 + cos^2 included.
+  const ex ratio = b * cos(x) * sin(y) / cos(y) - k * sin(x);
+  check_simplifies(a * pow(cos(x), 2) + a * pow(sin(x), 2) + pow(ratio, 2), "(b*cos(x)*sin(y)/cos(y) - k*sin(x))^2 + a");
+  // The slider-crank's M: terms over the same denominator grouped, the plain ones folded.
+  check_simplifies(pow(ratio, 2) * m + m1 * pow(l, 2) * pow(cos(x), 2) / 4 + m1 * pow(l, 2) * pow(sin(x), 2) / 4 +
+                       m2 * pow(l, 2) * pow(cos(x), 2) / 4 + a * pow(cos(x), 2) / pow(cos(y), 2),
+                   "(b*cos(x)*sin(y)/cos(y) - k*sin(x))^2*m + 1/4*(m1 + m2*cos(x)^2)*l^2 + a*cos(x)^2/cos(y)^2");
+  // Whitworth's: a product of sines and cosines inside a term with a denominator,
+  // folded to cos(x - y) without expanding the rest.
+  check_simplifies(2 * (cos(x) * cos(y) + sin(x) * sin(y)) * a * sin(y) / (a + b * cos(z)) + pow(ratio, 2),
+                   "(b*cos(x)*sin(y)/cos(y) - k*sin(x))^2 + 2*a*cos(x - y)*sin(y)/(a + b*cos(z))");
+  // Terms sharing a denominator: the identity applies to their numerators together.
+  check_simplifies(a * pow(cos(x), 2) / (b + cos(z)) + a * pow(sin(x), 2) / (b + cos(z)) + pow(ratio, 2),
+                   "(b*cos(x)*sin(y)/cos(y) - k*sin(x))^2 + a/(b + cos(z))");
+}
+
 TEST_CASE("display_simplify: common factors collected", "[print][display]") {
   check_simplifies(m1 * pow(l, 2) + m2 * pow(l, 2), "(m1 + m2)*l^2");
   check_simplifies(m1 * pow(l, 2) / 3 + m2 * pow(l, 2), "(1/3*m1 + m2)*l^2");

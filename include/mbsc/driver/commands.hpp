@@ -30,6 +30,7 @@ struct PrintArgs {
   std::string model;
   std::string node;                 // "" = root; a dotted subsystem name
   std::vector<std::string> what;    // eom M h invariants rates A B C S f fbar (empty: a default set)
+  bool what_given = false;          // --what was on the command line (then it may not be empty)
   bool latex = false;
   bool expand = false;              // --expand: M, h (and every item) in closed form
   bool standalone = false;          // --standalone: a whole LaTeX document (implies latex)

@@ -10,7 +10,9 @@
 /// basis, the Fourier basis cos(k.theta), sin(k.theta) over the angles it holds (every
 /// identity between such polynomials holds there term by term); from that basis a few
 /// candidate forms are built (the basis itself, squares instead of double angles, the
-/// plain input, squares reduced without folding) and the shortest printed one is kept.
+/// plain input, squares reduced without folding, and for a sum its terms grouped by
+/// their factors other than numbers, symbols, sines and cosines, each group simplified
+/// as a whole and each such factor on its own) and the shortest printed one is kept.
 /// The work is bounded: an expression over the limits below is simplified part by part,
 /// or comes back in its plain form.
 #include <ginac/ginac.h>

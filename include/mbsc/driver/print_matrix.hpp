@@ -14,7 +14,9 @@ namespace mbsc::driver {
 
 /// what: any of "eom" (M z' = h row by row), "M", "h", "invariants" (the constraints),
 /// "rates", "A", "B", "C", "S", "f", "fbar". With `expand`, the named intermediates
-/// (e_, r_) and the numeric solves small enough for a closed form are substituted.
+/// (e_, r_), the numeric solves small enough for a closed form and the node's dependent
+/// speeds (through its independent ones) are substituted. A "where" list after a run of
+/// M, h, eom (and after B, C, S, f, fbar) holds what those entries read.
 /// Throws std::invalid_argument for an unknown item.
 std::string print_node(const model::Model& m, const sym::Eom& eom, int node, const std::vector<std::string>& what, bool latex,
                        bool expand = false);
