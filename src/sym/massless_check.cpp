@@ -193,7 +193,9 @@ SourcePos inertia_pos(const model::Node& node) { return node.inertia_pos.line !=
 Site site_of(const model::Model& m, const Eom& eom, const Group& g) {
   Site best;
   std::tuple<bool, int, int> best_key{false, -1, -1};
-  for (const auto& [n, share] : g.bodies) {
+  for (const auto& body : g.bodies) {
+    const int n = body.first;  // (a lambda cannot capture a structured binding in C++17)
+    const auto& share = body.second;
     const auto& node = m.nodes[static_cast<std::size_t>(n)];
     auto consider = [&](const GiNaC::ex& value, const SourcePos& pos) {
       const std::tuple<bool, int, int> key{!frozen_note(m, eom, value).empty(), pos.line, pos.col};
