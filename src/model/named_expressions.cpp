@@ -3,11 +3,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "mbsc/diag/limits.hpp"
 
 namespace mbsc::model {
 
 namespace {
+
+/// Levels of written expressions the converter may be inside at once through lets used
+/// before their definitions (a few thousand frames: far from the stack's end).
+constexpr int kMaxConvertingLevels = 10 * limits::kMaxNesting;
 
 /// a + b, at most the limit's next value (the sizes of a chain of lets grow geometrically).
 std::size_t saturating_add(std::size_t a, std::size_t b) {
@@ -21,6 +27,13 @@ std::size_t written_nodes(const ast::Expr& e) {
   std::size_t n = 1;
   for (const auto& a : e.args) n = saturating_add(n, written_nodes(*a));
   return n;
+}
+
+/// Levels of an expression as written (a name or a number is one).
+int written_depth(const ast::Expr& e) {
+  int d = 0;
+  for (const auto& a : e.args) d = std::max(d, written_depth(*a));
+  return d + 1;
 }
 
 /// The first name of each kind: `into`'s own, else `from`'s.
@@ -42,6 +55,7 @@ int NamedExpressions::declare(const std::string& full, int node, const ast::Stat
   let.node = node;
   let.stmt = &s;
   let.size = written_nodes(*s.value);
+  let.depth = written_depth(*s.value);
   lets_.push_back(std::move(let));
   return static_cast<int>(lets_.size()) - 1;
 }
@@ -57,17 +71,26 @@ std::optional<GiNaC::ex> NamedExpressions::value(int index) {
   // Only a let used before its definition converts another on the way (across files, or
   // from an element built before the let's statement is reached); a chain of them is
   // bounded here, before it exhausts the stack.
-  if (converting_.size() >= static_cast<std::size_t>(limits::kMaxNesting)) {
-    diags_.error(let.stmt->name_pos,
-                 fmt::format("let '{}' is reached through more than {} lets used before their definitions; define each "
-                             "let before the lets and elements that use it",
-                             let.name, limits::kMaxNesting));
+  // The converter recurses through each let's expression on the way: the levels of all
+  // of them are bounded as well (each may nest kMaxNesting deep).
+  if (converting_.size() >= static_cast<std::size_t>(limits::kMaxNesting) ||
+      converting_levels_ + let.depth > kMaxConvertingLevels) {
+    // Once: a long chain reached again from its next let says nothing new.
+    if (!chain_reported_)
+      diags_.error(let.stmt->name_pos,
+                   fmt::format("let '{}' is reached through more than {} lets used before their definitions (or "
+                               "{} levels of their expressions); define each let before the lets and elements that "
+                               "use it",
+                               let.name, limits::kMaxNesting, kMaxConvertingLevels));
+    chain_reported_ = true;
     let.state = State::Failed;
     return std::nullopt;
   }
   let.state = State::Converting;
   converting_.push_back(index);
+  converting_levels_ += let.depth;
   const auto v = convert_(let.node, *let.stmt->value);
+  converting_levels_ -= lets_[static_cast<std::size_t>(index)].depth;
   converting_.pop_back();
   Let& done = lets_[static_cast<std::size_t>(index)];
   if (!v) {

@@ -64,6 +64,7 @@ class NamedExpressions {
     GiNaC::ex value;
     Reads reads;             // own symbols and those of the lets it uses
     std::size_t size = 0;    // nodes of the value as a tree (saturating)
+    int depth = 0;           // levels of its own expression as written
   };
   /// The converted value, or nullopt when its expression failed or a cycle was found.
   std::optional<GiNaC::ex> value(int index);
@@ -72,6 +73,8 @@ class NamedExpressions {
   Convert convert_;
   std::vector<Let> lets_;
   std::vector<int> converting_;  // lets being converted, outermost first (for cycle messages)
+  int converting_levels_ = 0;    // the written levels of the lets in converting_, together
+  bool chain_reported_ = false;  // a chain of lets used before their definitions went too deep
 };
 
 }  // namespace mbsc::model

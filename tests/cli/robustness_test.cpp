@@ -490,6 +490,23 @@ TEST_CASE("lets used before their definitions across includes: an error, not a s
   CHECK(r.exit_code == 1);
   CHECK(r.output.find((dir / "f200.mbs").string() + ":1:5: error: let 'a200' is reached through more than 200 lets used "
                       "before their definitions") != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);  // once, not again from a201
+  // Twenty lets, each 190 calls deep: the converter's levels are bounded too (a stack
+  // overflow at a few hundred such files before).
+  const std::string deep = "model d\n" + kBody;
+  std::string includes;
+  for (int i = 0; i < 20; ++i) {
+    const std::string inner = i + 1 < 20 ? "a" + std::to_string(i + 1) : "1";
+    std::string e = inner;
+    for (int k = 0; k < 190; ++k) e = "sin(" + e + ")";
+    write(dir / ("d" + std::to_string(i) + ".mbs"), "let a" + std::to_string(i) + " = " + e + "\n");
+    includes += "include \"d" + std::to_string(i) + ".mbs\"\n";
+  }
+  write(dir / "d.mbs", deep + includes + "output o = a0\n");
+  r = run(kMbsc + " check " + quote((dir / "d.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("levels of their expressions)") != std::string::npos);
   fs::remove_all(dir);
 }
 
