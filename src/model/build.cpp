@@ -520,26 +520,6 @@ class Builder {
     return out;
   }
 
-  /// The first speed, coordinate rate and speed rate in a let's value, by their names.
-  NamedExpressions::Reads let_reads(const GiNaC::ex& value) const {
-    NamedExpressions::Reads r;
-    for (GiNaC::const_preorder_iterator it = value.preorder_begin(); it != value.preorder_end(); ++it) {
-      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-      std::string name = GiNaC::ex_to<GiNaC::symbol>(*it).get_name();
-      const bool rate = !name.empty() && name.back() == '\'';
-      if (rate) name.pop_back();
-      const auto e = table_.find(name);
-      if (e == table_.end()) continue;
-      if (!rate && e->second.kind == Entry::Speed && it->is_equal(m_.speeds[e->second.index].sym) && r.speed.empty())
-        r.speed = name;
-      if (rate && e->second.kind == Entry::Coord && it->is_equal(coord_dot_[e->second.index]) && r.coord_rate.empty())
-        r.coord_rate = name;
-      if (rate && e->second.kind == Entry::Speed && it->is_equal(m_.speed_dots[e->second.index]) && r.speed_rate.empty())
-        r.speed_rate = name;
-    }
-    return r;
-  }
-
   /// A coordinate or speed; `builtin` for those a leaf kind brings (declared at the body).
   int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate, bool builtin = false) {
     if (!declare_local(full, pos, coordinate ? "coordinate" : "speed")) return -1;
@@ -670,6 +650,7 @@ class Builder {
             diags_.error(pos, fmt::format("the rate {}' of coordinate '{}' is not allowed here", path, full));
             return std::nullopt;
           }
+          lets_.note_read({"", full, ""});  // a let being converted reads it
           return GiNaC::ex(coord_dot_[found.index]);
         }
         return GiNaC::ex(found.sym);
@@ -679,12 +660,14 @@ class Builder {
             diags_.error(pos, fmt::format("the acceleration {}' of speed '{}' is only allowed in forces", path, full));
             return std::nullopt;
           }
+          lets_.note_read({"", "", full});
           return GiNaC::ex(m_.speed_dots[found.index]);
         }
         if (!allow_speeds_) {
           diags_.error(pos, fmt::format("speed '{}' is not allowed here (a position-level expression)", full));
           return std::nullopt;
         }
+        lets_.note_read({full, "", ""});
         return GiNaC::ex(found.sym);
       default:
         if (primed) {
@@ -1282,8 +1265,7 @@ class Builder {
   GiNaC::exmap param_values_frozen_;  // its --freeze value, else its default
   Model m_;
   PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
-  NamedExpressions lets_{diags_, [this](int node, const ast::Expr& e) { return convert_let(node, e); },
-                         [this](const GiNaC::ex& v) { return let_reads(v); }};
+  NamedExpressions lets_{diags_, [this](int node, const ast::Expr& e) { return convert_let(node, e); }};
   std::map<std::string, Entry> table_;
   std::map<std::string, const Statement*> components_;
   const Statement* gravity_stmt_ = nullptr;

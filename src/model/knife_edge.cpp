@@ -32,6 +32,7 @@ void PlanarLibrary::add_knife_edge(int owner, const Element& e, const std::strin
   if (!e.end2.empty()) {
     const auto p = points_.find(body_name + "." + e.end2);
     if (p == points_.end() || p->second.node != *b) {
+      if (failed_.count(body_name + "." + e.end2)) return;  // declared but rejected: reported there
       diags_.error(e.end2_pos, fmt::format("{}: '{}' is not a point of body '{}'", what, e.end2, body_name));
       return;
     }
@@ -43,6 +44,7 @@ void PlanarLibrary::add_knife_edge(int owner, const Element& e, const std::strin
   if (!e.end3.empty()) {
     const auto a = axes_.find(body_name + "." + e.end3);
     if (a == axes_.end() || a->second.node != *b) {
+      if (failed_.count(body_name + "." + e.end3)) return;  // declared but rejected (a zero axis): reported there
       diags_.error(e.end3_pos, fmt::format("{}: '{}' is not an axis of body '{}'", what, e.end3, body_name));
       return;
     }

@@ -89,6 +89,7 @@ void PlanarLibrary::add_axis(int node, const std::string& name, const GiNaC::ex&
   // A direction of length zero defines no line (checked with the parameters' defaults).
   if (at_defaults(dx * dx + dy * dy) == 0.0) {
     diags_.error(pos, fmt::format("axis '{}' has a zero direction vector", full));
+    failed_.insert(full);  // a joint naming it says no more
     return;
   }
   axes_[full] = Axis{node, px, py, dx, dy, pos};

@@ -435,6 +435,81 @@ TEST_CASE("large exact constants are refused before GiNaC computes them", "[cli]
   fs::remove_all(dir);
 }
 
+namespace {
+/// A model whose lets a1..an each use the one before twice, sin(a) + cos(a): a shared
+/// graph of 2n nodes standing for a tree of 6*2^n - 3, put in a position constraint so
+/// that the derivation differentiates it.
+std::string let_chain(int n) {
+  std::string m = "model let_chain\nparameter m = 1, g = 9.81\ngravity (0, -g)\nbody bob : particle2d { mass m }\n"
+                  "let a0 = bob.x + 1\n";
+  for (int i = 1; i <= n; ++i)
+    m += "let a" + std::to_string(i) + " = sin(a" + std::to_string(i - 1) + ") + cos(a" + std::to_string(i - 1) + ")\n";
+  return m + "constraint position { c: bob.y = a" + std::to_string(n) + " }\n";
+}
+}  // namespace
+
+TEST_CASE("lets: the longest chain under the node limit derives quickly, one more is an error", "[cli][robust][let]") {
+  const fs::path dir = fresh_dir("let_chain");
+  // a10 stands for 6141 nodes, a11 for 12285 (limits::kMaxLetNodes = 10000).
+  write(dir / "ok.mbs", let_chain(10));
+  for (const char* command : {" check ", " generate "}) {
+    const std::string out = command == std::string(" generate ") ? " -o " + quote((dir / "out").string()) : "";
+    auto r = run("timeout 30 " + std::string(MBSC_BINARY) + command + quote((dir / "ok.mbs").string()) + out);
+    INFO(command << r.output.substr(0, 2000));
+    CHECK(r.exit_code == 0);
+  }
+  CHECK(fs::exists(dir / "out" / "let_chain" / "let_chain.cpp"));
+  write(dir / "over.mbs", let_chain(11));
+  auto r = run(kMbsc + " check " + quote((dir / "over.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("over.mbs:16:5: error: let 'a11' expands to more than 10000 nodes") != std::string::npos);
+  // Forty lines (a tree of 10^13 nodes): refused at a11 at once, the lines after it silent.
+  write(dir / "forty.mbs", let_chain(40));
+  r = run("timeout 10 " + std::string(MBSC_BINARY) + " check " + quote((dir / "forty.mbs").string()));
+  CHECK(r.exit_code == 1);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("lets used before their definitions across includes: an error, not a stack overflow", "[cli][robust][let]") {
+  // f0 uses a1 from f1, which uses a2 from f2, ...: each file is included after the one that
+  // uses it, so converting a0 reaches every let of the chain before its statement.
+  const fs::path dir = fresh_dir("let_includes");
+  constexpr int kFiles = 300;
+  std::string main = "model m\n" + kBody;
+  for (int i = 0; i < kFiles; ++i) {
+    main += "include \"f" + std::to_string(i) + ".mbs\"\n";
+    write(dir / ("f" + std::to_string(i) + ".mbs"),
+          i + 1 < kFiles ? "let a" + std::to_string(i) + " = a" + std::to_string(i + 1) + " + 1\n"
+                         : "let a" + std::to_string(i) + " = 1\n");
+  }
+  write(dir / "m.mbs", main + "output o = a0\n");
+  auto r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find((dir / "f200.mbs").string() + ":1:5: error: let 'a200' is reached through more than 200 lets used "
+                      "before their definitions") != std::string::npos);
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') == 1);  // once, not again from a201
+  // Twenty lets, each 190 calls deep: the converter's levels are bounded too (a stack
+  // overflow at a few hundred such files before).
+  const std::string deep = "model d\n" + kBody;
+  std::string includes;
+  for (int i = 0; i < 20; ++i) {
+    const std::string inner = i + 1 < 20 ? "a" + std::to_string(i + 1) : "1";
+    std::string e = inner;
+    for (int k = 0; k < 190; ++k) e = "sin(" + e + ")";
+    write(dir / ("d" + std::to_string(i) + ".mbs"), "let a" + std::to_string(i) + " = " + e + "\n");
+    includes += "include \"d" + std::to_string(i) + ".mbs\"\n";
+  }
+  write(dir / "d.mbs", deep + includes + "output o = a0\n");
+  r = run(kMbsc + " check " + quote((dir / "d.mbs").string()));
+  INFO(r.output.substr(0, 2000));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("levels of their expressions)") != std::string::npos);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("big legitimate inputs stay well inside the limits", "[cli][robust][budget]") {
   const fs::path dir = fresh_dir("big_ok");
   std::string params = "model many_parameters\n";

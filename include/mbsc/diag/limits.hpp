@@ -38,6 +38,9 @@ constexpr std::size_t kMaxExactBits = 65536;
 /// Magnitude of a numeric exponent of a non-constant base (x^1000). Substitutions may
 /// later put numbers into the base, (w/3)^n = 3^-n w^n, which GiNaC folds exactly.
 constexpr double kMaxExponent = 1000;
+/// Nodes of a let's value written out as a tree, each let it uses put in place (a
+/// chain `let b = a*a + a` triples at each line). A real named expression has hundreds.
+constexpr std::size_t kMaxLetNodes = 10000;
 /// Terms an expansion may write out where the compiler expands to simplify (more: the
 /// expression is kept as it is).
 constexpr double kMaxExpandedTerms = 20000;
