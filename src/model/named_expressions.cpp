@@ -11,9 +11,13 @@ namespace mbsc::model {
 
 namespace {
 
-/// Levels of written expressions the converter may be inside at once through lets used
-/// before their definitions (a few thousand frames: far from the stack's end).
-constexpr int kMaxConvertingLevels = 10 * limits::kMaxNesting;
+/// Lets used before their definitions (across includes) that one conversion may pass
+/// through, one inside another, and the levels of their expressions together: the
+/// converter recurses through each, so both stay well inside the stack, also in a
+/// sanitizer build, whose frames are several times larger (200 shallow lets overflowed
+/// there). docs/language.md, "Limits".
+constexpr int kMaxLetChain = 32;
+constexpr int kMaxConvertingLevels = limits::kMaxNesting;
 
 /// a + b, at most the limit's next value (the sizes of a chain of lets grow geometrically).
 std::size_t saturating_add(std::size_t a, std::size_t b) {
@@ -73,7 +77,7 @@ std::optional<GiNaC::ex> NamedExpressions::value(int index) {
   // bounded here, before it exhausts the stack.
   // The converter recurses through each let's expression on the way: the levels of all
   // of them are bounded as well (each may nest kMaxNesting deep).
-  if (converting_.size() >= static_cast<std::size_t>(limits::kMaxNesting) ||
+  if (converting_.size() >= static_cast<std::size_t>(kMaxLetChain) ||
       converting_levels_ + let.depth > kMaxConvertingLevels) {
     // Once: a long chain reached again from its next let says nothing new.
     if (!chain_reported_)
@@ -81,7 +85,7 @@ std::optional<GiNaC::ex> NamedExpressions::value(int index) {
                    fmt::format("let '{}' is reached through more than {} lets used before their definitions (or "
                                "{} levels of their expressions); define each let before the lets and elements that "
                                "use it",
-                               let.name, limits::kMaxNesting, kMaxConvertingLevels));
+                               let.name, kMaxLetChain, kMaxConvertingLevels));
     chain_reported_ = true;
     let.state = State::Failed;
     return std::nullopt;
