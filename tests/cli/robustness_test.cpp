@@ -520,7 +520,7 @@ TEST_CASE("big legitimate inputs stay well inside the limits", "[cli][robust][bu
   CHECK(r.exit_code == 0);
   std::string free = "model free_particles\nparameter m = 1, g = 9.81\ngravity (0, -g)\nfor i = 1 to 300 { body b[i] : particle2d { mass m } }\n";
   write(dir / "f.mbs", free);
-  r = run(kMbsc + " check " + quote((dir / "f.mbs").string()) + " --budget 20");
+  r = run(kMbsc + " check " + quote((dir / "f.mbs").string()) + " --budget 90");
   INFO(r.output.substr(0, 2000));
   CHECK(r.exit_code == 0);
   fs::remove_all(dir);
