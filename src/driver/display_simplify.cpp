@@ -27,12 +27,16 @@ constexpr int kMaxMultiple = 8;
 
 bool is_trig(const GiNaC::ex& e) { return GiNaC::is_the_function<GiNaC::sin_SERIAL>(e) || GiNaC::is_the_function<GiNaC::cos_SERIAL>(e); }
 
+}  // namespace
+
 std::size_t node_count(const GiNaC::ex& e, std::size_t limit) {
   std::size_t n = 0;
   for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
     if (++n > limit) break;
   return n;
 }
+
+namespace {
 
 /// An angle argument as integer multiples of atoms: x - 2*y -> {(x, 1), (y, -2)}.
 std::vector<std::pair<GiNaC::ex, int>> split_angle(const GiNaC::ex& arg) {

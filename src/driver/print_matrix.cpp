@@ -32,13 +32,6 @@ constexpr std::size_t kMaxGridWidth = 140;
 
 std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(display_simplify(e), latex); }
 
-std::size_t nodes_of(const GiNaC::ex& e, std::size_t limit) {
-  std::size_t n = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (++n > limit) break;
-  return n;
-}
-
 std::string pad(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
 
 /// A labelled matrix. Text: an aligned grid with row and column labels, or, when an
@@ -113,7 +106,7 @@ class Intermediates {
         Step s;
         s.define = ir::Define{d->sym, model::subs_present(finalize(m, eom, d->value), aliases_), d->named};
         const GiNaC::ex closed = model::subs_present(s.define.value, closed_);
-        if (nodes_of(closed, kMaxClosedNodes) <= kMaxClosedNodes) closed_[d->sym] = closed;
+        if (node_count(closed, kMaxClosedNodes) <= kMaxClosedNodes) closed_[d->sym] = closed;
         if (GiNaC::is_a<GiNaC::symbol>(s.define.value) || GiNaC::is_a<GiNaC::numeric>(s.define.value)) {
           aliases_[d->sym] = s.define.value;
           continue;
@@ -154,9 +147,9 @@ class Intermediates {
   /// each stage kept only when its result is not too large.
   GiNaC::ex expand(const GiNaC::ex& x) const {
     GiNaC::ex e = model::subs_present(x, closed_);
-    if (nodes_of(e, 20 * kMaxClosedNodes) > 20 * kMaxClosedNodes) return resolve(x);
+    if (node_count(e, 20 * kMaxClosedNodes) > 20 * kMaxClosedNodes) return resolve(x);
     const GiNaC::ex f = model::subs_present(e, speeds_);
-    return nodes_of(f, 20 * kMaxClosedNodes) <= 20 * kMaxClosedNodes ? f : e;
+    return node_count(f, 20 * kMaxClosedNodes) <= 20 * kMaxClosedNodes ? f : e;
   }
 
   /// The intermediates `shown` reads, directly or through each other, in evaluation order.
@@ -229,7 +222,7 @@ class Intermediates {
     for (int i = 0; i < s.n; ++i)
       for (int j = 0; j < s.n; ++j) {
         A(i, j) = model::subs_present(s.A[i * s.n + j], known);
-        if (nodes_of(A(i, j), kMaxClosedNodes) > kMaxClosedNodes) return;
+        if (node_count(A(i, j), kMaxClosedNodes) > kMaxClosedNodes) return;
       }
     const GiNaC::ex det = display_simplify(A.determinant(GiNaC::determinant_algo::laplace));
     if (det.is_zero()) return;
@@ -239,7 +232,7 @@ class Intermediates {
         for (int r = 0; r < s.n; ++r) Ai(r, i) = model::subs_present(s.B[r * s.k + l], known);
         const GiNaC::ex num = display_simplify(Ai.determinant(GiNaC::determinant_algo::laplace));
         const GiNaC::ex x = num / det;
-        if (nodes_of(x, kMaxClosedNodes) > kMaxClosedNodes) continue;
+        if (node_count(x, kMaxClosedNodes) > kMaxClosedNodes) continue;
         known[s.X[i * s.k + l]] = x;
       }
     }
@@ -274,7 +267,7 @@ class Intermediates {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         if (!is_dependent(d->sym)) continue;
         const GiNaC::ex value = model::subs_present(finalize(m, eom, d->value), speeds_);
-        if (nodes_of(value, kMaxClosedNodes) <= kMaxClosedNodes) speeds_[d->sym] = value;
+        if (node_count(value, kMaxClosedNodes) <= kMaxClosedNodes) speeds_[d->sym] = value;
         continue;
       }
       ir::Solve s = std::get<ir::Solve>(step);
@@ -357,20 +350,24 @@ std::string eom_text(const model::Model& m, const std::vector<int>& z, const Pri
 
 namespace {
 
+/// A matrix's entries in display form: simplified, in closed form with --expand, else
+/// with the intermediates' aliases resolved.
+std::vector<std::vector<GiNaC::ex>> display_rows(const model::Model& m, const sym::Eom& eom, const GiNaC::matrix& X,
+                                                 bool expand, const Intermediates& inter) {
+  std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
+  for (unsigned i = 0; i < X.rows(); ++i)
+    for (unsigned j = 0; j < X.cols(); ++j) {
+      const GiNaC::ex e = finalize(m, eom, X(i, j));
+      v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
+    }
+  return v;
+}
+
 PrintedEquations equations_of(const model::Model& m, const sym::Eom& eom, int n, bool expand, const Intermediates& inter) {
   const auto& r = eom.nodes[n];
   PrintedEquations p;
-  auto shown = [&](const GiNaC::matrix& X) {
-    std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
-    for (unsigned i = 0; i < X.rows(); ++i)
-      for (unsigned j = 0; j < X.cols(); ++j) {
-        const GiNaC::ex e = finalize(m, eom, X(i, j));
-        v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
-      }
-    return v;
-  };
-  p.M = shown(r.M);
-  p.h = shown(r.h);
+  p.M = display_rows(m, eom, r.M, expand, inter);
+  p.h = display_rows(m, eom, r.h, expand, inter);
   std::vector<std::vector<GiNaC::ex>> both = p.M;
   both.insert(both.end(), p.h.begin(), p.h.end());
   p.where = inter.needed(both, p.numeric_solves, p.all_closed);
@@ -416,15 +413,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
     return *eq;
   };
   // A matrix's entries in display form (closed form with --expand), and what they read.
-  auto rows_of = [&](const GiNaC::matrix& X) {
-    std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
-    for (unsigned i = 0; i < X.rows(); ++i)
-      for (unsigned j = 0; j < X.cols(); ++j) {
-        const GiNaC::ex e = finalize(m, eom, X(i, j));
-        v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
-      }
-    return v;
-  };
+  auto rows_of = [&](const GiNaC::matrix& X) { return display_rows(m, eom, X, expand, inter); };
   auto where_of = [&](const std::vector<std::vector<GiNaC::ex>>& v) {
     bool numeric = false, closed = true;
     return where_text(inter.needed(v, numeric, closed), inter, latex);
