@@ -5,6 +5,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
+#include "mbsc/run/run_command.hpp"
 
 // Sanitizer builds: LeakSanitizer reports a one-time 26-byte allocation that libcln
 // makes at start-up and never frees. That library's, and nothing else, is suppressed
@@ -150,6 +151,44 @@ int main(int argc, char** argv) {
   WorkFlags gen_work;
   gen_work.add_to(g);
 
+  mbsc::run::RunArgs run;
+  std::vector<std::string> run_inputs, run_columns, run_plot_columns;
+  std::string run_formulation = "complement";
+  auto* r = app.add_subcommand("run", "simulate a model: compile it (cached), assemble the initial state, integrate, "
+                                      "write CSV and a plot");
+  r->add_option("model", run.model, "model file (.mbs)")->required();
+  r->add_option("--t-end", run.t_end, "end time, s")->capture_default_str();
+  r->add_option("--dt-out", run.dt_out, "time between output rows, s (default: t-end / 500)");
+  r->add_option("--integrator", run.integrator,
+                "integration method: " + [] {
+                  std::string s;
+                  for (const auto& n : mbsc::run::integrator_names()) s += (s.empty() ? "" : ", ") + n;
+                  return s;
+                }())
+      ->capture_default_str();
+  r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods")->capture_default_str();
+  r->add_option("--atol", run.atol, "absolute tolerance of adaptive methods")->capture_default_str();
+  r->add_option("--h", run.h, "step of fixed-step methods, s (default: dt-out / 10)");
+  r->add_option("--formulation", run_formulation, "complement or multipliers (as for generate)")
+      ->check(CLI::IsMember({"complement", "multipliers"}))
+      ->default_val("complement");
+  r->add_option("--set", run.sets, "a parameter's value for this run: name=value (repeatable)");
+  r->add_option("--init", run.inits,
+                "an initial coordinate or speed: name=value (repeatable); the rest follows by assembly");
+  r->add_option("--input", run_inputs, "an input as an expression of t and the parameters: name=EXPR (repeatable)");
+  r->add_option("-o,--out", run.csv, "CSV file (default: <model name>.csv; - for standard output)");
+  r->add_option("--columns", run_columns, "CSV columns (default: t, every coordinate and speed, outputs, inputs, energy)");
+  r->add_option("--plot", run.plot, "also plot to FILE.svg or FILE.png (gnuplot)");
+  r->add_option("--plot-columns", run_plot_columns, "columns to plot against t (default: the outputs, else the dof speeds)");
+  r->add_option("--projection", run.projection,
+                "project onto the constraints after steps: auto (on for the complement form with constraints), on, off")
+      ->capture_default_str();
+  r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)");
+  r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)");
+  r->add_option("--cache-dir", run.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");
+  WorkFlags run_work;
+  run_work.add_to(r);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -169,6 +208,21 @@ int main(int argc, char** argv) {
       print.minimal_state = print_state == "minimal";
       if (!add_freezes(print_freeze, print.frozen)) return 1;
       return mbsc::driver::run_print(print, std::cout, std::cerr);
+    }
+    if (*r) {
+      run.work = run_work.args();
+      run.multipliers = run_formulation == "multipliers";
+      run.columns = split_list(run_columns);
+      run.plot_columns = split_list(run_plot_columns);
+      for (const auto& item : run_inputs) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) {
+          std::cerr << "mbsc: error: --input expects name=EXPR, got '" << mbsc::printable(item) << "'\n";
+          return 1;
+        }
+        run.inputs[item.substr(0, eq)] = item.substr(eq + 1);
+      }
+      return mbsc::run::run_simulation(run, std::cout, std::cerr);
     }
     for (const auto& o : split_list(outputs)) gen.functions.insert(o);
     gen.minimal_state = state == "minimal";

@@ -872,6 +872,9 @@ class Builder {
         case Kind::Latex:
           set_latex_symbol(id, s);
           break;
+        case Kind::Initial:
+          set_initial_value(id, s);
+          break;
         case Kind::Point:
         case Kind::Com:
         case Kind::Axis: {
@@ -1013,6 +1016,36 @@ class Builder {
       return;
     }
     m_.latex_symbols[full] = s.name;
+  }
+
+  /// `initial PATH = expr`: PATH a coordinate or speed in scope, expr a constant of the
+  /// parameters (it is evaluated before the run, with the run's parameter values).
+  void set_initial_value(int node, const Statement& s) {
+    const auto var = lookup_variable(node, s.path);
+    if (!var) return;
+    const Variable& v = var->first ? m_.coords[var->second] : m_.speeds[var->second];
+    const auto e = convert(node, s.value, false, false, false);
+    if (!e) return;
+    auto reads = [&](const std::vector<Variable>& vars) -> const Variable* {
+      for (const auto& w : vars)
+        if (e->has(w.sym)) return &w;
+      return nullptr;
+    };
+    const Variable* bad = reads(m_.coords);
+    if (!bad) bad = reads(m_.inputs);
+    if (bad || e->has(m_.time)) {
+      diags_.error(s.value->pos, fmt::format("initial value of '{}' reads {}; it must be a constant of the parameters",
+                                             v.name, bad ? fmt::format("'{}'", bad->name) : std::string("the time t")));
+      return;
+    }
+    for (const auto& given : m_.initial_values)
+      if (given.name == v.name) {
+        const std::string where = given.pos.file == s.pos.file ? "" : given.pos.file + ":";
+        diags_.error(s.path.pos, fmt::format("initial value of '{}' is already given at {}{}:{}", v.name, where,
+                                             given.pos.line, given.pos.col));
+        return;
+      }
+    m_.initial_values.push_back(NamedExpr{v.name, *e, s.path.pos});
   }
 
   /// Resolves a dotted path to a variable: (is_coordinate, index).

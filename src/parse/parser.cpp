@@ -278,6 +278,7 @@ class Parser {
     if (k == "joint") return parse_joint(out, kw);
     if (k == "spring" || k == "damper") return parse_spring(out, kw);
     if (k == "latex") return parse_latex(out, kw);
+    if (k == "initial") return parse_initial(out, kw);
     fail(kw.pos, "unknown statement '" + k + "'");  // unreachable: every statement keyword is handled
   }
 
@@ -641,6 +642,21 @@ class Parser {
 
   // 'latex' path STRING: the symbol `mbsc print --latex` writes for a name. The text must
   // be safe in a formula (latex_text.hpp); whether the name exists is the model's to say.
+  // 'initial' PATH '=' expr (',' PATH '=' expr)*
+  void parse_initial(std::vector<StatementPtr>& out, const Token& kw) {
+    std::vector<Statement> items;
+    for (;;) {
+      Statement st = begin(Statement::Kind::Initial, kw);
+      st.path = parse_path("coordinate or speed after " + after_last());
+      expect(TK::Equals, "'=' and a value after 'initial " + st.path.text + "'");
+      st.value = parse_expr();
+      items.push_back(std::move(st));
+      if (!accept(TK::Comma)) break;
+    }
+    end_statement("initial value of '" + items.back().path.text + "'", /*in_list=*/true);
+    for (auto& st : items) push(out, std::move(st));
+  }
+
   void parse_latex(std::vector<StatementPtr>& out, const Token& kw) {
     Statement st = begin(Statement::Kind::Latex, kw);
     st.path = parse_path("name after 'latex'");

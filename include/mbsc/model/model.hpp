@@ -120,6 +120,9 @@ struct Model {
   /// Symbols given with `latex NAME "..."` for `mbsc print --latex`: full dotted name of
   /// a parameter, input, coordinate or speed (or "t") -> its LaTeX text.
   std::map<std::string, std::string> latex_symbols;
+  /// `initial PATH = expr`: starting values for `mbsc run` (full dotted name of a
+  /// coordinate or speed -> a constant expression of the parameters), in source order.
+  std::vector<NamedExpr> initial_values;
   int root() const { return static_cast<int>(nodes.size()) - 1; }
   /// A node's name for messages: its dotted path, or "<top>" for the root.
   std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }

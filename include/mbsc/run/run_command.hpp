@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// `mbsc run MODEL.mbs`: compile (or take from the cache), find a consistent initial
+/// state, integrate, write the CSV and the plot, and summarise the run on stderr.
+/// Exit codes: 0 done, 1 a user error before the run (model, option, initial state,
+/// compiler, output path), 2 a numerical failure during the run (the CSV keeps every
+/// row up to it).
+#include <iosfwd>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mbsc/driver/commands.hpp"
+
+namespace mbsc::run {
+
+struct RunArgs {
+  std::string model;
+  double t_end = 10.0;
+  double dt_out = 0.0;            // 0: t_end / 500
+  std::string integrator = "dopri5";
+  double rtol = 1e-8, atol = 1e-10;
+  double h = 0.0;                 // fixed-step methods (0: dt_out / 10)
+  bool multipliers = false;       // --formulation multipliers
+  std::vector<std::string> sets;  // --set name=value
+  std::vector<std::string> inits; // --init name=value
+  std::map<std::string, std::string> inputs;  // --input name=EXPR
+  std::string csv;                // -o (default: <model name>.csv)
+  std::vector<std::string> columns;       // --columns (default: t, the state, outputs, energy)
+  std::string plot;               // --plot file.svg|png
+  std::vector<std::string> plot_columns;  // --plot-columns (default: outputs, else the dof speeds)
+  std::string projection = "auto";  // auto (on for full state with constraints), on, off
+  double baumgarte_alpha = -1, baumgarte_beta = -1;  // < 0: the model's defaults
+  std::string cache_dir;
+  driver::WorkArgs work;
+};
+
+int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err);
+
+/// The integrators `--integrator` accepts here (the runtime's and, when mbsc was built
+/// with SUNDIALS, its methods).
+std::vector<std::string> integrator_names();
+
+}  // namespace mbsc::run

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// What `mbsc run`, `mbsc inverse` and `mbsc bench` share before integrating: the
+/// parameter vector (defaults, then --set) and a consistent initial state (the model's
+/// `initial` statements, then --init, the rest completed by assembly).
+#include <map>
+#include <string>
+#include <vector>
+
+#include "mbsc/model/model.hpp"
+#include "mbsc/runtime/assemble.hpp"
+#include "mbsc/runtime/model_table.hpp"
+
+namespace mbsc::run {
+
+/// "name=value" items of --set / --init, in order (a name given twice: the last wins).
+/// False with `error` for a malformed item.
+bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
+                       std::map<std::string, double>& out, std::string& error);
+
+/// kParamDefaults with the --set values; the Baumgarte gains of the multipliers form are
+/// parameters too (baumgarte_alpha, baumgarte_beta). False with `error` naming an
+/// unknown parameter (and the closest known name).
+bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, double>& sets, std::vector<double>& p,
+                      std::string& error);
+
+struct InitialState {
+  std::vector<double> x;            // consistent full state
+  runtime::AssemblyResult assembly;  // how assembly went (near_singular is a warning)
+  std::vector<std::string> given;   // the names fixed by `initial` statements and --init
+};
+
+/// The initial state at t0: `initial` values of the model (evaluated with p), --init
+/// values over them, every other coordinate guessed 0 and every other speed solved from
+/// the velocity constraints (minimum norm). False with `error` for an unknown name or a
+/// state the constraints do not allow (naming the constraint).
+bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
+                   const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
+                   InitialState& out, std::string& error);
+
+}  // namespace mbsc::run

@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Generate, compile, cache and load a model for `mbsc run` (include/mbsc/run/compiled_model.hpp).
+#include "mbsc/run/compiled_model.hpp"
+
+#include <dlfcn.h>
+#include <sys/stat.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <ginac/ginac.h>
+#include <ostream>
+#include <sstream>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/run/process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mbsc::run {
+
+namespace {
+
+/// The namespace and file stem of the generated code in the cache (mbsc_gen::model).
+constexpr const char* kStem = "model";
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// The compiler: $MBSC_CXX, else $CXX, else c++.
+std::string compiler() {
+  for (const char* var : {"MBSC_CXX", "CXX"})
+    if (const char* v = std::getenv(var); v && *v) return v;
+  return "c++";
+}
+
+/// The mbsc binary itself (size and time), so that a rebuilt mbsc does not load objects
+/// an older one generated.
+std::string self_identity() {
+  struct stat st {};
+  if (stat("/proc/self/exe", &st) != 0) return "";
+  return fmt::format("{} {}.{}", static_cast<long long>(st.st_size), static_cast<long long>(st.st_mtim.tv_sec),
+                     static_cast<long long>(st.st_mtim.tv_nsec));
+}
+
+/// The shim compiled with the generated code: sizes, names and the inputs, behind
+/// extern "C" names that do not depend on the model.
+std::string shim_source(const std::string& inputs_body, bool multipliers) {
+  std::string s = fmt::format(
+      "// Written by mbsc run: the model's sizes and name tables behind fixed names.\n"
+      "#include <cmath>\n#include \"{0}.hpp\"\n"
+      "namespace m = mbsc_gen::{0};\n"
+      "extern \"C\" {{\n"
+      "int mbsc_run_sizes(int* s) {{\n"
+      "  const int v[] = {{m::kNq, m::kNu, m::kNx, m::kNdof, m::kNin, m::kNp, m::kNc, m::kNposc, m::kNy,\n"
+      "                   m::kNpartitions, m::kNqFull, m::kNuFull}};\n"
+      "  for (int i = 0; i < 12; ++i) s[i] = v[i];\n  return 12;\n}}\n"
+      "const char* const* mbsc_run_names(int k) {{\n"
+      "  switch (k) {{\n"
+      "    case 0: return m::kStateNames;\n    case 1: return m::kDofNames;\n    case 2: return m::kInputNames;\n"
+      "    case 3: return m::kParamNames;\n    case 4: return m::kConstraintNames;\n"
+      "    case 5: return m::kPositionConstraintNames;\n    case 6: return m::kOutputNames;\n"
+      "    case 7: return m::kPartitionNames;\n    default: return nullptr;\n  }}\n}}\n"
+      "const double* mbsc_run_param_defaults() {{ return m::kParamDefaults; }}\n"
+      "int mbsc_run_inputs(double t, const double* p, double* u) {{\n"
+      "  (void)t; (void)p; (void)u;\n{1}  return 0;\n}}\n",
+      kStem, inputs_body);
+  s += fmt::format("int mbsc_run_multipliers() {{ return {}; }}\n}}\n", multipliers ? 1 : 0);
+  return s;
+}
+
+template <class T>
+bool symbol(void* h, const std::string& name, T& out, std::string& missing) {
+  void* f = dlsym(h, name.c_str());
+  if (!f) {
+    missing = name;
+    return false;
+  }
+  out = reinterpret_cast<T>(f);
+  return true;
+}
+
+/// Fills `t` from the loaded object; false naming the first missing symbol.
+bool fill_table(void* h, runtime::ModelTable& t, int (*&inputs)(double, const double*, double*), std::string& missing) {
+  int (*sizes)(int*) = nullptr;
+  const char* const* (*names)(int) = nullptr;
+  const double* (*defaults)() = nullptr;
+  int (*mult)() = nullptr;
+  if (!symbol(h, "mbsc_run_sizes", sizes, missing) || !symbol(h, "mbsc_run_names", names, missing) ||
+      !symbol(h, "mbsc_run_param_defaults", defaults, missing) || !symbol(h, "mbsc_run_inputs", inputs, missing) ||
+      !symbol(h, "mbsc_run_multipliers", mult, missing))
+    return false;
+  int s[12];
+  sizes(s);
+  t.nq = s[0], t.nu = s[1], t.nx = s[2], t.ndof = s[3], t.nin = s[4], t.np = s[5], t.nc = s[6], t.nposc = s[7];
+  t.ny = s[8], t.npartitions = s[9], t.nq_full = s[10], t.nu_full = s[11];
+  t.multipliers = mult() != 0;
+  t.state_names = names(0), t.dof_names = names(1), t.input_names = names(2), t.param_names = names(3);
+  t.constraint_names = names(4), t.position_constraint_names = names(5), t.output_names = names(6);
+  t.partition_names = names(7);
+  t.param_defaults = defaults();
+  const std::string pre = std::string("mbsc_") + kStem + "_";
+  bool ok = symbol(h, pre + "rhs", t.rhs, missing) && symbol(h, pre + "mass_matrix", t.mass_matrix, missing) &&
+            symbol(h, pre + "forcing", t.forcing, missing) &&
+            symbol(h, pre + "position_constraints", t.position_constraints, missing) &&
+            symbol(h, pre + "velocity_constraints", t.velocity_constraints, missing) &&
+            symbol(h, pre + "constraint_jacobian", t.constraint_jacobian, missing) &&
+            symbol(h, pre + "position_jacobian", t.position_jacobian, missing) &&
+            symbol(h, pre + "energy", t.energy, missing) && symbol(h, pre + "outputs", t.outputs, missing) &&
+            symbol(h, pre + "full_state", t.full_state, missing) &&
+            symbol(h, pre + "conditioning", t.conditioning, missing) &&
+            symbol(h, pre + "rhs_partition", t.rhs_partition, missing) &&
+            symbol(h, pre + "conditioning_partition", t.conditioning_partition, missing);
+  if (ok && t.multipliers)
+    ok = symbol(h, pre + "multipliers", t.multipliers_fn, missing) &&
+         symbol(h, pre + "reaction_forces", t.reaction_forces, missing);
+  return ok;
+}
+
+}  // namespace
+
+CompiledModel::~CompiledModel() {
+  if (handle_) dlclose(handle_);
+}
+
+std::string cache_folder(const std::string& requested) {
+  if (!requested.empty()) return requested;
+  if (const char* v = std::getenv("MBSC_CACHE_DIR"); v && *v) return v;
+  if (const char* v = std::getenv("XDG_CACHE_HOME"); v && *v) return (fs::path(v) / "mbsc").string();
+  if (const char* v = std::getenv("HOME"); v && *v) return (fs::path(v) / ".cache" / "mbsc").string();
+  return (fs::temp_directory_path() / "mbsc-cache").string();
+}
+
+std::string input_expression_cpp(const model::Model& m, const std::string& text, std::string& error) {
+  GiNaC::symtab table;
+  table["t"] = m.time;
+  GiNaC::exmap to_p;
+  for (std::size_t i = 0; i < m.params.size(); ++i) {
+    table[m.params[i].name] = m.params[i].sym;
+    to_p[m.params[i].sym] = GiNaC::symbol(fmt::format("p[{}]", i));
+  }
+  table["pi"] = GiNaC::Pi;
+  GiNaC::parser reader(table);
+  reader.strict = true;
+  GiNaC::ex e;
+  try {
+    e = reader(text);
+  } catch (const std::exception& ex) {
+    std::string why = ex.what();
+    if (why.find("unknown symbol") != std::string::npos || why.find("find_or_insert_symbol") != std::string::npos)
+      why = "it names something that is neither t nor a parameter";
+    error = fmt::format("cannot read '{}' as an expression of t and the parameters ({})", printable(text), printable(why));
+    return "";
+  }
+  // Frozen (structural) parameters keep their p[] slot; every name is known here.
+  e = e.subs(GiNaC::Pi == GiNaC::ex(GiNaC::Pi).evalf()).subs(to_p);
+  std::ostringstream out;
+  out << GiNaC::csrc_double << e;
+  return out.str();
+}
+
+std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const model::Model& m,
+                                             const std::vector<std::string>& sources, std::ostream& err, int& exit_code) {
+  exit_code = 1;
+  // ---- the inputs, as C++ ----
+  std::string inputs_body;
+  for (const auto& [name, text] : req.input_expressions) {
+    int index = -1;
+    for (std::size_t i = 0; i < m.inputs.size(); ++i)
+      if (m.inputs[i].name == name) index = static_cast<int>(i);
+    if (index < 0) {
+      std::string known;
+      for (const auto& in : m.inputs) known += (known.empty() ? "" : ", ") + in.name;
+      err << fmt::format("mbsc: error: --input: the model has no input named '{}' ({})\n", printable(name),
+                         known.empty() ? "it has no inputs" : "its inputs: " + known);
+      return nullptr;
+    }
+    std::string error;
+    const std::string cpp = input_expression_cpp(m, text, error);
+    if (cpp.empty()) {
+      err << "mbsc: error: --input " << printable(name) << ": " << error << "\n";
+      return nullptr;
+    }
+    inputs_body += fmt::format("  u[{}] = {};\n", index, cpp);
+  }
+  // ---- the key ----
+  const std::string cxx = compiler();
+  const std::vector<std::string> flags = {"-std=c++17", "-O2", "-fPIC", "-shared"};
+  ProcessResult version = run_process({cxx, "--version"});
+  if (version.exit_code != 0) {
+    err << fmt::format("mbsc: error: no working C++ compiler: '{}' {} (install g++, or name one with the CXX or "
+                       "MBSC_CXX environment variable)\n",
+                       printable(cxx), version.spawn_error.empty() ? "--version failed" : version.spawn_error);
+    return nullptr;
+  }
+  std::string key_text = std::string("mbsc ") + MBSC_VERSION + " " + self_identity() + "\n" + cxx + "\n" + version.output + "\n";
+  for (const auto& f : flags) key_text += f + " ";
+  key_text += req.multipliers ? "\nmultipliers\n" : "\ncomplement\n";
+  key_text += req.minimal_state ? "minimal\n" : "full\n";
+  key_text += inputs_body;
+  for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
+  const std::string key = driver::text_hash(key_text);
+  const fs::path root = cache_folder(req.cache_dir);
+  const fs::path entry = root / (m.name + "-" + key);
+  const fs::path object = entry / "lib.so";
+
+  auto result = std::unique_ptr<CompiledModel>(new CompiledModel());
+  std::error_code ec;
+  if (!fs::exists(object, ec)) {
+    // ---- generate + compile into a temporary folder, then rename it into place ----
+    fs::create_directories(root, ec);
+    if (ec) {
+      err << fmt::format("mbsc: error: cannot create the cache folder '{}': {} (choose another with --cache-dir)\n",
+                         printable(root.string()), ec.message());
+      return nullptr;
+    }
+    const fs::path tmp = root / fmt::format(".{}-{}.tmp{}", m.name, key, static_cast<long>(getpid()));
+    fs::remove_all(tmp, ec);
+    driver::GenerateArgs gen;
+    gen.model = req.model_path;
+    gen.out_dir = tmp.string();
+    gen.name = kStem;
+    gen.multipliers = req.multipliers;
+    gen.minimal_state = req.minimal_state;
+    gen.work = req.work;
+    gen.work.quiet = true;
+    std::ostringstream sink;
+    const int g = driver::run_generate(gen, sink, err);
+    if (g != 0) {
+      fs::remove_all(tmp, ec);
+      exit_code = g;
+      return nullptr;
+    }
+    const fs::path src = tmp / kStem;
+    {
+      std::ofstream shim(src / "shim.cpp", std::ios::binary);
+      shim << shim_source(inputs_body, req.multipliers);
+      if (!shim) {
+        err << fmt::format("mbsc: error: cannot write into the cache folder '{}'\n", printable(tmp.string()));
+        fs::remove_all(tmp, ec);
+        return nullptr;
+      }
+    }
+    std::vector<std::string> cmd = {cxx};
+    cmd.insert(cmd.end(), flags.begin(), flags.end());
+    cmd.insert(cmd.end(), {"-o", (src / "lib.so").string(), (src / (std::string(kStem) + ".cpp")).string(),
+                           (src / "shim.cpp").string()});
+    const ProcessResult cc = run_process(cmd);
+    if (cc.exit_code != 0) {
+      std::string shown = cc.output.substr(0, 4000);
+      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}):\n{}\n",
+                         printable(cxx), cc.exit_code, printable(shown));
+      fs::remove_all(tmp, ec);
+      return nullptr;
+    }
+    fs::rename(src, entry, ec);  // another run may have put the same entry in place meanwhile: fine
+    fs::remove_all(tmp, ec);
+    if (!fs::exists(object)) {
+      err << fmt::format("mbsc: error: cannot move the compiled model into the cache folder '{}'\n",
+                         printable(entry.string()));
+      return nullptr;
+    }
+  } else {
+    result->from_cache_ = true;
+  }
+  result->folder_ = entry.string();
+  result->handle_ = dlopen(object.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!result->handle_) {
+    const char* why = dlerror();
+    err << fmt::format("mbsc: error: cannot load the compiled model '{}': {} (remove that folder to rebuild it)\n",
+                       printable(object.string()), printable(why ? why : "unknown reason"));
+    return nullptr;
+  }
+  std::string missing;
+  if (!fill_table(result->handle_, result->table_, result->inputs_, missing)) {
+    err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
+                       printable(object.string()), missing);
+    return nullptr;
+  }
+  exit_code = 0;
+  return result;
+}
+
+}  // namespace mbsc::run

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Plots through gnuplot (include/mbsc/run/gnuplot_plot.hpp).
+#include "mbsc/run/gnuplot_plot.hpp"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/run/process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mbsc::run {
+
+namespace {
+
+/// A gnuplot string literal: single quotes, with a quote doubled.
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string terminal(const std::string& format, int width, int height) {
+  return format == "png" ? fmt::format("set terminal pngcairo size {},{} noenhanced font 'sans,10'\n", width, height)
+                         : fmt::format("set terminal svg size {},{} noenhanced font 'sans,11' background '#ffffff'\n",
+                                       width, height);
+}
+
+/// Runs the script; the image goes to a temporary name first.
+bool render(const std::string& script_body, const std::string& format, int width, int height, const std::string& image,
+            std::string& error) {
+  const std::string tmp = image + fmt::format(".tmp{}", static_cast<long>(getpid()));
+  const std::string script = terminal(format, width, height) + "set output " + quoted(tmp) + "\n" + script_body +
+                             "unset output\n";
+  const ProcessResult r = run_process({"gnuplot"}, script);
+  std::error_code ec;
+  if (r.exit_code != 0 || !fs::exists(tmp, ec) || fs::file_size(tmp, ec) == 0) {
+    fs::remove(tmp, ec);
+    if (!r.spawn_error.empty() || r.exit_code == 127)
+      error = "gnuplot is needed for --plot and was not found (install the Debian package gnuplot-nox)";
+    else
+      error = fmt::format("gnuplot failed (exit code {}): {}", r.exit_code, printable(r.output.substr(0, 2000)));
+    return false;
+  }
+  fs::rename(tmp, image, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    error = fmt::format("cannot write the plot '{}': {}", printable(image), ec.message());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string plot_format(const std::string& image) {
+  const std::string ext = fs::path(image).extension().string();
+  if (ext == ".svg" || ext == ".SVG") return "svg";
+  if (ext == ".png" || ext == ".PNG") return "png";
+  return "";
+}
+
+bool plot_columns(const std::string& csv, const std::vector<std::string>& names, int xcol,
+                  const std::vector<int>& ycols, const std::string& image, const std::string& title,
+                  std::string& error) {
+  const std::string format = plot_format(image);
+  if (format.empty()) {
+    error = fmt::format("--plot: '{}' should end in .svg or .png", printable(image));
+    return false;
+  }
+  const int n = static_cast<int>(ycols.size());
+  std::string s = "set datafile separator ','\nset grid\nunset key\n";
+  s += fmt::format("set multiplot layout {},1 title {}\n", n, quoted(title));
+  for (int k = 0; k < n; ++k) {
+    s += fmt::format("set ylabel {}\n", quoted(names[static_cast<std::size_t>(ycols[static_cast<std::size_t>(k)])]));
+    s += k == n - 1 ? fmt::format("set xlabel {}\n", quoted(names[static_cast<std::size_t>(xcol)])) : "unset xlabel\n";
+    s += fmt::format("plot {} using {}:{} every ::1 with lines lw 1.5\n", quoted(csv), xcol + 1,
+                     ycols[static_cast<std::size_t>(k)] + 1);
+  }
+  s += "unset multiplot\n";
+  return render(s, format, 900, std::max(300, 220 * n), image, error);
+}
+
+bool plot_loglog(const std::vector<PlotSeries>& series, const std::string& xlabel, const std::string& ylabel,
+                 const std::string& image, const std::string& title, std::string& error) {
+  const std::string format = plot_format(image);
+  if (format.empty()) {
+    error = fmt::format("'{}' should end in .svg or .png", printable(image));
+    return false;
+  }
+  std::string s = "set logscale xy\nset grid\nset key outside right\n";
+  s += fmt::format("set title {}\nset xlabel {}\nset ylabel {}\n", quoted(title), quoted(xlabel), quoted(ylabel));
+  std::string plot = "plot ";
+  std::string data;
+  bool any = false;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    const auto& c = series[i];
+    std::string block;
+    for (std::size_t k = 0; k < c.x.size(); ++k)
+      if (c.x[k] > 0 && c.y[k] > 0) block += fmt::format("{} {}\n", c.x[k], c.y[k]);
+    if (block.empty()) continue;
+    plot += fmt::format("{}'-' using 1:2 with linespoints lw 1.5 pt {} title {}", any ? ", " : "", 1 + i % 12,
+                        quoted(c.title));
+    data += block + "e\n";
+    any = true;
+  }
+  if (!any) {
+    error = "nothing to plot (no positive errors and times)";
+    return false;
+  }
+  s += plot + "\n" + data;
+  return render(s, format, 1000, 650, image, error);
+}
+
+}  // namespace mbsc::run

@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `mbsc run` (include/mbsc/run/run_command.hpp): the steps of a simulation from the
+// command line, each failing with a clear message before anything is written.
+#include "mbsc/run/run_command.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fmt/format.h>
+#include <optional>
+#include <ostream>
+
+#include "mbsc/diag/activity.hpp"
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/driver/work_monitor.hpp"
+#include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/csv_table.hpp"
+#include "mbsc/run/gnuplot_plot.hpp"
+#include "mbsc/run/integrators.hpp"
+#include "mbsc/run/run_setup.hpp"
+#include "mbsc/runtime/simulate.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mbsc::run {
+
+namespace {
+
+std::vector<std::string> names_of(const char* const* names, int n) {
+  std::vector<std::string> v;
+  for (int i = 0; i < n; ++i) v.emplace_back(names[i]);
+  return v;
+}
+
+/// A progress bar on a terminal for runs longer than a second.
+class RunProgress {
+ public:
+  explicit RunProgress(double t_end, bool quiet) : t_end_(t_end), show_(!quiet && ::isatty(2)) {}
+  ~RunProgress() { clear(); }
+  void update(double t) {
+    if (!show_) return;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (wall < 1.0 || wall - last_ < 0.1) return;
+    last_ = wall;
+    const int width = 30, filled = static_cast<int>(width * std::min(1.0, t / t_end_));
+    std::fprintf(stderr, "\r\x1b[Kmbsc: %5.1f s running [%s%s] t = %g / %g", wall, std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), t, t_end_);
+    drawn_ = true;
+  }
+  void clear() {
+    if (drawn_) std::fprintf(stderr, "\r\x1b[K");
+    drawn_ = false;
+  }
+
+ private:
+  double t_end_;
+  bool show_, drawn_ = false;
+  double last_ = 0.0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+}  // namespace
+
+std::vector<std::string> integrator_names() { return available_integrators(); }
+
+int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
+  (void)out;
+  auto fail = [&](const std::string& message) {
+    err << "mbsc: error: " << message << "\n";
+    return 1;
+  };
+  // ---- options that need no model ----
+  if (!(a.t_end > 0) || !std::isfinite(a.t_end)) return fail("--t-end must be a positive number of seconds");
+  const double dt_out = a.dt_out > 0 ? a.dt_out : a.t_end / 500;
+  if (!std::isfinite(dt_out) || a.t_end / dt_out > 1e7)
+    return fail("--dt-out gives more than 10 million output rows; choose a larger --dt-out");
+  const auto known = integrator_names();
+  if (std::find(known.begin(), known.end(), a.integrator) == known.end())
+    return fail(fmt::format("--integrator: unknown method '{}'{} (known: {})", printable(a.integrator),
+                            did_you_mean(a.integrator, known), list_names(known)));
+  if (!(a.rtol > 0 && a.rtol < 1) || !(a.atol > 0)) return fail("--rtol must lie in (0, 1) and --atol be positive");
+  if (a.projection != "auto" && a.projection != "on" && a.projection != "off")
+    return fail("--projection takes auto, on or off");
+  if (!a.plot.empty() && plot_format(a.plot).empty())
+    return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
+
+  // ---- the model ----
+  Diagnostics diags;
+  std::vector<std::string> sources;
+  std::optional<model::Model> m;
+  {
+    driver::WorkMonitor monitor(a.work.budget, a.work.progress);
+    try {
+      m = driver::load_model(a.model, diags, {}, "", &sources);
+    } catch (const BudgetExceeded& b) {
+      diags.error(b.pos, b.message);
+    }
+    monitor.stop();
+  }
+  err << diags.format();
+  if (!m || diags.has_errors()) return 1;
+  std::string error;
+  std::map<std::string, double> sets, inits;
+  if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error))
+    return fail(error);
+  if (!a.multipliers && (a.baumgarte_alpha >= 0 || a.baumgarte_beta >= 0))
+    return fail("--baumgarte applies to --formulation multipliers");
+  if (a.baumgarte_alpha >= 0) sets["baumgarte_alpha"] = a.baumgarte_alpha;
+  if (a.baumgarte_beta >= 0) sets["baumgarte_beta"] = a.baumgarte_beta;
+
+  CompileRequest req;
+  req.model_path = a.model;
+  req.multipliers = a.multipliers;
+  req.input_expressions = a.inputs;
+  req.cache_dir = a.cache_dir;
+  req.work = a.work;
+  int code = 1;
+  const auto compiled = compile_model(req, *m, sources, err, code);
+  if (!compiled) return code;
+  const runtime::ModelTable& T = compiled->table();
+
+  std::vector<double> p;
+  if (!parameter_values(T, sets, p, error)) return fail(error);
+  std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
+  compiled->inputs(0.0, p.data(), u.data());
+  InitialState init;
+  if (!initial_state(*m, T, p, u, inits, 0.0, init, error)) return fail(error);
+  if (init.assembly.near_singular)
+    err << "mbsc: warning: the initial state is " << init.assembly.message
+        << "; the run may leave the intended branch (give more coordinates with --init)\n";
+
+  // ---- columns ----
+  std::vector<std::string> available = {"t"};
+  for (const auto& s : names_of(T.state_names, T.nx)) available.push_back(s);
+  const std::size_t first_output = available.size();
+  for (const auto& s : names_of(T.output_names, T.ny)) available.push_back(s);
+  const std::size_t first_input = available.size();
+  if (T.nin > 0)
+    for (const auto& s : names_of(T.input_names, T.nin)) available.push_back(s);
+  double e0[3] = {0, 0, 0};
+  const bool has_energy = T.energy(0.0, init.x.data(), u.data(), p.data(), e0) == 0;
+  const std::size_t first_energy = available.size();
+  if (has_energy)
+    for (const char* s : {"kinetic", "potential", "energy"}) available.push_back(s);
+  std::vector<int> columns;
+  if (a.columns.empty()) {
+    for (std::size_t i = 0; i < available.size(); ++i) columns.push_back(static_cast<int>(i));
+  } else {
+    std::vector<std::string> wanted = a.columns;
+    if (wanted.front() != "t") wanted.insert(wanted.begin(), "t");
+    if (!choose_columns(available, wanted, columns, error)) return fail("--columns: " + error);
+  }
+  std::vector<std::string> column_names;
+  for (int c : columns) column_names.push_back(available[static_cast<std::size_t>(c)]);
+  std::vector<int> plotted;
+  if (!a.plot.empty()) {
+    std::vector<std::string> wanted = a.plot_columns;
+    if (wanted.empty()) {
+      for (std::size_t i = first_output; i < first_input; ++i) wanted.push_back(available[i]);
+      if (wanted.empty())
+        for (const auto& s : names_of(T.dof_names, T.ndof)) wanted.push_back(s);
+      if (wanted.size() > 6) wanted.resize(6);
+    }
+    if (!choose_columns(column_names, wanted, plotted, error))
+      return fail("--plot-columns: " + error + " (a plotted column must be in the CSV)");
+  }
+  const std::string csv_path = a.csv.empty() ? m->name + ".csv" : a.csv;
+  if (!a.plot.empty() && csv_path == "-") return fail("--plot needs the CSV in a file (-o FILE), not on standard output");
+  CsvTable csv;
+  if (!csv.open(csv_path, column_names, error)) return fail("-o: " + error);
+
+  // ---- integrate ----
+  runtime::StepperOptions so;
+  so.rtol = a.rtol;
+  so.atol = a.atol;
+  so.h = a.h > 0 ? a.h : (a.integrator == "rk4" ? dt_out / 10 : 0.0);
+  auto input_fn = [&](double t, double* uu) { return compiled->inputs(t, p.data(), uu); };
+  runtime::SimulationOptions sim;
+  sim.t0 = 0.0;
+  sim.t_end = a.t_end;
+  sim.dt_out = dt_out;
+  sim.projection = a.projection == "on" || (a.projection == "auto" && T.nposc + T.nc > 0 && !T.multipliers);
+  RunProgress progress(a.t_end, a.work.quiet);
+  std::vector<double> row(columns.size()), all(available.size());
+  std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());
+  double max_drift = 0.0;
+  auto observe = [&](double t, const std::vector<double>& x) {
+    all[0] = t;
+    for (int i = 0; i < T.nx; ++i) all[1 + static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
+    input_fn(t, uu.data());
+    if (T.ny > 0 && T.outputs(t, x.data(), uu.data(), p.data(), y.data()) == 0)
+      for (int i = 0; i < T.ny; ++i) all[first_output + static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(i)];
+    for (int i = 0; i < T.nin && T.nin > 0; ++i) all[first_input + static_cast<std::size_t>(i)] = uu[static_cast<std::size_t>(i)];
+    if (has_energy) {
+      double e[3];
+      if (T.energy(t, x.data(), uu.data(), p.data(), e) == 0) {
+        for (int i = 0; i < 3; ++i) all[first_energy + static_cast<std::size_t>(i)] = e[i];
+        max_drift = std::max(max_drift, std::fabs(e[2] - e0[2]));
+      }
+    }
+    for (std::size_t k = 0; k < columns.size(); ++k) row[k] = all[static_cast<std::size_t>(columns[k])];
+    csv.row(row);
+    progress.update(t);
+  };
+  // The right-hand side: inputs at t, then the active independent set's rhs.
+  runtime::PartitionSelector selector({T.npartitions, T.rhs_partition, T.conditioning_partition});
+  std::vector<double> u_rhs(u.size());
+  runtime::Rhs rhs = [&](double t, const double* x, double* xdot) {
+    if (input_fn(t, u_rhs.data()) != 0) return 5;
+    return T.npartitions > 1 ? selector.rhs(t, x, u_rhs.data(), p.data(), xdot)
+                             : T.rhs(t, x, u_rhs.data(), p.data(), xdot);
+  };
+  if (T.npartitions > 1) sim.selector = &selector;
+  const double cpu0 = cpu_seconds();
+  auto stepper = make_integrator(a.integrator, rhs, T.nx, so);
+  const runtime::SimulationResult r = runtime::simulate(T, *stepper, sim, init.x, input_fn, p.data(), observe);
+  const double cpu = cpu_seconds() - cpu0;
+  progress.clear();
+  const bool closed = csv.close(error);
+
+  // ---- summary ----
+  const auto& st = stepper->stats();
+  err << fmt::format("mbsc: {} {} t = 0 .. {:g}: {} steps ({} accepted, {} rejected), {} rhs evaluations{}, {:.3g} s CPU\n",
+                     m->name, stepper->name(), r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
+                     st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
+  if (T.nposc + T.nc > 0)
+    err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g}{}\n", r.max_position_residual,
+                       r.max_velocity_residual, sim.projection ? fmt::format(" (projected {} times)", r.projections) : "");
+  if (has_energy)
+    err << fmt::format("mbsc: energy drift: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
+                       a.inputs.empty() ? "" : ", the inputs do work");
+  if (!r.switches.empty()) {
+    std::string list;
+    for (const auto& s : r.switches)
+      list += fmt::format("{}t = {:g} -> {}", list.empty() ? "" : ", ", s.t, T.partition_names[s.to]);
+    err << fmt::format("mbsc: independent set switched {} times: {}\n", r.switches.size(), list);
+  }
+  if (!closed) return fail(error);
+  if (!r.ok()) {
+    err << fmt::format("mbsc: error: the run failed at t = {:g}: {}; {} kept {} rows up to there\n", r.t, r.message,
+                       printable(csv_path), csv.rows());
+    return 2;
+  }
+  if (csv_path != "-" && !a.work.quiet)
+    err << fmt::format("mbsc: wrote {} ({} rows, {} columns)\n", printable(csv_path), csv.rows(), columns.size());
+  if (!a.plot.empty()) {
+    if (!plot_columns(csv_path, column_names, 0, plotted, a.plot, m->name, error)) return fail("--plot: " + error);
+    if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.plot));
+  }
+  return 0;
+}
+
+}  // namespace mbsc::run

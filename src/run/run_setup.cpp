@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Parameters and the initial state of a run (include/mbsc/run/run_setup.hpp).
+#include "mbsc/run/run_setup.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <ginac/ginac.h>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
+
+namespace mbsc::run {
+
+namespace {
+
+std::vector<std::string> names_of(const char* const* names, int n) {
+  std::vector<std::string> v;
+  for (int i = 0; i < n; ++i) v.emplace_back(names[i]);
+  return v;
+}
+
+/// A number, or a constant expression of the symbols in `table` (and pi).
+bool evaluate(const std::string& text, GiNaC::symtab table, const GiNaC::exmap& values, double& value, std::string& why) {
+  table["pi"] = GiNaC::Pi;
+  GiNaC::parser reader(table);
+  reader.strict = true;
+  try {
+    const GiNaC::ex e = GiNaC::evalf(reader(text).subs(values));
+    if (!GiNaC::is_a<GiNaC::numeric>(e) || !GiNaC::ex_to<GiNaC::numeric>(e).is_real()) {
+      why = "it is not a real number";
+      return false;
+    }
+    value = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
+  } catch (const std::exception& ex) {
+    const std::string w = ex.what();
+    why = w.find("symbol") != std::string::npos ? "it names something unknown here" : "it is not an expression";
+    return false;
+  }
+  if (!std::isfinite(value)) {
+    why = "its value is not finite";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
+                       std::map<std::string, double>& out, std::string& error) {
+  for (const auto& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) {
+      error = fmt::format("{} expects name=value, got '{}'", flag, printable(item));
+      return false;
+    }
+    double v = 0;
+    std::string why;
+    if (!evaluate(item.substr(eq + 1), {}, {}, v, why)) {
+      error = fmt::format("{} {}: '{}' is not a number ({})", flag, printable(item.substr(0, eq)),
+                          printable(item.substr(eq + 1)), why);
+      return false;
+    }
+    out[item.substr(0, eq)] = v;
+  }
+  return true;
+}
+
+bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, double>& sets, std::vector<double>& p,
+                      std::string& error) {
+  p.assign(t.param_defaults, t.param_defaults + t.np);
+  const auto names = names_of(t.param_names, t.np);
+  for (const auto& [name, value] : sets) {
+    const int i = runtime::ModelTable::find(t.param_names, t.np, name.c_str());
+    if (i < 0) {
+      error = fmt::format("--set: the model has no parameter named '{}'{}", printable(name), did_you_mean(name, names));
+      if (t.np == 0) error += " (it has no run-time parameters)";
+      return false;
+    }
+    p[static_cast<std::size_t>(i)] = value;
+  }
+  return true;
+}
+
+bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
+                   const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
+                   InitialState& out, std::string& error) {
+  if (!t.full_state_layout()) {
+    error = "mbsc run integrates the full state (every coordinate and speed); --state minimal is for generate";
+    return false;
+  }
+  const auto state = names_of(t.state_names, t.nx);
+  out.x.assign(static_cast<std::size_t>(t.nx), 0.0);
+  std::vector<bool> given(static_cast<std::size_t>(t.nx), false);
+  out.given.clear();
+  // The model's `initial` values, with this run's parameters.
+  GiNaC::exmap values;
+  for (std::size_t i = 0; i < m.params.size(); ++i) {
+    const int k = runtime::ModelTable::find(t.param_names, t.np, m.params[i].name.c_str());
+    if (k >= 0) values[m.params[i].sym] = p[static_cast<std::size_t>(k)];
+    else if (m.structural.count(m.params[i].name)) values[m.params[i].sym] = m.structural.at(m.params[i].name);
+    else if (i < m.param_defaults.size()) values[m.params[i].sym] = m.param_defaults[i];
+  }
+  auto set = [&](const std::string& name, double v) {
+    const int k = runtime::ModelTable::find(t.state_names, t.nx, name.c_str());
+    out.x[static_cast<std::size_t>(k)] = v;
+    if (!given[static_cast<std::size_t>(k)]) out.given.push_back(name);
+    given[static_cast<std::size_t>(k)] = true;
+  };
+  for (const auto& iv : m.initial_values) {
+    const GiNaC::ex e = GiNaC::evalf(iv.value.subs(values));
+    if (!GiNaC::is_a<GiNaC::numeric>(e) || !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(e).to_double())) {
+      error = fmt::format("{}:{}:{}: the initial value of '{}' is not a finite number with these parameters",
+                          iv.pos.file, iv.pos.line, iv.pos.col, iv.name);
+      return false;
+    }
+    set(iv.name, GiNaC::ex_to<GiNaC::numeric>(e).to_double());
+  }
+  for (const auto& [name, v] : inits) {
+    if (runtime::ModelTable::find(t.state_names, t.nx, name.c_str()) < 0) {
+      error = fmt::format("--init: the model has no coordinate or speed named '{}'{}", printable(name),
+                          did_you_mean(name, state));
+      return false;
+    }
+    set(name, v);
+  }
+  // Assembly: the given entries stay, the others follow from the constraints.
+  runtime::AssemblyModel am{t.nq,
+                            t.nu,
+                            t.nposc,
+                            t.nc,
+                            t.nposc > 0 ? t.position_constraints : nullptr,
+                            t.nposc > 0 ? t.position_jacobian : nullptr,
+                            t.velocity_constraints,
+                            t.constraint_jacobian,
+                            t.position_constraint_names,
+                            t.constraint_names};
+  std::vector<bool> given_q(given.begin(), given.begin() + t.nq), given_u(given.begin() + t.nq, given.end());
+  out.assembly = runtime::assemble(am, t0, out.x, given_q, given_u, u0.empty() ? nullptr : u0.data(), p.data());
+  if (!out.assembly.ok()) {
+    std::string list;
+    for (const auto& g : out.given) list += (list.empty() ? "" : ", ") + g;
+    error = fmt::format("the initial state is inconsistent: {} (given: {})", out.assembly.message,
+                        list.empty() ? "nothing; every coordinate was guessed 0" : list);
+    return false;
+  }
+  for (double v : out.x)
+    if (!std::isfinite(v)) {
+      error = "the initial state is not finite after assembly";
+      return false;
+    }
+  return true;
+}
+
+}  // namespace mbsc::run
