@@ -5,6 +5,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
+#include "mbsc/run/bench_command.hpp"
 #include "mbsc/run/run_command.hpp"
 
 // Sanitizer builds: LeakSanitizer reports a one-time 26-byte allocation that libcln
@@ -189,6 +190,29 @@ int main(int argc, char** argv) {
   WorkFlags run_work;
   run_work.add_to(r);
 
+  mbsc::run::BenchArgs bench;
+  std::vector<std::string> bench_formulations, bench_integrators, bench_tolerances, bench_inputs, bench_errcols;
+  auto* b = app.add_subcommand("bench", "speed against error: every formulation x integrator x tolerance against a "
+                                        "reference run; CSV, markdown table and work-precision plot");
+  b->add_option("model", bench.model, "model file (.mbs)")->required();
+  b->add_option("--t-end", bench.t_end, "end time, s")->capture_default_str();
+  b->add_option("--dt-out", bench.dt_out, "spacing of the trajectory's error samples, s (default t-end / 100)");
+  b->add_option("--formulations", bench_formulations, "complement, multipliers (default both)");
+  b->add_option("--integrators", bench_integrators, "methods to compare (default: dopri5, dop853 and bdf when built)");
+  b->add_option("--tolerances", bench_tolerances, "relative tolerances (default 1e-4,1e-6,1e-8,1e-10)");
+  b->add_option("--set", bench.sets, "a parameter's value: name=value (repeatable)");
+  b->add_option("--init", bench.inits, "an initial coordinate or speed: name=value (repeatable)");
+  b->add_option("--input", bench_inputs, "an input as an expression of t and the parameters: name=EXPR (repeatable)");
+  b->add_option("--error-columns", bench_errcols, "coordinates and speeds the error is measured on (default: all)");
+  b->add_option("--reference", bench.reference, "a CSV (as mbsc run writes) whose last row is the reference final state");
+  b->add_option("--peer", bench.peers, "a peer tool's CSV (method, tol, cpu_s and final state columns) to plot alongside");
+  b->add_option("-o,--out", bench.csv, "CSV of the results (default: <model>_bench.csv)");
+  b->add_option("--plot", bench.plot, "work-precision plot, FILE.svg or FILE.png (gnuplot)");
+  b->add_option("--min-cpu", bench.min_cpu, "repeat each run until this much CPU time, s")->capture_default_str();
+  b->add_option("--cache-dir", bench.cache_dir, "where compiled models are kept");
+  WorkFlags bench_work;
+  bench_work.add_to(b);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -223,6 +247,33 @@ int main(int argc, char** argv) {
         run.inputs[item.substr(0, eq)] = item.substr(eq + 1);
       }
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
+    }
+    if (*b) {
+      bench.work = bench_work.args();
+      if (!bench_formulations.empty()) bench.formulations = split_list(bench_formulations);
+      bench.integrators = split_list(bench_integrators);
+      bench.error_columns = split_list(bench_errcols);
+      if (!bench_tolerances.empty()) {
+        bench.tolerances.clear();
+        for (const auto& t : split_list(bench_tolerances)) {
+          std::string n;
+          double v = 0;
+          if (!mbsc::driver::parse_assignment("tol=" + t, n, v)) {
+            std::cerr << "mbsc: error: --tolerances: '" << mbsc::printable(t) << "' is not a number\n";
+            return 1;
+          }
+          bench.tolerances.push_back(v);
+        }
+      }
+      for (const auto& item : bench_inputs) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) {
+          std::cerr << "mbsc: error: --input expects name=EXPR, got '" << mbsc::printable(item) << "'\n";
+          return 1;
+        }
+        bench.inputs[item.substr(0, eq)] = item.substr(eq + 1);
+      }
+      return mbsc::run::run_bench(bench, std::cout, std::cerr);
     }
     for (const auto& o : split_list(outputs)) gen.functions.insert(o);
     gen.minimal_state = state == "minimal";

@@ -28,8 +28,11 @@ namespace mbsc::run {
 
 namespace {
 
-/// The namespace and file stem of the generated code in the cache (mbsc_gen::model).
-constexpr const char* kStem = "model";
+/// The namespace and file stem of the generated code in the cache: "model_<key>".
+/// Unique per entry because GCC gives inline variables (kParamDefaults, the name
+/// tables) unique-global linkage: two objects loaded at once (bench loads both
+/// formulations) would otherwise share one copy of each table.
+std::string stem_of(const std::string& key) { return "model_" + key; }
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -56,7 +59,7 @@ std::string self_identity() {
 
 /// The shim compiled with the generated code: sizes, names and the inputs, behind
 /// extern "C" names that do not depend on the model.
-std::string shim_source(const std::string& inputs_body, bool multipliers) {
+std::string shim_source(const std::string& kStem, const std::string& inputs_body, bool multipliers) {
   std::string s = fmt::format(
       "// Written by mbsc run: the model's sizes and name tables behind fixed names.\n"
       "#include <cmath>\n#include \"{0}.hpp\"\n"
@@ -92,7 +95,8 @@ bool symbol(void* h, const std::string& name, T& out, std::string& missing) {
 }
 
 /// Fills `t` from the loaded object; false naming the first missing symbol.
-bool fill_table(void* h, runtime::ModelTable& t, int (*&inputs)(double, const double*, double*), std::string& missing) {
+bool fill_table(void* h, const std::string& kStem, runtime::ModelTable& t, int (*&inputs)(double, const double*, double*),
+                std::string& missing) {
   int (*sizes)(int*) = nullptr;
   const char* const* (*names)(int) = nullptr;
   const double* (*defaults)() = nullptr;
@@ -211,6 +215,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   key_text += inputs_body;
   for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
   const std::string key = driver::text_hash(key_text);
+  const std::string kStem = stem_of(key);
   const fs::path root = cache_folder(req.cache_dir);
   const fs::path entry = root / (m.name + "-" + key);
   const fs::path object = entry / "lib.so";
@@ -245,7 +250,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     const fs::path src = tmp / kStem;
     {
       std::ofstream shim(src / "shim.cpp", std::ios::binary);
-      shim << shim_source(inputs_body, req.multipliers);
+      shim << shim_source(kStem, inputs_body, req.multipliers);
       if (!shim) {
         err << fmt::format("mbsc: error: cannot write into the cache folder '{}'\n", printable(tmp.string()));
         fs::remove_all(tmp, ec);
@@ -254,7 +259,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     }
     std::vector<std::string> cmd = {cxx};
     cmd.insert(cmd.end(), flags.begin(), flags.end());
-    cmd.insert(cmd.end(), {"-o", (src / "lib.so").string(), (src / (std::string(kStem) + ".cpp")).string(),
+    cmd.insert(cmd.end(), {"-o", (src / "lib.so").string(), (src / (kStem + ".cpp")).string(),
                            (src / "shim.cpp").string()});
     const ProcessResult cc = run_process(cmd);
     if (cc.exit_code != 0) {
@@ -283,7 +288,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     return nullptr;
   }
   std::string missing;
-  if (!fill_table(result->handle_, result->table_, result->inputs_, missing)) {
+  if (!fill_table(result->handle_, kStem, result->table_, result->inputs_, missing)) {
     err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
                        printable(object.string()), missing);
     return nullptr;

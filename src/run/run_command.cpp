@@ -22,6 +22,7 @@
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/integrators.hpp"
+#include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/runtime/simulate.hpp"
 
@@ -64,7 +65,6 @@ class RunProgress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 }  // namespace
 
@@ -92,20 +92,9 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
 
   // ---- the model ----
-  Diagnostics diags;
   std::vector<std::string> sources;
-  std::optional<model::Model> m;
-  {
-    driver::WorkMonitor monitor(a.work.budget, a.work.progress);
-    try {
-      m = driver::load_model(a.model, diags, {}, "", &sources);
-    } catch (const BudgetExceeded& b) {
-      diags.error(b.pos, b.message);
-    }
-    monitor.stop();
-  }
-  err << diags.format();
-  if (!m || diags.has_errors()) return 1;
+  const std::optional<model::Model> m = read_model(a.model, a.work, sources, err);
+  if (!m) return 1;
   std::string error;
   std::map<std::string, double> sets, inits;
   if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error))
@@ -209,26 +198,16 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     csv.row(row);
     progress.update(t);
   };
-  // The right-hand side: inputs at t, then the active independent set's rhs.
-  runtime::PartitionSelector selector({T.npartitions, T.rhs_partition, T.conditioning_partition});
-  std::vector<double> u_rhs(u.size());
-  runtime::Rhs rhs = [&](double t, const double* x, double* xdot) {
-    if (input_fn(t, u_rhs.data()) != 0) return 5;
-    return T.npartitions > 1 ? selector.rhs(t, x, u_rhs.data(), p.data(), xdot)
-                             : T.rhs(t, x, u_rhs.data(), p.data(), xdot);
-  };
-  if (T.npartitions > 1) sim.selector = &selector;
-  const double cpu0 = cpu_seconds();
-  auto stepper = make_integrator(a.integrator, rhs, T.nx, so);
-  const runtime::SimulationResult r = runtime::simulate(T, *stepper, sim, init.x, input_fn, p.data(), observe);
-  const double cpu = cpu_seconds() - cpu0;
+  const Integration run = integrate(*compiled, p, init.x, a.integrator, so, sim, observe);
+  const runtime::SimulationResult& r = run.result;
+  const double cpu = run.cpu_seconds;
   progress.clear();
   const bool closed = csv.close(error);
 
   // ---- summary ----
-  const auto& st = stepper->stats();
+  const auto& st = run.stats;
   err << fmt::format("mbsc: {} {} t = 0 .. {:g}: {} steps ({} accepted, {} rejected), {} rhs evaluations{}, {:.3g} s CPU\n",
-                     m->name, stepper->name(), r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
+                     m->name, run.method, r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
                      st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
   if (T.nposc + T.nc > 0)
     err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g}{}\n", r.max_position_residual,

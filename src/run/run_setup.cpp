@@ -5,9 +5,13 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <ginac/ginac.h>
+#include <ostream>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/driver/work_monitor.hpp"
 
 namespace mbsc::run {
 
@@ -44,6 +48,24 @@ bool evaluate(const std::string& text, GiNaC::symtab table, const GiNaC::exmap& 
 }
 
 }  // namespace
+
+std::optional<model::Model> read_model(const std::string& path, const driver::WorkArgs& work,
+                                       std::vector<std::string>& sources, std::ostream& err) {
+  Diagnostics diags;
+  std::optional<model::Model> m;
+  {
+    driver::WorkMonitor monitor(work.budget, work.progress);
+    try {
+      m = driver::load_model(path, diags, {}, "", &sources);
+    } catch (const BudgetExceeded& b) {
+      diags.error(b.pos, b.message);
+    }
+    monitor.stop();
+  }
+  err << diags.format();
+  if (!m || diags.has_errors()) return std::nullopt;
+  return m;
+}
 
 bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
                        std::map<std::string, double>& out, std::string& error) {

@@ -3,15 +3,23 @@
 /// What `mbsc run`, `mbsc inverse` and `mbsc bench` share before integrating: the
 /// parameter vector (defaults, then --set) and a consistent initial state (the model's
 /// `initial` statements, then --init, the rest completed by assembly).
+#include <iosfwd>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "mbsc/driver/commands.hpp"
 #include "mbsc/model/model.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/model_table.hpp"
 
 namespace mbsc::run {
+
+/// Reads and builds the model (no derivation), under the work budget; diagnostics on
+/// `err`; nullopt on errors. `sources` receives the files read.
+std::optional<model::Model> read_model(const std::string& path, const driver::WorkArgs& work,
+                                       std::vector<std::string>& sources, std::ostream& err);
 
 /// "name=value" items of --set / --init, in order (a name given twice: the last wins).
 /// False with `error` for a malformed item.

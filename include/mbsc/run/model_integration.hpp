@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// One integration of a compiled model, as `mbsc run` and every run of `mbsc bench`
+/// make it: the inputs at t, the active independent set's rhs (re-selected between
+/// steps when the model declares alternatives), the named integrator, the runtime's
+/// simulation loop; timed in CPU seconds.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "mbsc/run/compiled_model.hpp"
+#include "mbsc/runtime/simulate.hpp"
+#include "mbsc/runtime/stepper.hpp"
+
+namespace mbsc::run {
+
+struct Integration {
+  runtime::SimulationResult result;
+  runtime::StepperStats stats;
+  std::string method;  // the stepper's name
+  double cpu_seconds = 0.0;
+};
+
+using Observer = std::function<void(double t, const std::vector<double>& x)>;
+
+/// `integrator` must be one of available_integrators().
+Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
+                      const std::string& integrator, const runtime::StepperOptions& options,
+                      runtime::SimulationOptions sim, const Observer& observe);
+
+}  // namespace mbsc::run
