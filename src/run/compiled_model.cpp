@@ -276,6 +276,9 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
                          printable(entry.string()));
       return nullptr;
     }
+    if (!req.work.quiet)
+      err << fmt::format("mbsc: compiled {} ({}) into {}\n", m.name, req.multipliers ? "multipliers" : "complement",
+                         printable(entry.string()));
   } else {
     result->from_cache_ = true;
   }

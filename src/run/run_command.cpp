@@ -155,6 +155,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
       for (std::size_t i = first_output; i < first_input; ++i) wanted.push_back(available[i]);
       if (wanted.empty())
         for (const auto& s : names_of(T.dof_names, T.ndof)) wanted.push_back(s);
+      // Only what the CSV has (--columns may leave them out); else its first columns.
+      std::vector<std::string> present;
+      for (const auto& w : wanted)
+        if (std::find(column_names.begin(), column_names.end(), w) != column_names.end()) present.push_back(w);
+      if (present.empty()) present.assign(column_names.begin() + 1, column_names.end());
+      wanted = present;
       if (wanted.size() > 6) wanted.resize(6);
     }
     if (!choose_columns(column_names, wanted, plotted, error))

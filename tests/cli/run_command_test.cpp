@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `mbsc run` and `mbsc bench` as a user calls them: the CSV against the physics (the
+// constraint and energy along the run), the cache, the initial state from the model and
+// from --init, and every bad input of issue 10 (exit 1, nothing written) or numerical
+// failure (exit 2, the rows up to it kept).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = MBSC_BINARY;
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+/// A pendulum on a rod of length l: the bob's Cartesian coordinates tied to the angle.
+const char* kPendulum =
+    "model pend\nparameter l = 1.5, m = 2, g = 9.81\ngravity (0, -g)\n"
+    "body b : particle2d { mass m }\nsubsystem arm {\n  coordinate th\n  speed w = th'\n}\n"
+    "constraint position { b.x - l*sin(arm.th) = 0; b.y + l*cos(arm.th) = 0 }\n"
+    "independent arm.w\ninitial arm.th = 2.5\noutput angle = arm.th\noutput energy\n";
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  int col(const std::string& name) const {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+Csv read_csv(const fs::path& p) {
+  Csv c;
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::stringstream s(line);
+    std::string cell;
+    if (c.header.empty()) {
+      while (std::getline(s, cell, ',')) c.header.push_back(cell);
+    } else {
+      std::vector<double> r;
+      while (std::getline(s, cell, ',')) r.push_back(std::stod(cell));
+      c.rows.push_back(r);
+    }
+  }
+  return c;
+}
+
+std::string run_in(const fs::path& dir, const std::string& args) {
+  return kMbsc + " " + args + " --cache-dir " + quote((dir / "cache").string());
+}
+
+}  // namespace
+
+TEST_CASE("mbsc run: the CSV follows the constraints and conserves energy; the cache skips the compiler",
+          "[cli][run]") {
+  const fs::path dir = fresh_dir("run");
+  write(dir / "pend.mbs", kPendulum);
+  auto r = run(run_in(dir, "run " + quote((dir / "pend.mbs").string()) + " --t-end 3 --dt-out 0.01 --rtol 1e-10 -o " +
+                               quote((dir / "out.csv").string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("compiled pend") != std::string::npos);
+  CHECK(r.output.find("energy drift") != std::string::npos);
+  const Csv c = read_csv(dir / "out.csv");
+  REQUIRE(c.rows.size() == 301);
+  const int t = c.col("t"), th = c.col("arm.th"), bx = c.col("b.x"), by = c.col("b.y"), e = c.col("energy");
+  REQUIRE((t == 0 && th > 0 && bx > 0 && by > 0 && e > 0));
+  CHECK(c.rows.front()[static_cast<std::size_t>(th)] == 2.5);  // the model's `initial`
+  CHECK(c.rows.back()[static_cast<std::size_t>(t)] == Approx(3.0));
+  double worst_constraint = 0, worst_energy = 0;
+  const double e0 = c.rows.front()[static_cast<std::size_t>(e)];
+  CHECK(e0 == Approx(2 * 9.81 * -1.5 * std::cos(2.5)));  // at rest: potential m g y only
+  for (const auto& row : c.rows) {
+    worst_constraint = std::max(worst_constraint, std::fabs(row[static_cast<std::size_t>(bx)] -
+                                                            1.5 * std::sin(row[static_cast<std::size_t>(th)])));
+    worst_energy = std::max(worst_energy, std::fabs(row[static_cast<std::size_t>(e)] - e0));
+  }
+  CHECK(worst_constraint < 1e-8);
+  CHECK(worst_energy < 1e-7 * std::fabs(e0));
+  // The pendulum swings through the bottom: the angle changes sign.
+  double lo = 10;
+  for (const auto& row : c.rows) lo = std::min(lo, row[static_cast<std::size_t>(th)]);
+  CHECK(lo < -2.0);
+  // Same model, other options of the run only: no compilation; --init wins over `initial`.
+  r = run(run_in(dir, "run " + quote((dir / "pend.mbs").string()) + " --t-end 0.1 --init arm.th=pi/2 --set l=2 -o " +
+                           quote((dir / "out2.csv").string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("compiled") == std::string::npos);
+  const Csv c2 = read_csv(dir / "out2.csv");
+  CHECK(c2.rows.front()[static_cast<std::size_t>(c2.col("arm.th"))] == Approx(M_PI / 2));
+  CHECK(c2.rows.front()[static_cast<std::size_t>(c2.col("b.x"))] == Approx(2.0));  // assembled with l = 2
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run: a plot and chosen columns", "[cli][run]") {
+  const fs::path dir = fresh_dir("run_plot");
+  write(dir / "pend.mbs", kPendulum);
+  auto r = run(run_in(dir, "run " + quote((dir / "pend.mbs").string()) + " --t-end 1 --columns arm.th,energy -o " +
+                               quote((dir / "o.csv").string()) + " --plot " + quote((dir / "p.svg").string())));
+  INFO(r.output);
+  if (r.output.find("gnuplot is needed") != std::string::npos) {
+    WARN("gnuplot not installed: plot check skipped");
+    return;
+  }
+  REQUIRE(r.exit_code == 0);
+  const Csv c = read_csv(dir / "o.csv");
+  CHECK(c.header == std::vector<std::string>{"t", "arm.th", "energy"});
+  std::ifstream svg(dir / "p.svg");
+  std::stringstream s;
+  s << svg.rdbuf();
+  CHECK(s.str().find("<svg") != std::string::npos);
+  CHECK(s.str().find("energy") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run: bad input is exit 1 with nothing written", "[cli][run]") {
+  const fs::path dir = fresh_dir("run_bad");
+  write(dir / "pend.mbs", kPendulum);
+  const std::string model = quote((dir / "pend.mbs").string());
+  const std::string csv = quote((dir / "x.csv").string());
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--init arm.thx=1", "no coordinate or speed named 'arm.thx' (did you mean 'arm.th'?)"},
+      {"--set ll=1", "no parameter named 'll' (did you mean 'l'?)"},
+      {"--init b.x=5", "position constraint"},  // |b| = 5 on a rod of 1.5
+      {"--set l=abc", "--set l"},
+      {"--integrator dopri", "unknown method 'dopri' (did you mean 'dopri5'?)"},
+      {"--input f=t", "no input named 'f'"},
+      {"--t-end -1", "--t-end"},
+      {"--plot x.pdf", ".svg or .png"},
+      {"--columns t,angl", "no column named 'angl' (did you mean 'angle'?)"},
+  };
+  for (const auto& c : cases) {
+    auto r = run(run_in(dir, "run " + model + " -o " + csv + " " + c.args));
+    INFO(c.args << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "x.csv"));
+  }
+  // An unwritable output path.
+  auto r = run(run_in(dir, "run " + model + " -o " + quote((dir / "no" / "such" / "x.csv").string())));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("cannot write") != std::string::npos);
+  // A model with an error: file:line:col, exit 1.
+  write(dir / "bad.mbs", "model bad\nparameter m = 1\nbody b : particle2d { mass mm }\n");
+  r = run(run_in(dir, "run " + quote((dir / "bad.mbs").string()) + " -o " + csv));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("bad.mbs:3:") != std::string::npos);
+  // A compiler that fails (another model text, so the cache cannot serve it).
+  write(dir / "pend2.mbs", std::string(kPendulum) + "# another text\n");
+  r = run("CXX=false " + run_in(dir, "run " + quote((dir / "pend2.mbs").string()) + " -o " + csv));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("compiler") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.csv"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run: a numerical failure is exit 2 and keeps the rows before it", "[cli][run]") {
+  const fs::path dir = fresh_dir("run_fail");
+  // A force that blows up at t = 0.5.
+  write(dir / "push.mbs", "model push\nparameter m = 1\ninput f\nbody b : particle2d { mass m }\nforce b.u : f\n");
+  auto r = run(run_in(dir, "run " + quote((dir / "push.mbs").string()) + " --t-end 1 --dt-out 0.01 --input 'f=1/(t-0.5)^2' -o " +
+                               quote((dir / "f.csv").string())));
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("the run failed at t = ") != std::string::npos);
+  const Csv c = read_csv(dir / "f.csv");
+  CHECK(c.rows.size() >= 40);
+  CHECK(c.rows.size() <= 51);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc bench: errors against the reference shrink with the tolerance", "[cli][run]") {
+  const fs::path dir = fresh_dir("bench");
+  write(dir / "pend.mbs", kPendulum);
+  auto r = run(run_in(dir, "bench " + quote((dir / "pend.mbs").string()) +
+                               " --t-end 2 --integrators dopri5 --tolerances 1e-5,1e-9 --min-cpu 0.001 -o " +
+                               quote((dir / "b.csv").string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir / "b.csv");
+  std::string header, line;
+  std::getline(in, header);
+  CHECK(header.find("err_final") != std::string::npos);
+  std::vector<std::pair<std::string, double>> errors;  // formulation, final error
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    std::string cell;
+    while (std::getline(s, cell, ',')) cells.push_back(cell);
+    REQUIRE(cells.size() >= 14);
+    CHECK(cells[13] == "ok");
+    errors.emplace_back(cells[2], std::stod(cells[8]));
+  }
+  REQUIRE(errors.size() == 4);  // 2 formulations x 2 tolerances
+  for (std::size_t k = 0; k < 4; k += 2) {
+    INFO(errors[k].first);
+    CHECK(errors[k].second < 1e-2);
+    CHECK(errors[k + 1].second < errors[k].second / 100);  // 1e-4 tighter: much smaller error
+  }
+  fs::remove_all(dir);
+}
