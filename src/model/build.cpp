@@ -1038,14 +1038,22 @@ class Builder {
                                              v.name, bad ? fmt::format("'{}'", bad->name) : std::string("the time t")));
       return;
     }
-    for (const auto& given : m_.initial_values)
-      if (given.name == v.name) {
-        const std::string where = given.pos.file == s.pos.file ? "" : given.pos.file + ":";
-        diags_.error(s.path.pos, fmt::format("initial value of '{}' is already given at {}{}:{}", v.name, where,
-                                             given.pos.line, given.pos.col));
-        return;
-      }
-    m_.initial_values.push_back(NamedExpr{v.name, *e, s.path.pos});
+    const bool guess = s.level == "guess";
+    if (guess && !var->first) {
+      diags_.error(s.path.pos, fmt::format("'initial guess' is for coordinates (where assembly starts); give the speed "
+                                           "'{}' with 'initial {} = ...'",
+                                           v.name, s.path.text));
+      return;
+    }
+    for (const auto* list : {&m_.initial_values, &m_.initial_guesses})
+      for (const auto& given : *list)
+        if (given.name == v.name) {
+          const std::string where = given.pos.file == s.pos.file ? "" : given.pos.file + ":";
+          diags_.error(s.path.pos, fmt::format("initial value of '{}' is already given at {}{}:{}", v.name, where,
+                                               given.pos.line, given.pos.col));
+          return;
+        }
+    (guess ? m_.initial_guesses : m_.initial_values).push_back(NamedExpr{v.name, *e, s.path.pos});
   }
 
   /// Resolves a dotted path to a variable: (is_coordinate, index).

@@ -642,11 +642,15 @@ class Parser {
 
   // 'latex' path STRING: the symbol `mbsc print --latex` writes for a name. The text must
   // be safe in a formula (latex_text.hpp); whether the name exists is the model's to say.
-  // 'initial' PATH '=' expr (',' PATH '=' expr)*
+  // 'initial' ['guess'] PATH '=' expr (',' PATH '=' expr)*
   void parse_initial(std::vector<StatementPtr>& out, const Token& kw) {
     std::vector<Statement> items;
+    // `guess` is a word here only when a name follows it (a variable may be called guess).
+    const bool guess = at(TK::Ident) && peek().text == "guess" && i_ + 1 < toks_.size() && toks_[i_ + 1].kind == TK::Ident;
+    if (guess) take();
     for (;;) {
       Statement st = begin(Statement::Kind::Initial, kw);
+      if (guess) st.level = "guess";
       st.path = parse_path("coordinate or speed after " + after_last());
       expect(TK::Equals, "'=' and a value after 'initial " + st.path.text + "'");
       st.value = parse_expr();

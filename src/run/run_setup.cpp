@@ -128,23 +128,39 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
     if (!given[static_cast<std::size_t>(k)]) out.given.push_back(name);
     given[static_cast<std::size_t>(k)] = true;
   };
-  for (const auto& iv : m.initial_values) {
+  // --init naming a coordinate turns the model's fixed coordinates into guesses (the
+  // user chose another configuration); naming a speed drops the model's speeds.
+  bool init_q = false, init_u = false;
+  for (const auto& [name, v] : inits) {
+    const int k = runtime::ModelTable::find(t.state_names, t.nx, name.c_str());
+    if (k < 0) {
+      error = fmt::format("--init: the model has no coordinate or speed named '{}'{}", printable(name),
+                          did_you_mean(name, state));
+      return false;
+    }
+    (k < t.nq ? init_q : init_u) = true;
+  }
+  auto value_of = [&](const model::NamedExpr& iv, double& v) {
     const GiNaC::ex e = GiNaC::evalf(iv.value.subs(values));
     if (!GiNaC::is_a<GiNaC::numeric>(e) || !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(e).to_double())) {
       error = fmt::format("{}:{}:{}: the initial value of '{}' is not a finite number with these parameters",
                           iv.pos.file, iv.pos.line, iv.pos.col, iv.name);
       return false;
     }
-    set(iv.name, GiNaC::ex_to<GiNaC::numeric>(e).to_double());
-  }
-  for (const auto& [name, v] : inits) {
-    if (runtime::ModelTable::find(t.state_names, t.nx, name.c_str()) < 0) {
-      error = fmt::format("--init: the model has no coordinate or speed named '{}'{}", printable(name),
-                          did_you_mean(name, state));
-      return false;
+    v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
+    return true;
+  };
+  for (const auto* list : {&m.initial_guesses, &m.initial_values})
+    for (const auto& iv : *list) {
+      const int k = runtime::ModelTable::find(t.state_names, t.nx, iv.name.c_str());
+      if (k < 0) continue;  // (a name the generated state does not carry)
+      double v = 0;
+      if (!value_of(iv, v)) return false;
+      const bool is_q = k < t.nq;
+      if (list == &m.initial_guesses || (is_q && init_q)) out.x[static_cast<std::size_t>(k)] = v;  // a guess
+      else if (!(!is_q && init_u)) set(iv.name, v);
     }
-    set(name, v);
-  }
+  for (const auto& [name, v] : inits) set(name, v);
   // Assembly: the given entries stay, the others follow from the constraints.
   runtime::AssemblyModel am{t.nq,
                             t.nu,

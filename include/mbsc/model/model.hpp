@@ -123,6 +123,9 @@ struct Model {
   /// `initial PATH = expr`: starting values for `mbsc run` (full dotted name of a
   /// coordinate or speed -> a constant expression of the parameters), in source order.
   std::vector<NamedExpr> initial_values;
+  /// `initial guess PATH = expr`: where assembly starts for a coordinate it solves for
+  /// (which branch of a closed loop the run starts on), not a fixed value.
+  std::vector<NamedExpr> initial_guesses;
   int root() const { return static_cast<int>(nodes.size()) - 1; }
   /// A node's name for messages: its dotted path, or "<top>" for the root.
   std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }

@@ -92,7 +92,8 @@ struct Statement {
                   //                                    exprs = {rest length or angle} (may be empty)
     Damper,       // damper NAME [rotational] PATH PATH coefficient expr
                   //                                    name, kind_name, paths, value = coefficient
-    Initial,      // initial PATH = expr                path, value (the variable's starting value, for `mbsc run`)
+    Initial,      // initial [guess] PATH = expr        path, value (the variable's starting value, for `mbsc run`);
+                  //                                    level = "guess" for a starting guess of assembly
     Latex,        // latex PATH "text"                  path = the name it gives a symbol to, name = the text
                   //                                    (unquoted), name_pos = the string's position
   };
