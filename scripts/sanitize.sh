@@ -18,7 +18,7 @@ export ASAN_OPTIONS=detect_leaks=1:strict_string_checks=1:detect_stack_use_after
 # allocation is suppressed, nothing else (tests/lsan.supp).
 export LSAN_OPTIONS=suppressions=$PWD/tests/lsan.supp:print_suppressions=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Sanitize -DMBSC_BUILD_TESTS=ON -DMBSC_BUILD_APPS=OFF \
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Sanitize -DMBSC_BUILD_TESTS=ON -DMBSC_SLOW_TESTS=ON -DMBSC_BUILD_APPS=OFF \
   -DMBSC_FUZZ=ON -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" >/dev/null
 cmake --build "$BUILD" -j"$(nproc)"
 ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)"
