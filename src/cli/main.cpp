@@ -173,6 +173,10 @@ int main(int argc, char** argv) {
   r->add_option("--formulation", run_formulation, "complement or multipliers (as for generate)")
       ->check(CLI::IsMember({"complement", "multipliers"}))
       ->default_val("complement");
+  std::string run_state = "full";
+  r->add_option("--state", run_state, "full or minimal (as for generate; the CSV shows every coordinate and speed)")
+      ->check(CLI::IsMember({"full", "minimal"}))
+      ->default_val("full");
   r->add_option("--set", run.sets, "a parameter's value for this run: name=value (repeatable)");
   r->add_option("--init", run.inits,
                 "an initial coordinate or speed: name=value (repeatable); the rest follows by assembly");
@@ -236,6 +240,7 @@ int main(int argc, char** argv) {
     if (*r) {
       run.work = run_work.args();
       run.multipliers = run_formulation == "multipliers";
+      run.minimal_state = run_state == "minimal";
       run.columns = split_list(run_columns);
       run.plot_columns = split_list(run_plot_columns);
       for (const auto& item : run_inputs) {

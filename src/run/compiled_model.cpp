@@ -74,7 +74,8 @@ std::string shim_source(const std::string& kStem, const std::string& inputs_body
       "    case 0: return m::kStateNames;\n    case 1: return m::kDofNames;\n    case 2: return m::kInputNames;\n"
       "    case 3: return m::kParamNames;\n    case 4: return m::kConstraintNames;\n"
       "    case 5: return m::kPositionConstraintNames;\n    case 6: return m::kOutputNames;\n"
-      "    case 7: return m::kPartitionNames;\n    default: return nullptr;\n  }}\n}}\n"
+      "    case 7: return m::kPartitionNames;\n    case 8: return m::kFullStateNames;\n"
+      "    default: return nullptr;\n  }}\n}}\n"
       "const double* mbsc_run_param_defaults() {{ return m::kParamDefaults; }}\n"
       "int mbsc_run_inputs(double t, const double* p, double* u) {{\n"
       "  (void)t; (void)p; (void)u;\n{1}  return 0;\n}}\n",
@@ -113,6 +114,7 @@ bool fill_table(void* h, const std::string& kStem, runtime::ModelTable& t, int (
   t.state_names = names(0), t.dof_names = names(1), t.input_names = names(2), t.param_names = names(3);
   t.constraint_names = names(4), t.position_constraint_names = names(5), t.output_names = names(6);
   t.partition_names = names(7);
+  t.full_state_names = names(8);
   t.param_defaults = defaults();
   const std::string pre = std::string("mbsc_") + kStem + "_";
   bool ok = symbol(h, pre + "rhs", t.rhs, missing) && symbol(h, pre + "mass_matrix", t.mass_matrix, missing) &&

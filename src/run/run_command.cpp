@@ -110,31 +110,51 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   req.input_expressions = a.inputs;
   req.cache_dir = a.cache_dir;
   req.work = a.work;
+  req.minimal_state = a.minimal_state;
   int code = 1;
   const auto compiled = compile_model(req, *m, sources, err, code);
   if (!compiled) return code;
   const runtime::ModelTable& T = compiled->table();
+  // --state minimal: the initial state is assembled on the full state (a second, cached
+  // object) and its minimal entries picked by name.
+  std::unique_ptr<CompiledModel> full_model;
+  if (a.minimal_state) {
+    CompileRequest full = req;
+    full.minimal_state = false;
+    full_model = compile_model(full, *m, sources, err, code);
+    if (!full_model) return code;
+  }
+  const runtime::ModelTable& TA = a.minimal_state ? full_model->table() : T;
 
   std::vector<double> p;
   if (!parameter_values(T, sets, p, error)) return fail(error);
   std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
   compiled->inputs(0.0, p.data(), u.data());
   InitialState init;
-  if (!initial_state(*m, T, p, u, inits, 0.0, init, error)) return fail(error);
+  if (!initial_state(*m, TA, p, u, inits, 0.0, init, error)) return fail(error);
+  std::vector<double> x0 = init.x;
+  if (a.minimal_state) {
+    x0.assign(static_cast<std::size_t>(T.nx), 0.0);
+    for (int i = 0; i < T.nx; ++i)
+      x0[static_cast<std::size_t>(i)] =
+          init.x[static_cast<std::size_t>(runtime::ModelTable::find(TA.state_names, TA.nx, T.state_names[i]))];
+  }
+  const int nfull = T.nq_full + T.nu_full;  // the CSV shows every coordinate and speed
+  std::vector<double> full_x(static_cast<std::size_t>(nfull));
   if (init.assembly.near_singular)
     err << "mbsc: warning: the initial state is " << init.assembly.message
         << "; the run may leave the intended branch (give more coordinates with --init)\n";
 
   // ---- columns ----
   std::vector<std::string> available = {"t"};
-  for (const auto& s : names_of(T.state_names, T.nx)) available.push_back(s);
+  for (const auto& s : names_of(T.full_state_names, nfull)) available.push_back(s);
   const std::size_t first_output = available.size();
   for (const auto& s : names_of(T.output_names, T.ny)) available.push_back(s);
   const std::size_t first_input = available.size();
   if (T.nin > 0)
     for (const auto& s : names_of(T.input_names, T.nin)) available.push_back(s);
   double e0[3] = {0, 0, 0};
-  const bool has_energy = T.energy(0.0, init.x.data(), u.data(), p.data(), e0) == 0;
+  const bool has_energy = T.energy(0.0, x0.data(), u.data(), p.data(), e0) == 0;
   const std::size_t first_energy = available.size();
   if (has_energy)
     for (const char* s : {"kinetic", "potential", "energy"}) available.push_back(s);
@@ -188,8 +208,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   double max_drift = 0.0;
   auto observe = [&](double t, const std::vector<double>& x) {
     all[0] = t;
-    for (int i = 0; i < T.nx; ++i) all[1 + static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
     input_fn(t, uu.data());
+    if (T.full_state_layout()) {
+      for (int i = 0; i < T.nx; ++i) all[1 + static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
+    } else if (T.full_state(t, x.data(), uu.data(), p.data(), full_x.data()) == 0) {
+      for (int i = 0; i < nfull; ++i) all[1 + static_cast<std::size_t>(i)] = full_x[static_cast<std::size_t>(i)];
+    }
     if (T.ny > 0 && T.outputs(t, x.data(), uu.data(), p.data(), y.data()) == 0)
       for (int i = 0; i < T.ny; ++i) all[first_output + static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(i)];
     for (int i = 0; i < T.nin && T.nin > 0; ++i) all[first_input + static_cast<std::size_t>(i)] = uu[static_cast<std::size_t>(i)];
@@ -204,7 +228,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     csv.row(row);
     progress.update(t);
   };
-  const Integration run = integrate(*compiled, p, init.x, a.integrator, so, sim, observe);
+  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();

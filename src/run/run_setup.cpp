@@ -106,10 +106,6 @@ bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, 
 bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
                    const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
                    InitialState& out, std::string& error) {
-  if (!t.full_state_layout()) {
-    error = "mbsc run integrates the full state (every coordinate and speed); --state minimal is for generate";
-    return false;
-  }
   const auto state = names_of(t.state_names, t.nx);
   out.x.assign(static_cast<std::size_t>(t.nx), 0.0);
   std::vector<bool> given(static_cast<std::size_t>(t.nx), false);

@@ -22,6 +22,7 @@ struct RunArgs {
   double rtol = 1e-8, atol = 1e-10;
   double h = 0.0;                 // fixed-step methods (0: dt_out / 10)
   bool multipliers = false;       // --formulation multipliers
+  bool minimal_state = false;     // --state minimal
   std::vector<std::string> sets;  // --set name=value
   std::vector<std::string> inits; // --init name=value
   std::map<std::string, std::string> inputs;  // --input name=EXPR

@@ -38,7 +38,7 @@ struct InitialState {
   std::vector<std::string> given;   // the names fixed by `initial` statements and --init
 };
 
-/// The initial state at t0: `initial` values of the model (evaluated with p), --init
+/// The initial state at t0 (of a full-state model): `initial` values of the model (evaluated with p), --init
 /// values over them, every other coordinate guessed 0 and every other speed solved from
 /// the velocity constraints (minimum norm). False with `error` for an unknown name or a
 /// state the constraints do not allow (naming the constraint).

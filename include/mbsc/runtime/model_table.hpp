@@ -33,6 +33,7 @@ struct ModelTable {
   const char* const* position_constraint_names;  // nposc
   const char* const* output_names;               // ny
   const char* const* partition_names;            // npartitions
+  const char* const* full_state_names;           // nq_full + nu_full (= state_names for the full state)
   const double* param_defaults;                  // np
 
   Fn rhs, mass_matrix, forcing, position_constraints, velocity_constraints, constraint_jacobian, position_jacobian,
@@ -56,7 +57,7 @@ struct ModelTable {
   ::mbsc::runtime::ModelTable {                                                                                      \
     NS::kNq, NS::kNu, NS::kNx, NS::kNdof, NS::kNin, NS::kNp, NS::kNc, NS::kNposc, NS::kNy, NS::kNpartitions,         \
         NS::kNqFull, NS::kNuFull, false, NS::kStateNames, NS::kDofNames, NS::kInputNames, NS::kParamNames,           \
-        NS::kConstraintNames, NS::kPositionConstraintNames, NS::kOutputNames, NS::kPartitionNames,                   \
+        NS::kConstraintNames, NS::kPositionConstraintNames, NS::kOutputNames, NS::kPartitionNames, NS::kFullStateNames, \
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
         &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, nullptr, nullptr        \
@@ -67,7 +68,7 @@ struct ModelTable {
   ::mbsc::runtime::ModelTable {                                                                                      \
     NS::kNq, NS::kNu, NS::kNx, NS::kNdof, NS::kNin, NS::kNp, NS::kNc, NS::kNposc, NS::kNy, NS::kNpartitions,         \
         NS::kNqFull, NS::kNuFull, true, NS::kStateNames, NS::kDofNames, NS::kInputNames, NS::kParamNames,            \
-        NS::kConstraintNames, NS::kPositionConstraintNames, NS::kOutputNames, NS::kPartitionNames,                   \
+        NS::kConstraintNames, NS::kPositionConstraintNames, NS::kOutputNames, NS::kPartitionNames, NS::kFullStateNames, \
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
         &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, &NS::multipliers,       \
