@@ -10,7 +10,10 @@
 ///   2. speeds: one minimum-norm correction of v onto A v + b = 0 at the new positions
 ///      (the velocity constraints are affine in v).
 /// Works through a ModelTable whose state is the full one (nq == nq_full); a model
-/// without constraints is left alone.
+/// without constraints is left alone. Coordinates and speeds can be held (not moved):
+/// the correction is then the shortest one in the others (e.g. keep the independent
+/// coordinates of the complement form, whose own integration error is smallest, and let
+/// the dependent ones absorb the drift).
 ///
 ///   ProjectionReport r = project(model, t, x, u, p);
 ///   if (!r.ok()) ... r.message ...
@@ -88,7 +91,21 @@ struct ProjectionOptions {
   int max_iterations = 10;
   double rank_tolerance = 1e-10;      // relative: rows of J (or A) below this are treated as dependent
   bool velocities = true;             // also project the speeds
+  std::vector<bool> hold_q;           // coordinates kept as they are (empty: none)
+  std::vector<bool> hold_u;           // speeds kept as they are (empty: none)
 };
+
+/// The columns of a rows x cols row-major matrix that `hold` does not mark, and their indices.
+inline std::vector<double> free_columns(const std::vector<double>& M, int rows, int cols, const std::vector<bool>& hold,
+                                        std::vector<std::size_t>& index) {
+  index.clear();
+  for (int j = 0; j < cols; ++j)
+    if (hold.empty() || !hold[static_cast<std::size_t>(j)]) index.push_back(static_cast<std::size_t>(j));
+  std::vector<double> out(static_cast<std::size_t>(rows) * index.size());
+  for (std::size_t i = 0; i < static_cast<std::size_t>(rows); ++i)
+    for (std::size_t k = 0; k < index.size(); ++k) out[i * index.size() + k] = M[i * static_cast<std::size_t>(cols) + index[k]];
+  return out;
+}
 
 struct ProjectionReport {
   enum class Status { Ok, NotConverged, EvaluationFailed, NotFullState };
@@ -153,8 +170,10 @@ inline ProjectionReport project(const ModelTable& m, double t, std::vector<doubl
         return rep;
       }
       for (double& e : g) e = -e;
-      rep.position_rank = minimum_norm_solve(J, g, m.nposc, m.nq, dq, o.rank_tolerance);
-      for (std::size_t i = 0; i < nq; ++i) x[i] += dq[i];
+      std::vector<std::size_t> cols;
+      const std::vector<double> Jf = free_columns(J, m.nposc, m.nq, o.hold_q, cols);
+      rep.position_rank = minimum_norm_solve(Jf, g, m.nposc, static_cast<int>(cols.size()), dq, o.rank_tolerance);
+      for (std::size_t k = 0; k < cols.size(); ++k) x[cols[k]] += dq[k];
       ++rep.iterations;
       if (m.position_constraints(t, x.data(), u, p, g.data()) != 0) {
         rep.status = ProjectionReport::Status::EvaluationFailed;
@@ -183,8 +202,10 @@ inline ProjectionReport project(const ModelTable& m, double t, std::vector<doubl
       return rep;
     }
     for (double& e : r) e = -e;
-    minimum_norm_solve(A, r, m.nc, m.nu, dv, o.rank_tolerance);
-    for (std::size_t j = 0; j < nu; ++j) x[nq + j] += dv[j];
+    std::vector<std::size_t> cols;
+    const std::vector<double> Af = free_columns(A, m.nc, m.nu, o.hold_u, cols);
+    minimum_norm_solve(Af, r, m.nc, static_cast<int>(cols.size()), dv, o.rank_tolerance);
+    for (std::size_t k = 0; k < cols.size(); ++k) x[nq + cols[k]] += dv[k];
   }
   if (!constraint_residuals(m, t, x.data(), u, p, rep.position_after, rep.velocity_after)) {
     rep.status = ProjectionReport::Status::EvaluationFailed;

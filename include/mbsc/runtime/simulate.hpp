@@ -103,6 +103,16 @@ struct SimulationOptions {
   /// Project only when the largest |g| or |A v + b| exceeds this; then restart the stepper.
   double projection_threshold = 1e-10;
   ProjectionOptions projection_options;
+  /// Complement form, when true: the projection keeps the active independent speeds and
+  /// the coordinates whose rates they are, and corrects only the dependent ones. Better
+  /// where the independent motion is integrated on its own (a pendulum's angle: phase
+  /// error as without projection), worse where every coordinate feeds the dynamics (a
+  /// four-bar); measured in docs/simulation.md. False (the default), or for the
+  /// multipliers form: the shortest correction in all coordinates and speeds.
+  bool projection_keeps_independent = false;
+  /// Names of further coordinates and speeds (kStateNames) the projection keeps. An
+  /// unknown name is a BadSetup result.
+  std::vector<std::string> projection_hold;
   /// Re-select the independent set between steps (models with kNpartitions > 1).
   bool reselect = true;
   /// Record the total energy's drift (when the model defines energy).
@@ -158,6 +168,55 @@ inline int first_non_finite(const std::vector<double>& x) {
   return -1;
 }
 
+/// For each speed j, the coordinate i whose rate is that speed alone (q0_i' = q1_j, as
+/// for an angle and its angular speed), found from the rhs at x by differences; -1 where
+/// there is none (quasi-speeds, a quaternion's rates).
+inline std::vector<int> coordinate_of_speed(ModelDynamics& dyn, double t, const std::vector<double>& x) {
+  const ModelTable& m = dyn.model();
+  const std::size_t nq = static_cast<std::size_t>(m.nq), nu = static_cast<std::size_t>(m.nu);
+  std::vector<int> pair(nu, -1);
+  std::vector<double> f0(x.size()), f1(x.size()), xp = x;
+  if (dyn.evaluate(t, x.data(), f0.data()) != 0) return pair;
+  // d(rate_i)/d(u_j), column by column.
+  std::vector<double> D(nq * nu, 0.0);
+  for (std::size_t j = 0; j < nu; ++j) {
+    const double h = 1e-6 * std::max(1.0, std::fabs(x[nq + j]));
+    xp[nq + j] = x[nq + j] + h;
+    const int s = dyn.evaluate(t, xp.data(), f1.data());
+    xp[nq + j] = x[nq + j];
+    if (s != 0) return std::vector<int>(nu, -1);
+    for (std::size_t i = 0; i < nq; ++i) D[i * nu + j] = (f1[i] - f0[i]) / h;
+  }
+  for (std::size_t i = 0; i < nq; ++i) {
+    int only = -1;
+    bool clean = true;
+    for (std::size_t j = 0; j < nu; ++j) {
+      const double d = D[i * nu + j];
+      if (std::fabs(d - 1.0) < 1e-6 && only < 0) only = static_cast<int>(j);
+      else if (std::fabs(d) > 1e-6) clean = false;
+    }
+    if (clean && only >= 0 && pair[static_cast<std::size_t>(only)] < 0) pair[static_cast<std::size_t>(only)] = static_cast<int>(i);
+  }
+  return pair;
+}
+
+/// The state indices of the speeds a comma-separated list names (kPartitionNames[k]).
+inline std::vector<int> speeds_named(const ModelTable& m, const std::string& list) {
+  std::vector<int> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    std::size_t end = list.find(',', start);
+    if (end == std::string::npos) end = list.size();
+    std::string name = list.substr(start, end - start);
+    while (!name.empty() && name.front() == ' ') name.erase(name.begin());
+    while (!name.empty() && name.back() == ' ') name.pop_back();
+    const int i = ModelTable::find(m.state_names, m.nx, name.c_str());
+    if (i >= m.nq) out.push_back(i - m.nq);
+    start = end + 1;
+  }
+  return out;
+}
+
 }  // namespace detail
 
 /// Runs the loop described at the top of this file. x0 is the state at o.t0 (kNx entries,
@@ -191,6 +250,42 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
                           (o.projection == SimulationOptions::Projection::On ||
                            o.projection == SimulationOptions::Projection::Auto);
   const bool reselect = o.reselect && dyn.reselects();
+  // What the projection keeps: the names given, and (complement form) the active
+  // independent speeds with their coordinates.
+  ProjectionOptions given_hold = o.projection_options;
+  given_hold.hold_q.resize(static_cast<std::size_t>(m.nq), false);
+  given_hold.hold_u.resize(static_cast<std::size_t>(m.nu), false);
+  for (const std::string& name : o.projection_hold) {
+    const int i = ModelTable::find(m.state_names, m.nx, name.c_str());
+    if (i < 0)
+      return finish(SimulationResult::Status::BadSetup,
+                    "projection_hold: the model has no coordinate or speed '" + name + "'");
+    if (i < m.nq)
+      given_hold.hold_q[static_cast<std::size_t>(i)] = true;
+    else
+      given_hold.hold_u[static_cast<std::size_t>(i - m.nq)] = true;
+  }
+  const bool keep_independent = project_on && o.projection_keeps_independent && !m.multipliers;
+  std::vector<int> coordinate_of;  // per speed; filled at the start when needed
+  auto projection_options = [&]() {
+    ProjectionOptions po = given_hold;
+    if (!keep_independent) return po;
+    const std::string names = reselect ? std::string(m.partition_names[dyn.selector().active()]) : std::string();
+    std::vector<int> speeds;
+    if (reselect)
+      speeds = detail::speeds_named(m, names);
+    else
+      for (int k = 0; k < m.ndof; ++k) {
+        const int i = ModelTable::find(m.state_names, m.nx, m.dof_names[k]);
+        if (i >= m.nq) speeds.push_back(i - m.nq);
+      }
+    for (int j : speeds) {
+      po.hold_u[static_cast<std::size_t>(j)] = true;
+      if (!coordinate_of.empty() && coordinate_of[static_cast<std::size_t>(j)] >= 0)
+        po.hold_q[static_cast<std::size_t>(coordinate_of[static_cast<std::size_t>(j)])] = true;
+    }
+    return po;
+  };
   const double* p = dyn.params();
 
   // Partition: choose the best one for the start.
@@ -225,6 +320,7 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
 
   std::vector<double> x = x0;
   check_partition(o.t0, x);
+  if (keep_independent) coordinate_of = detail::coordinate_of_speed(dyn, o.t0, x);
   track_energy(o.t0, x, true);
   if (constrained) {
     double gp = 0, gv = 0;
@@ -282,7 +378,15 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
         res.max_velocity_residual = std::max(res.max_velocity_residual, gv);
         // (3) projection.
         if (project_on && (gp > o.projection_threshold || gv > o.projection_threshold)) {
-          const ProjectionReport pr = project(m, t, x, dyn.inputs(), p, o.projection_options);
+          const std::vector<double> unprojected = x;
+          ProjectionReport pr = project(m, t, x, dyn.inputs(), p, projection_options());
+          if (keep_independent && (!pr.ok() || pr.position_after > o.projection_threshold ||
+                                   pr.velocity_after > o.projection_threshold)) {
+            // The kept variables leave the rest unable to close the constraints (near a
+            // singular dependent block): the shortest correction in all of them instead.
+            x = unprojected;
+            pr = project(m, t, x, dyn.inputs(), p, given_hold);
+          }
           if (pr.status == ProjectionReport::Status::EvaluationFailed)
             return finish(SimulationResult::Status::ProjectionFailed, pr.message);
           ++res.projections;
