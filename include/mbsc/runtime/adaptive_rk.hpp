@@ -35,6 +35,7 @@ inline std::string rhs_status_meaning(int status) {
     case 2: return "a non-finite value (NaN or infinite)";
     case 3: return "the partition index is out of range";
     case 4: return "not defined for this model";
+    case 10: return "the input function failed";
     default: return "status " + std::to_string(status);
   }
 }
