@@ -174,6 +174,20 @@ TEST_CASE("integrators: failures name t and the step", "[numeric][integrators]")
     CHECK(s->message().find("t = 0.") != std::string::npos);
     CHECK(s->t() <= 0.5);
   }
+  // A failure just before t_stop (closer than the smallest step): reported, not retried forever.
+  auto late_wall = [](double t, const double*, double* yd) {
+    yd[0] = 1.0;
+    return t > 1.0 - 1e-15 ? 1 : 0;
+  };
+  for (const char* name : {"dopri5", "dop853"}) {
+    auto s = make_stepper(name, late_wall, 1, {});
+    REQUIRE(s->reset(0.0, {0.0}) == Stepper::Status::Ok);
+    Stepper::Status st = Stepper::Status::Ok;
+    while (st == Stepper::Status::Ok && s->t() < 1.0) st = s->step(1.0);
+    INFO(s->message());
+    CHECK(st == Stepper::Status::RhsFailed);
+    CHECK(s->stats().steps < 1000);
+  }
   // max_steps
   StepperOptions o;
   o.max_steps = 10;

@@ -67,7 +67,7 @@ class AdaptiveRungeKutta : public Stepper {
     x_.resize(n_);
     stepped_ = false;
     started_ = true;
-    if (!eval(t_, x_.data(), f0_.data())) return fail(Status::RhsFailed, "at the start");
+    if (!eval(t_, x_.data(), f0_.data())) return fail(Status::RhsFailed, "at the start, t = " + format_number(t_));
     if (!continuation) {
       h_ = o_.h > 0.0 ? o_.h : initial_step();
       err_old_ = 1e-4;
@@ -92,7 +92,7 @@ class AdaptiveRungeKutta : public Stepper {
       const bool last = t_ + 1.01 * h >= t_stop;
       if (last) h = t_stop - t_;
       const double h_floor = std::max(o_.h_min, 16.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::fabs(t_)));
-      if (h < h_floor && !last)
+      if (h < h_floor && (!last || rhs_failures > 0))
         return fail(rhs_failures > 0 ? Status::RhsFailed : Status::StepTooSmall,
                     rhs_failures > 0 ? "the right-hand side failed (" + rhs_status_meaning(last_status) + ") at t = " +
                                            format_number(t_) + " for every step down to " + format_number(h)
@@ -107,7 +107,6 @@ class AdaptiveRungeKutta : public Stepper {
         last_status = s;
         h_ = h / 4.0;
         rejected_last_ = true;
-        if (h_ < h_floor && last) h_ = h_floor / 2;  // reported by the test above
         continue;
       }
       if (!(err <= 1.0)) {  // rejected (also when err is NaN)

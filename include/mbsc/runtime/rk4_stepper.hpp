@@ -33,7 +33,7 @@ class Rk4Stepper : public Stepper {
     x0_ = x_;
     f_end_.assign(n_, 0.0);
     stepped_ = false;
-    if (!eval(t_, x_.data(), k1_.data())) return failed("at the start");
+    if (!eval(t_, x_.data(), k1_.data())) return failed("at the start, t = " + format_number(t_));
     f_begin_ = k1_;
     f_end_ = k1_;
     return Status::Ok;
