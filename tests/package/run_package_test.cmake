@@ -66,7 +66,8 @@ run("cmake --install" COMMAND ${CMAKE_COMMAND} --install ${MBSC_BUILD_DIR} --pre
 # ... and moved: nothing in it may depend on where it was installed.
 file(RENAME "${root}/installed" "${prefix}")
 foreach(f bin/mbsc include/mbsc/runtime/rk4.hpp include/mbsc/runtime/assemble.hpp
-          include/mbsc/runtime/least_squares.hpp include/mbsc/runtime/partition_selector.hpp)
+          include/mbsc/runtime/least_squares.hpp include/mbsc/runtime/partition_selector.hpp
+          include/mbsc/runtime/simulate.hpp include/mbsc/runtime/projection.hpp include/mbsc/runtime/make_stepper.hpp)
   if(NOT EXISTS "${prefix}/${f}")
     fail("the install has no ${f}")
   endif()
