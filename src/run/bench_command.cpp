@@ -148,7 +148,7 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
   sim.t0 = 0.0;
   sim.t_end = a.t_end;
   sim.dt_out = dt_out;
-  sim.projection = T.nposc + T.nc > 0;
+  sim.projection = runtime::SimulationOptions::Projection::Auto;
   const std::string ref_method =
       std::find(known.begin(), known.end(), "dop853") != known.end() ? "dop853" : integrators.front();
   if (a.reference.empty()) {
@@ -190,7 +190,8 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
     std::vector<double> pf;
     if (!parameter_values(cm.table(), sets, pf, error)) return fail(error);
     runtime::SimulationOptions s = sim;
-    s.projection = f == "complement" && T.nposc + T.nc > 0;
+    s.projection = f == "complement" ? runtime::SimulationOptions::Projection::Auto
+                                      : runtime::SimulationOptions::Projection::Off;
     for (const auto& method : integrators)
       for (double tol : a.tolerances) {
         Row row;

@@ -201,7 +201,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   sim.t0 = 0.0;
   sim.t_end = a.t_end;
   sim.dt_out = dt_out;
-  sim.projection = a.projection == "on" || (a.projection == "auto" && T.nposc + T.nc > 0 && !T.multipliers);
+  // auto: on for the complement form (the runtime's default), off for the multipliers
+  // form, which has its own stabilization (Baumgarte).
+  using Projection = runtime::SimulationOptions::Projection;
+  sim.projection = a.projection == "on" ? Projection::On
+                   : a.projection == "off" || T.multipliers ? Projection::Off : Projection::Auto;
+  const bool projecting = sim.projection != Projection::Off && T.nposc + T.nc > 0 && T.full_state_layout();
   RunProgress progress(a.t_end, a.work.quiet);
   std::vector<double> row(columns.size()), all(available.size());
   std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());
@@ -241,14 +246,14 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
                      st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
   if (T.nposc + T.nc > 0)
     err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g}{}\n", r.max_position_residual,
-                       r.max_velocity_residual, sim.projection ? fmt::format(" (projected {} times)", r.projections) : "");
+                       r.max_velocity_residual, projecting ? fmt::format(" (projected {} times)", r.projections) : "");
   if (has_energy)
     err << fmt::format("mbsc: energy drift: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
                        a.inputs.empty() ? "" : ", the inputs do work");
   if (!r.switches.empty()) {
     std::string list;
     for (const auto& s : r.switches)
-      list += fmt::format("{}t = {:g} -> {}", list.empty() ? "" : ", ", s.t, T.partition_names[s.to]);
+      list += fmt::format("{}t = {:g} -> {}", list.empty() ? "" : ", ", s.t, s.name);
     err << fmt::format("mbsc: independent set switched {} times: {}\n", r.switches.size(), list);
   }
   if (!closed) return fail(error);
