@@ -191,6 +191,15 @@ std::vector<Prescription> three_rrr_motion(const ModelTable& m) {
            }}};
 }
 
+// The generated inverse_dynamics at the sample's state, with z' read from its rates.
+std::vector<double> generated_inverse(const ModelTable& m, const InverseSample& s, const double* p) {
+  std::vector<double> zdot(static_cast<std::size_t>(m.ndof)), u(static_cast<std::size_t>(m.nin));
+  for (int i = 0; i < m.ndof; ++i)
+    zdot[static_cast<std::size_t>(i)] = s.xdot[static_cast<std::size_t>(m.nq + ModelTable::find(m.state_names + m.nq, m.nu, m.dof_names[i]))];
+  REQUIRE(m.inverse_dynamics(s.t, s.x.data(), zdot.data(), p, u.data()) == 0);
+  return u;
+}
+
 double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double w = 0.0;
   for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) w = std::max(w, std::fabs(a[i] - b[i]));
@@ -216,13 +225,16 @@ TEST_CASE("inverse dynamics: Whitworth crank at pi/2 rad/s (thesis SI run)", "[n
   // The thesis's initial configuration: slider at (0.8, 0.8).
   CHECK(r.samples[0].x[static_cast<std::size_t>(state_index(m, "slider.x"))] == Approx(0.8).margin(1e-9));
   const std::size_t slider_u = static_cast<std::size_t>(state_index(m, "slider.u"));
-  double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300, worst_reduced = 0.0, worst_mult = 0.0;
+  double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300, worst_reduced = 0.0, worst_mult = 0.0,
+         worst_generated = 0.0;
   for (std::size_t k = 0; k < r.samples.size(); ++k) {
     const InverseSample& s = r.samples[k];
     // rhs(x, u) gives back the prescribed acceleration (the solver checks; so does this).
     CHECK(s.acceleration_residual < 1e-9);
     worst_reduced = std::max(worst_reduced, largest_difference(inputs_from_reduced_equations(m, s, W::kParamDefaults), s.inputs));
     worst_mult = std::max(worst_mult, largest_difference(rm.samples[k].inputs, s.inputs));
+    worst_generated = std::max(worst_generated, largest_difference(generated_inverse(m, s, W::kParamDefaults), s.inputs));
+    worst_generated = std::max(worst_generated, largest_difference(generated_inverse(mm, rm.samples[k], pm.data()), s.inputs));
     CHECK(largest_difference(rm.samples[k].x, s.x) < 1e-9);
     u_min = std::min(u_min, s.inputs[0]);
     u_max = std::max(u_max, s.inputs[0]);
@@ -231,6 +243,7 @@ TEST_CASE("inverse dynamics: Whitworth crank at pi/2 rad/s (thesis SI run)", "[n
   }
   CHECK(worst_reduced < 1e-9);
   CHECK(worst_mult < 1e-9);
+  CHECK(worst_generated < 1e-9);  // the generated inverse_dynamics, both forms
   // Quick return: the slider comes back faster than it goes (|v| larger one way), and the
   // torque has peaks of both signs (the thesis's Fig 5.13 shows the peaks at the return).
   INFO("slider velocity in [" << v_min << ", " << v_max << "], u1 in [" << u_min << ", " << u_max << "]");
@@ -268,8 +281,9 @@ TEST_CASE("inverse dynamics: 3RRR platform trajectory (thesis SI run)", "[numeri
   const double th = r.samples[0].x[static_cast<std::size_t>(state_index(m, "HA.proximal.theta"))];
   CHECK(3.0 + 2.0 * std::cos(th) == Approx(2.0).margin(1e-9));
   CHECK(2.0 * std::sin(th) == Approx(std::sqrt(3.0)).margin(1e-9));
-  double worst_reduced = 0.0, u_scale = 0.0;
+  double worst_reduced = 0.0, worst_generated = 0.0, u_scale = 0.0;
   for (const auto& s : r.samples) {
+    worst_generated = std::max(worst_generated, largest_difference(generated_inverse(m, s, R::kParamDefaults), s.inputs));
     CHECK(s.acceleration_residual < 1e-9);
     for (double u : s.inputs) u_scale = std::max(u_scale, std::fabs(u));
     // Here the prescribed coordinates are not the independent set (the proximal angles):
@@ -279,6 +293,7 @@ TEST_CASE("inverse dynamics: 3RRR platform trajectory (thesis SI run)", "[numeri
   INFO("largest |u| " << u_scale);
   CHECK(u_scale > 0.1);  // the platform's accelerations need torque
   CHECK(worst_reduced < 1e-8 * std::max(1.0, u_scale));
+  CHECK(worst_generated < 1e-8 * std::max(1.0, u_scale));
 
   // Multipliers form on a coarser grid: the same inputs.
   const ModelTable mm = MBSC_MODEL_TABLE_MULTIPLIERS(mbsc_gen::three_rrr_mult);
@@ -287,8 +302,10 @@ TEST_CASE("inverse dynamics: 3RRR platform trajectory (thesis SI run)", "[numeri
   pm.push_back(10.0);
   InverseDynamics inv_mult(mm, three_rrr_motion(mm), {0, 1, 2}, pm);
   const Run rm = run_inverse(inv_mult, three_rrr_guess(mm), 16.0, 0.4);
-  for (std::size_t k = 0; k < rm.samples.size(); ++k)
+  for (std::size_t k = 0; k < rm.samples.size(); ++k) {
     CHECK(largest_difference(rm.samples[k].inputs, r.samples[static_cast<std::size_t>(std::lround(k * 0.4 / dtg))].inputs) < 1e-8 * std::max(1.0, u_scale));
+    CHECK(largest_difference(generated_inverse(mm, rm.samples[k], pm.data()), rm.samples[k].inputs) < 1e-8 * std::max(1.0, u_scale));
+  }
 
   const double err = round_trip_error(m, R::kParamDefaults, r, motion, 1e-3, 8.0);
   INFO("round trip: largest platform pose error " << err);
