@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
   g->add_option("model", gen.model, "model file (.mbs)")->required();
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
-                "only these functions (comma-separated): rhs mass_matrix forcing position_constraints "
+                "only these functions (comma-separated): rhs mass_matrix forcing inverse_dynamics position_constraints "
                 "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state multipliers "
                 "reaction_forces");
   std::string formulation = "complement";

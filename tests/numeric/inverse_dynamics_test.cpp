@@ -226,7 +226,7 @@ TEST_CASE("inverse dynamics: Whitworth crank at pi/2 rad/s (thesis SI run)", "[n
   CHECK(r.samples[0].x[static_cast<std::size_t>(state_index(m, "slider.x"))] == Approx(0.8).margin(1e-9));
   const std::size_t slider_u = static_cast<std::size_t>(state_index(m, "slider.u"));
   double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300, worst_reduced = 0.0, worst_mult = 0.0,
-         worst_generated = 0.0;
+         worst_generated = 0.0, peak = 0.0, v_at_peak = 0.0;
   for (std::size_t k = 0; k < r.samples.size(); ++k) {
     const InverseSample& s = r.samples[k];
     // rhs(x, u) gives back the prescribed acceleration (the solver checks; so does this).
@@ -236,6 +236,7 @@ TEST_CASE("inverse dynamics: Whitworth crank at pi/2 rad/s (thesis SI run)", "[n
     worst_generated = std::max(worst_generated, largest_difference(generated_inverse(m, s, W::kParamDefaults), s.inputs));
     worst_generated = std::max(worst_generated, largest_difference(generated_inverse(mm, rm.samples[k], pm.data()), s.inputs));
     CHECK(largest_difference(rm.samples[k].x, s.x) < 1e-9);
+    if (std::fabs(s.inputs[0]) > peak) peak = std::fabs(s.inputs[0]), v_at_peak = s.x[slider_u];
     u_min = std::min(u_min, s.inputs[0]);
     u_max = std::max(u_max, s.inputs[0]);
     v_min = std::min(v_min, s.x[slider_u]);
@@ -250,6 +251,8 @@ TEST_CASE("inverse dynamics: Whitworth crank at pi/2 rad/s (thesis SI run)", "[n
   CHECK(std::max(std::fabs(v_min), v_max) > 1.5 * std::min(std::fabs(v_min), v_max));
   CHECK(u_min < 0.0);
   CHECK(u_max > 0.0);
+  // ... during the fast stroke (slider moving back, v > 0 here), the torque peaks.
+  CHECK(v_at_peak > 0.5 * v_max);
   // The crank turns at a constant rate; the motion is periodic with the crank's period 4 s.
   const InverseSample& a = r.samples[0];
   const InverseSample& b = r.samples[2000];  // t = 4
