@@ -254,7 +254,7 @@ int forcing(double t, const double* x, const double* u, const double* p, double*
 
 /// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
 /// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
-/// kNdof, else least squares through the normal equations (H^T H singular, status 1, when kNin > kNdof)
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
 /// OUT: u, kNin values (row-major). Cost: 4 adds, 6 muls, 0 divs, 0 calls, 7 solve flops, total 17.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).

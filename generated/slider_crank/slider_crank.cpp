@@ -4,7 +4,7 @@
 //   rhs: 37 adds, 104 muls, 0 divs, 4 calls, 3 solve flops, total 148
 //   mass_matrix: 10 adds, 34 muls, 0 divs, 4 calls, 2 solve flops, total 50
 //   forcing: 19 adds, 57 muls, 0 divs, 4 calls, 2 solve flops, total 82
-//   inverse_dynamics: 30 adds, 91 muls, 0 divs, 4 calls, 9 solve flops, total 134
+//   inverse_dynamics: 25 adds, 75 muls, 0 divs, 4 calls, 3 solve flops, total 107
 //   position_constraints: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24
 //   velocity_constraints: 12 adds, 12 muls, 0 divs, 4 calls, 0 solve flops, total 28
 //   constraint_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
@@ -152,31 +152,6 @@ int chol_1x1(int k, const double* A, double* B) {
 
 }  // namespace
 
-namespace {
-
-// A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
-  const double tiny = 1e-13 * amax;
-  const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
-  const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
-  const double c = swap ? A[0] : A[2], d = swap ? A[1] : A[3];
-  if (!(std::fabs(a) > 0.0) || std::fabs(a) < tiny) return 1;
-  const double f = c / a;
-  const double e = d - f * b;
-  if (!(std::fabs(e) > 0.0) || std::fabs(e) < tiny) return 1;
-  for (int j = 0; j < k; ++j) {
-    const double r0 = swap ? B[k + j] : B[j], r1 = swap ? B[j] : B[k + j];
-    const double x1 = (r1 - f * r0) / e;
-    B[j] = (r0 - b * x1) / a;
-    B[k + j] = x1;
-  }
-  return 0;
-}
-
-}  // namespace
-
 int rhs(double /*t*/, const double* x, const double* u, const double* p, double* OUT) {
   assert(u != nullptr && "u: the model has inputs (kNin > 0)");
   const double s0 = std::sin(x[5]);
@@ -312,27 +287,20 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
   const double t5 = t4*t4;
   const double t6 = -p[1]*B_0[1]*s0;
   const double t7 = c0*t1*p[1];
-  const double t8 = t6 + t7 + t0*p[0]*c1;
-  const double t9 = p[0]*p[0]*p[2];
-  const double t10 = 2.0*p[0]*c1 - c0*p[1]*B_0[0];
-  const double t11 = 2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4];
-  const double t12 = t3 - 2.0*s1*p[0];
-  const double t13 = 4.0*p[3] + 4.0*B_0[0]*B_0[0]*p[5] + p[4]*t12*t12 + 4.0*t5*p[6] + p[4]*t10*t10 + t9*c1*c1 + t9*s1*s1;
-  const double t14 = 2.0*t0*p[0]*c1 + t6 + t7;
-  const double t15 = s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]);
-  // solve A_1 X = B_1 (2x2, 1 column): inputs: H u = M zdot - h0
-  double A_1[4] = {
-      1.0, t4,
-      t4, t5};
-  double B_1[2] = {
-      s1*(0.25*t9)*t0*c1 - t4*t8*p[6] + 0.25*t10*t11 + 0.25*zdot[0]*t13 - 0.25*t12*p[4]*t14 + B_0[1]*p[5]*B_0[0] - 0.25*t15*p[0]*c1,
-      0.25*t4*(4.0*B_0[1]*p[5]*B_0[0] - t12*p[4]*t14 + zdot[0]*t13 - t15*p[0]*c1 + s1*t0*c1*t9 - 4.0*t4*t8*p[6] + t10*t11)};
-  if (lu_solve_2x2(1, A_1, B_1) != 0) {
+  const double t8 = p[0]*p[0]*p[2];
+  const double t9 = 2.0*p[0]*c1 - c0*p[1]*B_0[0];
+  const double t10 = t3 - 2.0*s1*p[0];
+  // solve A_1 X = B_1 (1x1, 1 column): inputs: H u = M zdot - h0
+  double A_1[1] = {
+      t5 + 1.0};
+  double B_1[1] = {
+      s1*(0.25*t8)*t0*c1 - t4*(t6 + t7 + t0*p[0]*c1)*p[6] + 0.25*t9*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + 0.25*zdot[0]*(4.0*p[3] + 4.0*B_0[0]*B_0[0]*p[5] + p[4]*t10*t10 + 4.0*t5*p[6] + p[4]*t9*t9 + t8*c1*c1 + t8*s1*s1) - 0.25*t10*p[4]*(2.0*t0*p[0]*c1 + t6 + t7) + B_0[1]*p[5]*B_0[0] - 0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1};
+  if (solve_1x1(1, A_1, B_1) != 0) {
     const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
-    return all_finite(A_1, 4) && all_finite(in_, 13) ? 1 : 2;
+    return all_finite(A_1, 1) && all_finite(in_, 13) ? 1 : 2;
   }
   OUT[0] = B_1[0];
-  OUT[1] = B_1[1];
+  OUT[1] = t4*B_1[0];
   if (!all_finite(OUT, 2)) return 2;
   return 0;
 }

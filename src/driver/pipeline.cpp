@@ -176,10 +176,10 @@ bool steps_read_inputs(const model::Model& m, const std::vector<ir::Step>& steps
 
 // inverse_dynamics(t, x, zdot, p, u): the inputs that give the independent accelerations
 // zdot. The forcing is affine in the inputs, h = h0 + H u (H = dh/du, h0 = h at u = 0),
-// so M zdot = h becomes H u = M zdot - h0, solved in the generated code: by LU when
-// there are as many inputs as degrees of freedom, else through the normal equations
-// H^T H u = H^T (M zdot - h0) (least squares with fewer inputs; singular, status 1, with
-// more). A model whose forcing is not affine in its inputs gets a function that
+// so M zdot = h becomes H u = M zdot - h0 = r, solved in the generated code: by LU when
+// there are as many inputs as degrees of freedom; with fewer, least squares through the
+// normal equations H^T H u = H^T r; with more, the smallest inputs u = H^T y,
+// H H^T y = r. A model whose forcing is not affine in its inputs gets a function that
 // returns 4.
 ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eom, std::vector<ir::Step> steps,
                                        const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
@@ -187,7 +187,7 @@ ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eo
   ir::FunctionSpec f{"inverse_dynamics",
                      "inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of\n"
                      "H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==\n"
-                     "kNdof, else least squares through the normal equations (H^T H singular, status 1, when kNin > kNdof)",
+                     "kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof",
                      "u", "kNin", {}, {}};
   f.third_arg = "zdot";
   if (nin == 0) return f;
@@ -235,12 +235,29 @@ ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eo
   ir::Solve solve;
   solve.label = "inputs: H u = M zdot - h0";
   solve.reported = false;
-  solve.n = nin;
+  solve.n = std::min(nin, nd);
   solve.k = 1;
-  for (int k = 0; k < nin; ++k) solve.X.push_back(GiNaC::symbol(fmt::format("u_{}", k)));
+  for (int k = 0; k < solve.n; ++k) solve.X.push_back(GiNaC::symbol(fmt::format("u_{}", k)));
   if (nin == nd) {
     solve.A = H;
     solve.B = r;
+  } else if (nin > nd) {
+    // More inputs than degrees of freedom: the smallest, u = H^T y with H H^T y = r.
+    for (int a = 0; a < nd; ++a) {
+      for (int b = 0; b < nd; ++b) {
+        GiNaC::ex sum = 0;
+        for (int k = 0; k < nin; ++k) sum += H[static_cast<std::size_t>(a * nin + k)] * H[static_cast<std::size_t>(b * nin + k)];
+        solve.A.push_back(sum);
+      }
+      solve.B.push_back(r[static_cast<std::size_t>(a)]);
+    }
+    f.steps.push_back(solve);
+    for (int k = 0; k < nin; ++k) {
+      GiNaC::ex sum = 0;
+      for (int i = 0; i < nd; ++i) sum += H[static_cast<std::size_t>(i * nin + k)] * solve.X[static_cast<std::size_t>(i)];
+      f.outputs.push_back(sum);
+    }
+    return f;
   } else {
     for (int a = 0; a < nin; ++a) {
       for (int b = 0; b < nin; ++b) {
