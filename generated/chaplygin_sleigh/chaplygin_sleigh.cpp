@@ -4,6 +4,7 @@
 //   rhs: 5 adds, 20 muls, 2 divs, 2 calls, 5 solve flops, total 34
 //   mass_matrix: 2 adds, 7 muls, 1 divs, 2 calls, 0 solve flops, total 12
 //   forcing: 1 adds, 9 muls, 1 divs, 2 calls, 0 solve flops, total 13
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 2 adds, 3 muls, 0 divs, 2 calls, 0 solve flops, total 7
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
@@ -147,6 +148,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
@@ -244,6 +250,10 @@ extern "C" int mbsc_chaplygin_sleigh_mass_matrix(double t, const double* x, cons
 
 extern "C" int mbsc_chaplygin_sleigh_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::chaplygin_sleigh::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_chaplygin_sleigh_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::chaplygin_sleigh::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_chaplygin_sleigh_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

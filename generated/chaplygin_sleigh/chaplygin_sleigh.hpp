@@ -4,6 +4,7 @@
 //   rhs: 5 adds, 20 muls, 2 divs, 2 calls, 5 solve flops, total 34
 //   mass_matrix: 2 adds, 7 muls, 1 divs, 2 calls, 0 solve flops, total 12
 //   forcing: 1 adds, 9 muls, 1 divs, 2 calls, 0 solve flops, total 13
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 2 adds, 3 muls, 0 divs, 2 calls, 0 solve flops, total 7
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
@@ -105,6 +106,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -180,6 +190,7 @@ extern "C" {
 int mbsc_chaplygin_sleigh_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_chaplygin_sleigh_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 18 adds, 47 muls, 0 divs, 4 calls, 5 solve flops, total 74
 //   mass_matrix: 4 adds, 15 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   forcing: 8 adds, 22 muls, 0 divs, 4 calls, 0 solve flops, total 34
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 6 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 14
 //   velocity_constraints: 6 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 18
 //   constraint_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
@@ -177,6 +178,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[4]);
   const double c0 = std::cos(x[4]);
@@ -345,6 +351,10 @@ extern "C" int mbsc_double_pendulum_mass_matrix(double t, const double* x, const
 
 extern "C" int mbsc_double_pendulum_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::double_pendulum::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_double_pendulum_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::double_pendulum::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_double_pendulum_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

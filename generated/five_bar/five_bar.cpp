@@ -4,6 +4,7 @@
 //   rhs: 106 adds, 260 muls, 0 divs, 8 calls, 42 solve flops, total 416
 //   mass_matrix: 30 adds, 100 muls, 0 divs, 8 calls, 15 solve flops, total 153
 //   forcing: 53 adds, 160 muls, 0 divs, 8 calls, 15 solve flops, total 236
+//   inverse_dynamics: 4 adds, 6 muls, 0 divs, 0 calls, 7 solve flops, total 17
 //   position_constraints: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64
 //   velocity_constraints: 28 adds, 42 muls, 1 divs, 8 calls, 0 solve flops, total 79
 //   constraint_jacobian: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33
@@ -471,6 +472,25 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   OUT[2] = e_linkage_left_upper_u*(0.5*(p[1]*p[5]))*s0 + r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] + 0.5*c0*p[1]*r_linkage_left_upper_v - -(0.5*(p[2]*p[1]*p[6]))*B_0[2]*(s0*s1 + c0*c1) - 0.16666666666666666*t10*B_0[3] + (t9 - c1*p[2]*B_0[0])*t11 - p[9]*x[21] - 0.16666666666666666*t12*B_0[0] - t13*(p[2]*B_0[0]*s1 + t7)*p[10];
   OUT[3] = p[17]*r_motor_right_w + e_linkage_left_upper_u_i5*(0.5*(p[7]*p[3]))*s3 + 0.5*c3*p[3]*r_linkage_left_upper_v_i5 + c3*r_linkage_left_lower_v_i5*p[3] - 0.16666666666666666*t10*B_0[4] - p[9]*x[29] - -(c3*c2 + s2*s3)*(0.5*(p[8]*p[3]*p[4]))*B_0[5] + e_linkage_left_lower_u_i5*(p[8]*p[3])*s3 - B_0[1]*c1*p[2]*t11 - 0.16666666666666666*B_0[1]*t12 - (p[2]*p[10])*t13*B_0[1]*s1;
   if (!all_finite(OUT, 4)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const double* p, double* OUT) {
+  assert(zdot != nullptr && "zdot: kNdof accelerations");
+  // solve A_0 X = B_0 (2x2, 1 column): inputs: H u = M zdot - h0
+  double A_0[4] = {
+      1.0, 0.0,
+      0.0, 1.0};
+  double B_0[2] = {
+      x[39]*p[16] + x[38]*p[12] + zdot[0]*p[15],
+      x[40]*p[12] + x[41]*p[16] + p[15]*zdot[1]};
+  if (lu_solve_2x2(1, A_0, B_0) != 0) {
+    const double in_[9] = {p[12], p[15], p[16], x[38], x[39], x[40], x[41], zdot[0], zdot[1]};
+    return all_finite(A_0, 4) && all_finite(in_, 9) ? 1 : 2;
+  }
+  OUT[0] = B_0[0];
+  OUT[1] = B_0[1];
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -1473,6 +1493,10 @@ extern "C" int mbsc_five_bar_mass_matrix(double t, const double* x, const double
 
 extern "C" int mbsc_five_bar_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::five_bar::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_five_bar_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::five_bar::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_five_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

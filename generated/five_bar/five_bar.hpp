@@ -4,6 +4,7 @@
 //   rhs: 106 adds, 260 muls, 0 divs, 8 calls, 42 solve flops, total 416
 //   mass_matrix: 30 adds, 100 muls, 0 divs, 8 calls, 15 solve flops, total 153
 //   forcing: 53 adds, 160 muls, 0 divs, 8 calls, 15 solve flops, total 236
+//   inverse_dynamics: 4 adds, 6 muls, 0 divs, 0 calls, 7 solve flops, total 17
 //   position_constraints: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64
 //   velocity_constraints: 28 adds, 42 muls, 1 divs, 8 calls, 0 solve flops, total 79
 //   constraint_jacobian: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33
@@ -251,6 +252,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 4 adds, 6 muls, 0 divs, 0 calls, 7 solve flops, total 17.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -326,6 +336,7 @@ extern "C" {
 int mbsc_five_bar_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_five_bar_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_five_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

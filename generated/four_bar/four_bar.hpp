@@ -4,6 +4,7 @@
 //   rhs: 43 adds, 145 muls, 0 divs, 6 calls, 12 solve flops, total 206
 //   mass_matrix: 14 adds, 60 muls, 0 divs, 6 calls, 11 solve flops, total 91
 //   forcing: 23 adds, 89 muls, 0 divs, 6 calls, 11 solve flops, total 129
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39
 //   velocity_constraints: 16 adds, 24 muls, 0 divs, 6 calls, 0 solve flops, total 46
 //   constraint_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
@@ -142,6 +143,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -217,6 +227,7 @@ extern "C" {
 int mbsc_four_bar_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_four_bar_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_four_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_four_bar_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 42 adds, 153 muls, 0 divs, 6 calls, 12 solve flops, total 213
 //   mass_matrix: 14 adds, 60 muls, 0 divs, 6 calls, 11 solve flops, total 91
 //   forcing: 22 adds, 93 muls, 0 divs, 6 calls, 11 solve flops, total 132
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39
 //   velocity_constraints: 16 adds, 24 muls, 0 divs, 6 calls, 0 solve flops, total 46
 //   constraint_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
@@ -296,6 +297,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   }
   OUT[0] = -0.25*(2.0*p[0]*c2 - c0*p[1]*B_0[0])*(2.0*(p[4]*p[6]) + (-(2.0*s2*t1*p[0] + t0*p[1]*s0 + c0*p[1]*B_0[1])*p[6])) - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] + t3) - B_0[3]*(0.08333333333333333*(p[7]*p[2]*p[2]))*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t2*s1*p[2])*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - s2*t1*(0.25*(p[0]*p[0]*p[5]))*c2 - -0.25*(p[1]*s0*B_0[0] - 2.0*s2*p[0])*(t0*c0*p[1] - p[1]*B_0[1]*s0 + 2.0*t1*p[0]*c2)*p[6] - 0.25*(2.0*(p[4]*p[5]) - s2*t1*(p[0]*p[5]))*p[0]*c2 - (0.08333333333333333*(p[6]*p[1]*p[1]))*B_0[1]*B_0[0];
   if (!all_finite(OUT, 1)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
   return 0;
 }
 
@@ -814,6 +820,10 @@ extern "C" int mbsc_four_bar_toggle_mass_matrix(double t, const double* x, const
 
 extern "C" int mbsc_four_bar_toggle_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::four_bar_toggle::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_four_bar_toggle_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::four_bar_toggle::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_four_bar_toggle_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

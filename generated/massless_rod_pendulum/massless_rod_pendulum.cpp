@@ -4,6 +4,7 @@
 //   rhs: 4 adds, 16 muls, 0 divs, 2 calls, 1 solve flops, total 23
 //   mass_matrix: 0 adds, 2 muls, 0 divs, 0 calls, 0 solve flops, total 2
 //   forcing: 2 adds, 10 muls, 0 divs, 2 calls, 0 solve flops, total 14
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 4 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   velocity_constraints: 4 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 10
 //   constraint_jacobian: 0 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 4
@@ -107,6 +108,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double r_bob_v = -(e_bob_v + p[2])*p[0];
   OUT[0] = (c0*r_bob_v + s0*e_bob_u*p[0])*p[1];
   if (!all_finite(OUT, 1)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
   return 0;
 }
 
@@ -257,6 +263,10 @@ extern "C" int mbsc_massless_rod_pendulum_mass_matrix(double t, const double* x,
 
 extern "C" int mbsc_massless_rod_pendulum_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::massless_rod_pendulum::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_massless_rod_pendulum_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::massless_rod_pendulum::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_massless_rod_pendulum_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

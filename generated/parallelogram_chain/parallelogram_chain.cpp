@@ -4,6 +4,7 @@
 //   rhs: 122 adds, 374 muls, 0 divs, 14 calls, 145 solve flops, total 655
 //   mass_matrix: 38 adds, 148 muls, 0 divs, 14 calls, 144 solve flops, total 344
 //   forcing: 66 adds, 232 muls, 0 divs, 14 calls, 144 solve flops, total 456
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 47 adds, 42 muls, 0 divs, 14 calls, 0 solve flops, total 103
 //   velocity_constraints: 44 adds, 60 muls, 0 divs, 14 calls, 0 solve flops, total 118
 //   constraint_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
@@ -409,6 +410,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t21 = 2.0*t15;
   OUT[0] = 0.25*((c1*p[0]*B_0[7] + 2.0*s6*t2*p[1] + t0*p[0]*s1)*p[4] - 2.0*t15)*(2.0*c6*p[1] - c1*p[0]*B_0[6]) - (p[1]*B_0[1]*s0 + t4)*t14*s0*B_0[0] - t17*B_0[1]*B_0[0] + 0.25*(2.0*t18 - p[3]*(B_0[3]*c2*p[1] + t8))*B_0[2]*c2*p[1] - 0.25*c4*(t19 - -(t10*s4*p[1] + c4*B_0[5]*p[1])*p[3])*p[1]*B_0[4] - B_0[5]*t17*B_0[4] + (t6 - s2*B_0[3]*p[1])*s2*B_0[2]*t14 - B_0[9]*t20*B_0[8] - B_0[3]*B_0[2]*t17 + (-0.25*(t12 - 2.0*c2*p[1]*t5 + 2.0*s2*B_0[3]*p[1] + B_0[11]*s5*p[0])*p[4]*(s5*B_0[10]*p[0] + 2.0*s2*B_0[2]*p[1])) - (B_0[5]*s4*p[1] - c4*t10*p[1])*s4*t14*B_0[4] - 0.25*c0*p[1]*(t19 + (t3 + c0*p[1]*B_0[1])*p[3])*B_0[0] - -0.25*(B_0[8]*p[0]*c3 + 2.0*c0*p[1]*B_0[0])*(-(2.0*t1*p[1]*s0 + 2.0*c0*p[1]*B_0[1] + B_0[9]*p[0]*c3 - t9)*p[4] + t21) - -0.25*(t21 - p[4]*(t11*s5*p[0] + B_0[11]*p[0]*c5 + 2.0*B_0[3]*c2*p[1] + 2.0*s2*p[1]*t5))*(2.0*B_0[2]*c2*p[1] + B_0[10]*p[0]*c5) - B_0[11]*t20*B_0[10] - t20*B_0[6]*B_0[7] - -0.25*p[4]*(B_0[8]*p[0]*s3 + 2.0*p[1]*s0*B_0[0])*(2.0*c0*t1*p[1] + p[0]*c3*t7 - B_0[9]*p[0]*s3 - 2.0*p[1]*B_0[1]*s0) + 0.25*(t19 + s6*t2*t13)*c6*p[1] - s6*t2*(0.25*t16)*c6 + 0.25*(2.0*t2*c6*p[1] - p[0]*B_0[7]*s1 + c1*t0*p[0])*p[4]*(p[0]*B_0[6]*s1 - 2.0*s6*p[1]);
   if (!all_finite(OUT, 1)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
   return 0;
 }
 
@@ -1556,6 +1562,10 @@ extern "C" int mbsc_parallelogram_chain_mass_matrix(double t, const double* x, c
 
 extern "C" int mbsc_parallelogram_chain_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::parallelogram_chain::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_parallelogram_chain_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::parallelogram_chain::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_parallelogram_chain_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 122 adds, 374 muls, 0 divs, 14 calls, 145 solve flops, total 655
 //   mass_matrix: 38 adds, 148 muls, 0 divs, 14 calls, 144 solve flops, total 344
 //   forcing: 66 adds, 232 muls, 0 divs, 14 calls, 144 solve flops, total 456
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 47 adds, 42 muls, 0 divs, 14 calls, 0 solve flops, total 103
 //   velocity_constraints: 44 adds, 60 muls, 0 divs, 14 calls, 0 solve flops, total 118
 //   constraint_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
@@ -216,6 +217,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 47 adds, 42 muls, 0 divs, 14 calls, 0 solve flops, total 103.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -291,6 +301,7 @@ extern "C" {
 int mbsc_parallelogram_chain_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_parallelogram_chain_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_parallelogram_chain_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 32 adds, 89 muls, 0 divs, 4 calls, 8 solve flops, total 133
 //   mass_matrix: 14 adds, 42 muls, 0 divs, 2 calls, 3 solve flops, total 61
 //   forcing: 18 adds, 49 muls, 0 divs, 4 calls, 3 solve flops, total 74
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 10 adds, 7 muls, 0 divs, 2 calls, 0 solve flops, total 19
 //   constraint_jacobian: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
@@ -307,6 +308,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
@@ -461,6 +467,10 @@ extern "C" int mbsc_ring_disc_mass_matrix(double t, const double* x, const doubl
 
 extern "C" int mbsc_ring_disc_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::ring_disc::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_ring_disc_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_ring_disc_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

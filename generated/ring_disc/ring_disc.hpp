@@ -4,6 +4,7 @@
 //   rhs: 32 adds, 89 muls, 0 divs, 4 calls, 8 solve flops, total 133
 //   mass_matrix: 14 adds, 42 muls, 0 divs, 2 calls, 3 solve flops, total 61
 //   forcing: 18 adds, 49 muls, 0 divs, 4 calls, 3 solve flops, total 74
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 10 adds, 7 muls, 0 divs, 2 calls, 0 solve flops, total 19
 //   constraint_jacobian: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
@@ -125,6 +126,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -200,6 +210,7 @@ extern "C" {
 int mbsc_ring_disc_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_ring_disc_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

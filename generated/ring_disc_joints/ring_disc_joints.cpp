@@ -4,6 +4,7 @@
 //   rhs: 30 adds, 61 muls, 1 divs, 2 calls, 20 solve flops, total 114
 //   mass_matrix: 19 adds, 40 muls, 1 divs, 0 calls, 15 solve flops, total 75
 //   forcing: 21 adds, 39 muls, 1 divs, 2 calls, 15 solve flops, total 78
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 6 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 9
 //   velocity_constraints: 12 adds, 15 muls, 1 divs, 0 calls, 0 solve flops, total 28
 //   constraint_jacobian: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
@@ -298,6 +299,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   OUT[0] = x[1] - p[2];
   const double t0 = x[4] - x[1];
@@ -455,6 +461,10 @@ extern "C" int mbsc_ring_disc_joints_mass_matrix(double t, const double* x, cons
 
 extern "C" int mbsc_ring_disc_joints_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::ring_disc_joints::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_ring_disc_joints_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc_joints::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_ring_disc_joints_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 30 adds, 61 muls, 1 divs, 2 calls, 20 solve flops, total 114
 //   mass_matrix: 19 adds, 40 muls, 1 divs, 0 calls, 15 solve flops, total 75
 //   forcing: 21 adds, 39 muls, 1 divs, 2 calls, 15 solve flops, total 78
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 6 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 9
 //   velocity_constraints: 12 adds, 15 muls, 1 divs, 0 calls, 0 solve flops, total 28
 //   constraint_jacobian: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
@@ -120,6 +121,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 6 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 9.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -195,6 +205,7 @@ extern "C" {
 int mbsc_ring_disc_joints_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_joints_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_ring_disc_joints_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 37 adds, 104 muls, 0 divs, 4 calls, 3 solve flops, total 148
 //   mass_matrix: 10 adds, 34 muls, 0 divs, 4 calls, 2 solve flops, total 50
 //   forcing: 19 adds, 57 muls, 0 divs, 4 calls, 2 solve flops, total 82
+//   inverse_dynamics: 25 adds, 75 muls, 0 divs, 4 calls, 3 solve flops, total 107
 //   position_constraints: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24
 //   velocity_constraints: 12 adds, 12 muls, 0 divs, 4 calls, 0 solve flops, total 28
 //   constraint_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
@@ -260,6 +261,47 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t5 = p[1]*s0*B_0[0];
   OUT[0] = 0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1 - B_0[1]*p[5]*B_0[0] - -((t3 + t4 + t0*p[0]*c1)*p[6] + u[1])*(t5 - s1*p[0]) + 0.25*(t5 - 2.0*s1*p[0])*p[4]*(2.0*t0*p[0]*c1 + t3 + t4) - s1*(0.25*(p[0]*p[0]*p[2]))*t0*c1 - 0.25*(2.0*p[0]*c1 - c0*p[1]*B_0[0])*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + u[0];
   if (!all_finite(OUT, 1)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const double* p, double* OUT) {
+  assert(zdot != nullptr && "zdot: kNdof accelerations");
+  const double s0 = std::sin(x[5]);
+  const double c0 = std::cos(x[5]);
+  const double s1 = std::sin(x[2]);
+  const double c1 = std::cos(x[2]);
+  const double t0 = x[10]*x[10];
+  const double t1 = x[13]*x[13];
+  const double t2 = t1*p[1]*s0;
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  double A_0[1] = {
+      -c0*p[1]};
+  double B_0[2] = {
+      -p[0]*c1, s1*t0*p[0] + t2};
+  if (solve_1x1(2, A_0, B_0) != 0) {
+    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
+    return all_finite(A_0, 1) && all_finite(in_, 13) ? 1 : 2;
+  }
+  const double t3 = p[1]*s0*B_0[0];
+  const double t4 = t3 - s1*p[0];
+  const double t5 = t4*t4;
+  const double t6 = -p[1]*B_0[1]*s0;
+  const double t7 = c0*t1*p[1];
+  const double t8 = p[0]*p[0]*p[2];
+  const double t9 = 2.0*p[0]*c1 - c0*p[1]*B_0[0];
+  const double t10 = t3 - 2.0*s1*p[0];
+  // solve A_1 X = B_1 (1x1, 1 column): inputs: H u = M zdot - h0
+  double A_1[1] = {
+      t5 + 1.0};
+  double B_1[1] = {
+      s1*(0.25*t8)*t0*c1 - t4*(t6 + t7 + t0*p[0]*c1)*p[6] + 0.25*t9*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + 0.25*zdot[0]*(4.0*p[3] + 4.0*B_0[0]*B_0[0]*p[5] + p[4]*t10*t10 + 4.0*t5*p[6] + p[4]*t9*t9 + t8*c1*c1 + t8*s1*s1) - 0.25*t10*p[4]*(2.0*t0*p[0]*c1 + t6 + t7) + B_0[1]*p[5]*B_0[0] - 0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1};
+  if (solve_1x1(1, A_1, B_1) != 0) {
+    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
+    return all_finite(A_1, 1) && all_finite(in_, 13) ? 1 : 2;
+  }
+  OUT[0] = B_1[0];
+  OUT[1] = t4*B_1[0];
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -530,6 +572,10 @@ extern "C" int mbsc_slider_crank_mass_matrix(double t, const double* x, const do
 
 extern "C" int mbsc_slider_crank_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::slider_crank::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_slider_crank_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::slider_crank::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_slider_crank_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 37 adds, 104 muls, 0 divs, 4 calls, 3 solve flops, total 148
 //   mass_matrix: 10 adds, 34 muls, 0 divs, 4 calls, 2 solve flops, total 50
 //   forcing: 19 adds, 57 muls, 0 divs, 4 calls, 2 solve flops, total 82
+//   inverse_dynamics: 25 adds, 75 muls, 0 divs, 4 calls, 3 solve flops, total 107
 //   position_constraints: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24
 //   velocity_constraints: 12 adds, 12 muls, 0 divs, 4 calls, 0 solve flops, total 28
 //   constraint_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
@@ -142,6 +143,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 25 adds, 75 muls, 0 divs, 4 calls, 3 solve flops, total 107.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -217,6 +227,7 @@ extern "C" {
 int mbsc_slider_crank_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_slider_crank_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_slider_crank_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 19 adds, 62 muls, 0 divs, 4 calls, 5 solve flops, total 90
 //   mass_matrix: 2 adds, 10 muls, 0 divs, 4 calls, 0 solve flops, total 16
 //   forcing: 10 adds, 39 muls, 0 divs, 4 calls, 0 solve flops, total 53
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
@@ -167,6 +168,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[3]);
   const double c0 = std::cos(x[3]);
@@ -313,6 +319,10 @@ extern "C" int mbsc_spherical_pendulum_angles_mass_matrix(double t, const double
 
 extern "C" int mbsc_spherical_pendulum_angles_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::spherical_pendulum_angles::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_spherical_pendulum_angles_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_angles::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_spherical_pendulum_angles_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 9 adds, 27 muls, 0 divs, 0 calls, 8 solve flops, total 44
 //   mass_matrix: 4 adds, 15 muls, 0 divs, 0 calls, 3 solve flops, total 22
 //   forcing: 3 adds, 13 muls, 0 divs, 0 calls, 3 solve flops, total 19
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 3 adds, 4 muls, 0 divs, 0 calls, 0 solve flops, total 7
 //   velocity_constraints: 5 adds, 9 muls, 0 divs, 0 calls, 0 solve flops, total 14
 //   constraint_jacobian: 0 adds, 6 muls, 0 divs, 0 calls, 0 solve flops, total 6
@@ -254,6 +255,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
 int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   OUT[0] = x[0]*x[0] + x[2]*x[2] + x[1]*x[1] - p[1]*p[1];
   if (!all_finite(OUT, 1)) return 2;
@@ -364,6 +370,10 @@ extern "C" int mbsc_spherical_pendulum_extra_speed_mass_matrix(double t, const d
 
 extern "C" int mbsc_spherical_pendulum_extra_speed_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::spherical_pendulum_extra_speed::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_spherical_pendulum_extra_speed_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_extra_speed::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_spherical_pendulum_extra_speed_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

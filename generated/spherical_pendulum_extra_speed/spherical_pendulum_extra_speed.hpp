@@ -4,6 +4,7 @@
 //   rhs: 9 adds, 27 muls, 0 divs, 0 calls, 8 solve flops, total 44
 //   mass_matrix: 4 adds, 15 muls, 0 divs, 0 calls, 3 solve flops, total 22
 //   forcing: 3 adds, 13 muls, 0 divs, 0 calls, 3 solve flops, total 19
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 3 adds, 4 muls, 0 divs, 0 calls, 0 solve flops, total 7
 //   velocity_constraints: 5 adds, 9 muls, 0 divs, 0 calls, 0 solve flops, total 14
 //   constraint_jacobian: 0 adds, 6 muls, 0 divs, 0 calls, 0 solve flops, total 6
@@ -104,6 +105,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 3 adds, 4 muls, 0 divs, 0 calls, 0 solve flops, total 7.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -179,6 +189,7 @@ extern "C" {
 int mbsc_spherical_pendulum_extra_speed_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_extra_speed_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_extra_speed_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_extra_speed_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_spherical_pendulum_extra_speed_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_extra_speed_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_extra_speed_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

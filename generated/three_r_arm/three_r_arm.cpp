@@ -4,6 +4,7 @@
 //   rhs: 62 adds, 150 muls, 0 divs, 6 calls, 14 solve flops, total 232
 //   mass_matrix: 17 adds, 63 muls, 0 divs, 6 calls, 0 solve flops, total 86
 //   forcing: 27 adds, 61 muls, 0 divs, 6 calls, 0 solve flops, total 94
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 14 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 32
 //   velocity_constraints: 14 adds, 18 muls, 0 divs, 6 calls, 0 solve flops, total 38
 //   constraint_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
@@ -220,6 +221,11 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   OUT[1] = p[8] - 0.5*p[4]*r_link2_u*s1 + e_link3_u*(0.5*(p[4]*p[2]))*s1 - p[9] + 0.5*c1*p[4]*r_link2_v + 0.5*r_link3_v*c1*p[4];
   OUT[2] = p[9] + 0.5*r_link3_v*c2*p[5] + e_link3_u*s2*(0.5*(p[2]*p[5]));
   if (!all_finite(OUT, 3)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
   return 0;
 }
 
@@ -492,6 +498,10 @@ extern "C" int mbsc_three_r_arm_mass_matrix(double t, const double* x, const dou
 
 extern "C" int mbsc_three_r_arm_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::three_r_arm::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_three_r_arm_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::three_r_arm::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_three_r_arm_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 62 adds, 150 muls, 0 divs, 6 calls, 14 solve flops, total 232
 //   mass_matrix: 17 adds, 63 muls, 0 divs, 6 calls, 0 solve flops, total 86
 //   forcing: 27 adds, 61 muls, 0 divs, 6 calls, 0 solve flops, total 94
+//   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 14 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 32
 //   velocity_constraints: 14 adds, 18 muls, 0 divs, 6 calls, 0 solve flops, total 38
 //   constraint_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
@@ -149,6 +150,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: not read (kNin = 0); may be null.
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 14 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 32.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -224,6 +234,7 @@ extern "C" {
 int mbsc_three_r_arm_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_r_arm_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_three_r_arm_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

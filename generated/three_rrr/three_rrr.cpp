@@ -4,6 +4,7 @@
 //   rhs: 350 adds, 656 muls, 0 divs, 15 calls, 99 solve flops, total 1120
 //   mass_matrix: 182 adds, 407 muls, 0 divs, 15 calls, 85 solve flops, total 689
 //   forcing: 148 adds, 284 muls, 0 divs, 15 calls, 85 solve flops, total 532
+//   inverse_dynamics: 289 adds, 603 muls, 0 divs, 15 calls, 85 solve flops, total 992
 //   position_constraints: 45 adds, 18 muls, 0 divs, 15 calls, 0 solve flops, total 78
 //   velocity_constraints: 40 adds, 37 muls, 0 divs, 15 calls, 0 solve flops, total 92
 //   constraint_jacobian: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
@@ -605,6 +606,147 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   OUT[0] = (B_0[0]*s0 + t21)*t37 - B_0[15]*B_0[12]*p[1] - 2.0*s1*e_HA_proximal_u*p[4] - t41*B_0[4] - t44*B_0[8] - (t27 - B_0[0]*c0)*t46 - (2.0*c1 + B_0[12]*c6 + 2.0*B_0[0]*c0)*t47*p[0] + (2.0*B_0[0]*s0 + t21 + B_0[12]*s6)*t48*p[0] - c2*t49*B_0[4] - t50*B_0[8]*s4 - 2.0*(s1*s0 + c0*c1)*p[4]*B_0[3] - B_0[0]*t51 + 2.0*s1*t35*p[4] - 2.0*t45*p[4]*c1 - s2*B_0[4]*t52 + t53*B_0[8]*c4 + 2.0*p[4]*c1*e_HA_proximal_v + u[0];
   OUT[1] = t53*B_0[9]*c4 - t50*B_0[9]*s4 - B_0[9]*t44 + c0*t46*B_0[1] + (-t47*(2.0*c0*B_0[1] + B_0[13]*c6)*p[0]) + 2.0*s3*t38*p[4] - B_0[1]*t51 - t49*(t28 + c2*B_0[5]) + u[1] + 2.0*p[4]*e_HB_proximal_v*c3 - t41*B_0[5] - -(2.0*B_0[1]*s0 + B_0[13]*s6)*t48*p[0] + B_0[1]*t37*s0 + (t22 - s2*B_0[5])*t52 - B_0[15]*B_0[13]*p[1] - 2.0*t40*p[4]*c3 + (-2.0*B_0[7]*(c2*c3 + s3*s2)*p[4]) - 2.0*s3*e_HB_proximal_u*p[4];
   OUT[2] = t53*(B_0[10]*c4 + t34) - t47*p[0]*(B_0[14]*c6 + 2.0*B_0[2]*c0) - B_0[2]*t51 - 2.0*(s4*s5 + c5*c4)*p[4]*B_0[11] - t41*B_0[6] - c2*t49*B_0[6] - s2*B_0[6]*t52 + B_0[2]*c0*t46 + t50*(t32 - B_0[10]*s4) + 2.0*c5*p[4]*e_HC_proximal_v - 2.0*t43*p[4]*s5 + B_0[2]*t37*s0 + u[2] - B_0[15]*B_0[14]*p[1] - 2.0*e_HC_proximal_u*p[4]*s5 - B_0[10]*t44 - 2.0*c5*t42*p[4] + t48*p[0]*(s6*B_0[14] + 2.0*B_0[2]*s0);
+  if (!all_finite(OUT, 3)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const double* p, double* OUT) {
+  assert(zdot != nullptr && "zdot: kNdof accelerations");
+  const double s0 = std::sin(x[5]);
+  const double c0 = std::cos(x[5]);
+  const double s1 = std::sin(x[2]);
+  const double c1 = std::cos(x[2]);
+  const double s2 = std::sin(x[11]);
+  const double c2 = std::cos(x[11]);
+  const double s3 = std::sin(x[8]);
+  const double c3 = std::cos(x[8]);
+  const double s4 = std::sin(x[17]);
+  const double c4 = std::cos(x[17]);
+  const double s5 = std::sin(x[14]);
+  const double c5 = std::cos(x[14]);
+  const double s6 = std::sin(x[20]);
+  const double c6 = std::cos(x[20]);
+  const double t0 = x[26]*x[26];
+  const double t1 = -t0*s0;
+  const double t2 = x[23]*x[23];
+  const double t3 = 2.0*s1*t2;
+  const double e_HA_proximal_v = t1 + t3;
+  const double t4 = 2.0*t2*c1;
+  const double t5 = -c0*t0;
+  const double e_HA_proximal_u = t4 + t5;
+  const double t6 = x[32]*x[32];
+  const double t7 = -t6*s2;
+  const double t8 = x[29]*x[29];
+  const double t9 = 2.0*s3*t8;
+  const double e_HB_proximal_v = t7 + t9;
+  const double t10 = -c2*t6;
+  const double t11 = 2.0*c3*t8;
+  const double e_HB_proximal_u = t10 + t11;
+  const double t12 = x[38]*x[38];
+  const double t13 = -s4*t12;
+  const double t14 = x[35]*x[35];
+  const double t15 = 2.0*t14*s5;
+  const double e_HC_proximal_v = t13 + t15;
+  const double e_HC_proximal_u = 2.0*c5*t14 - c4*t12;
+  const double t16 = -2.0*s0;
+  const double t17 = std::sqrt(3.0);
+  const double t18 = -1.5*s6;
+  const double t19 = 2.0*c0;
+  const double t20 = 1.5*c6;
+  const double t21 = 2.0*s1;
+  const double t22 = -2.0*s3;
+  const double t23 = -2.0*c0*t0;
+  const double t24 = x[41]*x[41];
+  const double t25 = s6*t17;
+  const double t26 = -t24*c6;
+  const double t27 = -2.0*c1;
+  const double t28 = 2.0*c3;
+  const double t29 = -s6;
+  const double t30 = -2.0*t0*s0;
+  const double t31 = -t24*s6;
+  const double t32 = -2.0*s5;
+  const double t33 = -2.0*c5*t14;
+  const double t34 = 2.0*c5;
+  // solve A_0 X = B_0 (4x4, 4 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  double A_0[16] = {
+      t16, 2.0*s2, 0.0, 0.5*t17*c6 + t18,
+      t19, -2.0*c2, 0.0, t20 + 0.5*s6*t17,
+      t16, 0.0, 2.0*s4, t18 - 0.5*t17*c6,
+      t19, 0.0, -2.0*c4, t20 - 0.5*s6*t17};
+  double B_0[16] = {
+      t21, t22, 0.0, t4 + 2.0*c2*t6 + t23 - 2.0*c3*t8 - 0.5*t24*(t25 + c6) + t26,
+      t27, t28, 0.0, 0.5*t24*(t17*c6 + t29) + t30 + t3 - 2.0*s3*t8 + t31 + 2.0*t6*s2,
+      t21, 0.0, t32, 0.5*t24*(t25 - c6) + t4 + t23 + 2.0*c4*t12 + t26 + t33,
+      t27, 0.0, t34, 0.5*t24*(t29 - t17*c6) + t30 + t3 - 2.0*t14*s5 + t31 + 2.0*s4*t12};
+  if (lu_solve<4, 4>(A_0, B_0) != 0) {
+    const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41], zdot[0], zdot[1], zdot[2]};
+    return all_finite(A_0, 16) && all_finite(in_, 23) ? 1 : 2;
+  }
+  const double t35 = B_0[0]*s0 + t21;
+  const double t36 = t4 + B_0[3]*s0 + t5;
+  const double t37 = -p[4] - p[2];
+  const double t38 = t36*t37 + e_HA_proximal_u*p[4] + p[4]*B_0[3]*s0;
+  const double t39 = t28 + c2*B_0[5];
+  const double t40 = -c2*c3 - s3*s2;
+  const double t41 = p[3] + p[4];
+  const double t42 = t22 - s2*B_0[5];
+  const double t43 = c2*t39*p[4] + 2.0*t40*p[4] - t41*B_0[5] - t42*s2*p[4];
+  const double t44 = -p[4]*B_0[1]*s0 - B_0[1]*t37*s0;
+  const double t45 = -2.0*B_0[1]*s0 - B_0[13]*s6;
+  const double t46 = 2.0*B_0[0]*s0 + t21 + B_0[12]*s6;
+  const double t47 = c4*c4;
+  const double t48 = s4*s4;
+  const double t49 = B_0[9]*t41 - B_0[9]*p[4]*t47 - B_0[9]*p[4]*t48;
+  const double t50 = c2*p[4]*B_0[5] + t39*t37 + 2.0*p[4]*c3;
+  const double t51 = B_0[9]*t37*c4 + B_0[9]*p[4]*c4;
+  const double t52 = 2.0*c1 + B_0[12]*c6 + 2.0*B_0[0]*c0;
+  const double t53 = -2.0*c0*B_0[1] - B_0[13]*c6;
+  const double t54 = B_0[9]*p[4]*s4 + B_0[9]*t37*s4;
+  const double t55 = t42*t37 - s2*p[4]*B_0[5] - 2.0*s3*p[4];
+  const double t56 = c0*B_0[1]*t37 + c0*p[4]*B_0[1];
+  const double t57 = t27 - B_0[0]*c0;
+  const double t58 = s1*s0 + c0*c1;
+  const double t59 = s0*s0;
+  const double t60 = c0*c0;
+  const double t61 = p[4]*t59*B_0[1] + t60*p[4]*B_0[1] - t41*B_0[1];
+  const double t62 = t35*t44 - B_0[4]*t43 - t45*t46*p[0] - 2.0*c0*p[4]*c1*B_0[1] - 2.0*s1*p[4]*B_0[1]*s0 + t49*B_0[8] + B_0[12]*B_0[13]*p[1] - c2*t50*B_0[4] - B_0[8]*t51*c4 - t52*t53*p[0] - B_0[8]*t54*s4 + s2*B_0[4]*t55 + t56*t57 + 2.0*t58*p[4]*B_0[1] - B_0[0]*t61;
+  const double t63 = c2*c2;
+  const double t64 = s2*s2;
+  const double t65 = 4.0*p[4];
+  const double t66 = t1 + t3 - c0*B_0[3];
+  const double t67 = t66*c0*p[4] - t36*p[4]*s0 + (e_HA_proximal_u*s0 - c0*e_HA_proximal_v)*p[4] + t41*B_0[3];
+  const double t68 = t10 + t11 + B_0[7]*s2;
+  const double t69 = -B_0[7]*s2*p[4] - t68*t37 - e_HB_proximal_u*p[4];
+  const double t70 = c0*p[4]*B_0[3] - t66*t37 - p[4]*e_HA_proximal_v;
+  const double t71 = t13 - B_0[11]*c4 + t15;
+  const double t72 = p[4]*B_0[11]*c4 - t71*t37 - p[4]*e_HC_proximal_v;
+  const double t73 = t7 - c2*B_0[7] + t9;
+  const double t74 = B_0[7]*t41 - t68*s2*p[4] + c2*t73*p[4] + (e_HB_proximal_u*s2 - c2*e_HB_proximal_v)*p[4];
+  const double t75 = c4*t12 - B_0[11]*s4 + t33;
+  const double t76 = t41*B_0[11] - (e_HC_proximal_v*c4 - e_HC_proximal_u*s4)*p[4] + t71*p[4]*c4 + t75*p[4]*s4;
+  const double t77 = t75*t37 - p[4]*B_0[11]*s4 - e_HC_proximal_u*p[4];
+  const double t78 = B_0[2]*c0*t37 + B_0[2]*c0*p[4];
+  const double t79 = B_0[14]*c6 + 2.0*B_0[2]*c0;
+  const double t80 = s6*B_0[14] + 2.0*B_0[2]*s0;
+  const double t81 = B_0[10]*c4 + t34;
+  const double t82 = t81*t37 + 2.0*c5*p[4] + B_0[10]*p[4]*c4;
+  const double t83 = s2*B_0[6]*t37 + s2*B_0[6]*p[4];
+  const double t84 = s4*s5 + c5*c4;
+  const double t85 = t32 - B_0[10]*s4;
+  const double t86 = 2.0*t84*p[4] + t85*p[4]*s4 + B_0[10]*t41 - p[4]*t81*c4;
+  const double t87 = t41*B_0[6] - B_0[6]*p[4]*t63 - t64*B_0[6]*p[4];
+  const double t88 = -c2*B_0[6]*t37 - c2*B_0[6]*p[4];
+  const double t89 = B_0[2]*t41 - B_0[2]*p[4]*t59 - B_0[2]*t60*p[4];
+  const double t90 = t85*t37 - B_0[10]*p[4]*s4 - 2.0*p[4]*s5;
+  const double t91 = -B_0[2]*p[4]*s0 - B_0[2]*t37*s0;
+  const double t92 = t57*t78 - 2.0*B_0[2]*c0*p[4]*c1 - 2.0*B_0[2]*s1*p[4]*s0 + t52*p[0]*t79 + t46*p[0]*t80 - t82*B_0[8]*c4 - t83*s2*B_0[4] + t86*B_0[8] + B_0[4]*t87 + c2*t88*B_0[4] + B_0[0]*t89 + B_0[12]*B_0[14]*p[1] + t90*B_0[8]*s4 + 2.0*B_0[2]*t58*p[4] + t35*t91;
+  const double t93 = p[4]*e_HB_proximal_v - c2*B_0[7]*p[4] + t73*t37;
+  const double t94 = 2.0*t0*s0 + B_0[15]*c6 + 2.0*c0*B_0[3] - 2.0*s1*t2 + t24*s6;
+  const double t95 = t24*c6 - 2.0*B_0[3]*s0 - 2.0*t2*c1 - B_0[15]*s6 + 2.0*c0*t0;
+  OUT[0] = t62*zdot[1] - t35*t38 + 2.0*t58*p[4]*B_0[3] + zdot[0]*(B_0[0]*(2.0*t58*p[4] - t35*p[4]*s0 + t57*c0*p[4] + B_0[0]*t41) + (-(p[4]*B_0[8]*t48 - t41*B_0[8] + p[4]*B_0[8]*t47)*B_0[8]) + t46*t46*p[0] + 2.0*t57*p[4]*c1 + p[1]*B_0[12]*B_0[12] + (-(p[4]*B_0[8]*c4 + B_0[8]*t37*c4)*B_0[8]*c4) + t52*t52*p[0] + 2.0*B_0[0]*t58*p[4] + (-(t35*t37 + B_0[0]*p[4]*s0 + 2.0*s1*p[4])*t35) + (-(p[4]*B_0[4]*t63 - t41*B_0[4] + t64*p[4]*B_0[4])*B_0[4]) + (-(s2*p[4]*B_0[4] + s2*B_0[4]*t37)*s2*B_0[4]) + p[5] - -t57*(2.0*p[4]*c1 - t57*t37 + B_0[0]*c0*p[4]) + (-c2*(c2*p[4]*B_0[4] + c2*B_0[4]*t37)*B_0[4]) + t65 - 2.0*s1*t35*p[4] - (B_0[8]*t37*s4 + p[4]*B_0[8]*s4)*B_0[8]*s4) + B_0[0]*t67 + s2*B_0[4]*t69 + B_0[15]*B_0[12]*p[1] + t57*t70 - 2.0*p[4]*c1*e_HA_proximal_v - t72*B_0[8]*c4 + t74*B_0[4] + 2.0*t66*p[4]*c1 + t76*B_0[8] + 2.0*s1*e_HA_proximal_u*p[4] - 2.0*s1*t36*p[4] + t77*B_0[8]*s4 + t92*zdot[2] + c2*t93*B_0[4] + t52*t94*p[0] - t46*t95*p[0];
+  const double t96 = 2.0*c2*B_0[6]*p[4]*c3 + 2.0*s3*s2*B_0[6]*p[4] - t87*B_0[5] - B_0[9]*t86 + c0*t78*B_0[1] + 2.0*t40*B_0[6]*p[4] - t91*B_0[1]*s0 + t82*B_0[9]*c4 + t45*p[0]*t80 - t89*B_0[1] - B_0[13]*B_0[14]*p[1] - t83*t42 - t90*B_0[9]*s4 + t53*p[0]*t79 - t88*t39;
+  OUT[1] = zdot[0]*t62 - c0*t70*B_0[1] - t72*B_0[9]*c4 - 2.0*p[4]*e_HB_proximal_v*c3 + t74*B_0[5] + (-(B_0[9]*t51*c4 - t53*t53*p[0] + 2.0*t40*p[4]*B_0[5] - t44*B_0[1]*s0 - t45*t45*p[0] + B_0[9]*t54*s4 + t61*B_0[1] + t42*t55 - p[1]*B_0[13]*B_0[13] - B_0[9]*t49 + 2.0*t39*p[4]*c3 + t56*c0*B_0[1] + t43*B_0[5] - p[5] - t65 + t50*t39 - 2.0*s3*t42*p[4])*zdot[1]) + t45*t95*p[0] - t94*t53*p[0] - 2.0*B_0[7]*t40*p[4] - t96*zdot[2] - B_0[1]*t38*s0 + t77*B_0[9]*s4 + t93*t39 + 2.0*s3*e_HB_proximal_u*p[4] + 2.0*t73*p[4]*c3 - 2.0*s3*t68*p[4] + B_0[1]*t67 + B_0[9]*t76 - t42*t69 + B_0[15]*B_0[13]*p[1];
+  OUT[2] = 2.0*c5*t71*p[4] - t72*t81 + B_0[15]*B_0[14]*p[1] - t95*p[0]*t80 + c2*t93*B_0[6] - B_0[2]*t38*s0 + t94*p[0]*t79 + 2.0*e_HC_proximal_u*p[4]*s5 - 2.0*c5*p[4]*e_HC_proximal_v + zdot[2]*(B_0[2]*t89 - t83*s2*B_0[6] - 2.0*c5*p[4]*t81 + 2.0*B_0[10]*t84*p[4] - B_0[2]*c0*t78 - t90*t85 + p[0]*t80*t80 + B_0[10]*t86 - t82*t81 + t79*t79*p[0] + B_0[14]*B_0[14]*p[1] + p[5] + B_0[6]*t87 + B_0[2]*t91*s0 + t65 + 2.0*t85*p[4]*s5 + c2*t88*B_0[6]) - B_0[2]*c0*t70 - t96*zdot[1] + 2.0*t84*p[4]*B_0[11] - t77*t85 + zdot[0]*t92 + s2*B_0[6]*t69 + t74*B_0[6] + B_0[10]*t76 + B_0[2]*t67 + 2.0*t75*p[4]*s5;
   if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
@@ -1617,6 +1759,10 @@ extern "C" int mbsc_three_rrr_mass_matrix(double t, const double* x, const doubl
 
 extern "C" int mbsc_three_rrr_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::three_rrr::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_three_rrr_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::three_rrr::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_three_rrr_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

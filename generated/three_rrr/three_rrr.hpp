@@ -4,6 +4,7 @@
 //   rhs: 350 adds, 656 muls, 0 divs, 15 calls, 99 solve flops, total 1120
 //   mass_matrix: 182 adds, 407 muls, 0 divs, 15 calls, 85 solve flops, total 689
 //   forcing: 148 adds, 284 muls, 0 divs, 15 calls, 85 solve flops, total 532
+//   inverse_dynamics: 289 adds, 603 muls, 0 divs, 15 calls, 85 solve flops, total 992
 //   position_constraints: 45 adds, 18 muls, 0 divs, 15 calls, 0 solve flops, total 78
 //   velocity_constraints: 40 adds, 37 muls, 0 divs, 15 calls, 0 solve flops, total 92
 //   constraint_jacobian: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
@@ -214,6 +215,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 289 adds, 603 muls, 0 divs, 15 calls, 85 solve flops, total 992.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 45 adds, 18 muls, 0 divs, 15 calls, 0 solve flops, total 78.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -289,6 +299,7 @@ extern "C" {
 int mbsc_three_rrr_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_rrr_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_three_rrr_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -4,6 +4,7 @@
 //   rhs: 64 adds, 171 muls, 0 divs, 6 calls, 12 solve flops, total 253
 //   mass_matrix: 37 adds, 95 muls, 0 divs, 6 calls, 11 solve flops, total 149
 //   forcing: 46 adds, 125 muls, 0 divs, 6 calls, 11 solve flops, total 188
+//   inverse_dynamics: 53 adds, 150 muls, 0 divs, 6 calls, 11 solve flops, total 220
 //   position_constraints: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54
 //   velocity_constraints: 27 adds, 46 muls, 0 divs, 6 calls, 0 solve flops, total 79
 //   constraint_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
@@ -298,6 +299,42 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   }
   const double t4 = 0.25*(p[4]*p[6]);
   OUT[0] = -c0*(c0*p[3]*B_0[1] + p[3]*t2*s0)*(0.25*(p[3]*p[1]))*B_0[0] - (c0*p[3]*t2 - c1*p[6]*t1 + B_0[3]*s1*p[6] - p[3]*B_0[1]*s0)*p[0]*(B_0[2]*s1*p[6] - p[3]*s0*B_0[0]) - p[2]*B_0[1]*B_0[0] - B_0[3]*B_0[2]*p[5] - t4*(s1*p[6]*t1 + B_0[3]*c1*p[6])*c1*B_0[2] + (c1*p[6]*t1 - B_0[3]*s1*p[6])*t4*B_0[2]*s1 - 0.25*(p[3]*s0*B_0[0] - 2.0*B_0[2]*s1*p[6])*(p[3]*B_0[1]*s0 - c0*p[3]*t2 - 2.0*B_0[3]*s1*p[6] + 2.0*c1*p[6]*t1)*p[1] + u[0];
+  if (!all_finite(OUT, 1)) return 2;
+  return 0;
+}
+
+int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const double* p, double* OUT) {
+  assert(zdot != nullptr && "zdot: kNdof accelerations");
+  const double s0 = std::sin(x[4]);
+  const double c0 = std::cos(x[4]);
+  const double s1 = std::sin(x[7]);
+  const double c1 = std::cos(x[7]);
+  const double s2 = std::sin(x[10]);
+  const double c2 = std::cos(x[10]);
+  const double t0 = c1*p[6];
+  const double t1 = c1*c1;
+  const double t2 = s1*s1;
+  const double t3 = x[18]*x[18];
+  const double t4 = x[15]*x[15];
+  const double t5 = p[9]*c2*s1 - p[9]*c1*s2;
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  double A_0[4] = {
+      -c0*p[3], t0,
+      0.0, c1*x[5] - 0.5*t1*p[6] - 0.5*t2*p[6] + x[6]*s1 - x[9]*s1 - p[9]*s2*s1 - p[9]*c1*c2 - c1*x[8]};
+  double B_0[4] = {
+      0.0, p[3]*t4*s0 - s1*p[6]*t3,
+      p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t5*x[21] - t5*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t5*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[24] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21], zdot[0]};
+    return all_finite(A_0, 4) && all_finite(in_, 24) ? 1 : 2;
+  }
+  const double t6 = 0.25*(p[4]*p[6]);
+  const double t7 = p[3]*s0*B_0[0] - 2.0*B_0[2]*s1*p[6];
+  const double t8 = B_0[2]*s1*p[6] - p[3]*s0*B_0[0];
+  const double t9 = B_0[2]*B_0[2];
+  const double t10 = p[4]*p[6]*p[6];
+  const double t11 = B_0[0]*B_0[0];
+  OUT[0] = 0.25*t7*(p[3]*B_0[1]*s0 - c0*p[3]*t4 - 2.0*B_0[3]*s1*p[6] + 2.0*c1*p[6]*t3)*p[1] - (c1*p[6]*t3 - B_0[3]*s1*p[6])*t6*B_0[2]*s1 - -c0*(c0*p[3]*B_0[1] + p[3]*t4*s0)*(0.25*(p[3]*p[1]))*B_0[0] + (c0*p[3]*t4 - c1*p[6]*t3 + B_0[3]*s1*p[6] - p[3]*B_0[1]*s0)*p[0]*t8 + 0.25*zdot[0]*(t1*t9*t10 + p[1]*t7*t7 + t11*(p[3]*p[3]*p[1])*c0*c0 + t2*t9*t10 + 4.0*t8*t8*p[0] + 4.0*t11*p[2] + 4.0*t9*p[5] + 4.0*p[8]) + t6*(s1*p[6]*t3 + B_0[3]*c1*p[6])*c1*B_0[2] + p[2]*B_0[1]*B_0[0] + B_0[3]*B_0[2]*p[5];
   if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
@@ -688,6 +725,10 @@ extern "C" int mbsc_whitworth_mass_matrix(double t, const double* x, const doubl
 
 extern "C" int mbsc_whitworth_forcing(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::whitworth::forcing(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_whitworth_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT) {
+  return mbsc_gen::whitworth::inverse_dynamics(t, x, zdot, p, OUT);
 }
 
 extern "C" int mbsc_whitworth_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -4,6 +4,7 @@
 //   rhs: 64 adds, 171 muls, 0 divs, 6 calls, 12 solve flops, total 253
 //   mass_matrix: 37 adds, 95 muls, 0 divs, 6 calls, 11 solve flops, total 149
 //   forcing: 46 adds, 125 muls, 0 divs, 6 calls, 11 solve flops, total 188
+//   inverse_dynamics: 53 adds, 150 muls, 0 divs, 6 calls, 11 solve flops, total 220
 //   position_constraints: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54
 //   velocity_constraints: 27 adds, 46 muls, 0 divs, 6 calls, 0 solve flops, total 79
 //   constraint_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
@@ -172,6 +173,15 @@ int mass_matrix(double t, const double* x, const double* u, const double* p, dou
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
+/// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
+/// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
+/// OUT: u, kNin values (row-major). Cost: 53 adds, 150 muls, 0 divs, 6 calls, 11 solve flops, total 220.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
+int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -247,6 +257,7 @@ extern "C" {
 int mbsc_whitworth_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_whitworth_inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 int mbsc_whitworth_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -6,6 +6,7 @@
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/run/bench_command.hpp"
+#include "mbsc/run/inverse_cli.hpp"
 #include "mbsc/run/run_command.hpp"
 
 // Sanitizer builds: LeakSanitizer reports a one-time 26-byte allocation that libcln
@@ -125,7 +126,7 @@ int main(int argc, char** argv) {
   g->add_option("model", gen.model, "model file (.mbs)")->required();
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
-                "only these functions (comma-separated): rhs mass_matrix forcing position_constraints "
+                "only these functions (comma-separated): rhs mass_matrix forcing inverse_dynamics position_constraints "
                 "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state multipliers "
                 "reaction_forces");
   std::string formulation = "complement";
@@ -217,6 +218,31 @@ int main(int argc, char** argv) {
   WorkFlags bench_work;
   bench_work.add_to(b);
 
+  mbsc::run::InverseArgs inv;
+  std::vector<std::string> inv_prescribe, inv_unknowns, inv_plot_columns;
+  std::string inv_formulation = "complement";
+  auto* iv = app.add_subcommand("inverse", "inverse dynamics: prescribe coordinates as functions of t, solve for the "
+                                           "inputs (and reactions) along the motion; CSV and plot");
+  iv->add_option("model", inv.model, "model file (.mbs)")->required();
+  iv->add_option("--prescribe", inv_prescribe,
+                 "a coordinate's motion: NAME=EXPR of t and the parameters (repeatable; as many as degrees of freedom)");
+  iv->add_option("--unknowns", inv_unknowns, "inputs to solve for (default: every input)");
+  iv->add_option("--input", inv.fixed_inputs, "the value of an input that is not an unknown: NAME=VALUE (default 0)");
+  iv->add_option("--set", inv.sets, "a parameter's value: name=value (repeatable)");
+  iv->add_option("--init", inv.inits, "a coordinate's value near the start, to pick the assembly branch: name=value");
+  iv->add_option("--formulation", inv_formulation, "complement or multipliers (multipliers adds the reactions)")
+      ->check(CLI::IsMember({"complement", "multipliers"}))
+      ->default_val("complement");
+  iv->add_option("--t-start", inv.t_start, "start time, s")->capture_default_str();
+  iv->add_option("--t-end", inv.t_end, "end time, s")->capture_default_str();
+  iv->add_option("--dt-out", inv.dt_out, "time between rows, s (default: the span / 500)");
+  iv->add_option("-o,--out", inv.csv, "CSV file (default: <model name>_inverse.csv)");
+  iv->add_option("--plot", inv.plot, "also plot to FILE.svg or FILE.png (gnuplot)");
+  iv->add_option("--plot-columns", inv_plot_columns, "columns to plot against t (default: the unknown inputs)");
+  iv->add_option("--cache-dir", inv.cache_dir, "where compiled models are kept");
+  WorkFlags inv_work;
+  inv_work.add_to(iv);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -252,6 +278,21 @@ int main(int argc, char** argv) {
         run.inputs[item.substr(0, eq)] = item.substr(eq + 1);
       }
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
+    }
+    if (*iv) {
+      inv.work = inv_work.args();
+      inv.multipliers = inv_formulation == "multipliers";
+      inv.unknowns = split_list(inv_unknowns);
+      inv.plot_columns = split_list(inv_plot_columns);
+      for (const auto& item : inv_prescribe) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0) {
+          std::cerr << "mbsc: error: --prescribe expects NAME=EXPR, got '" << mbsc::printable(item) << "'\n";
+          return 1;
+        }
+        inv.prescribe.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+      }
+      return mbsc::run::run_inverse(inv, std::cout, std::cerr);
     }
     if (*b) {
       bench.work = bench_work.args();

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -23,6 +24,7 @@ const std::vector<std::string>& all_function_names() {
   static const std::vector<std::string> names = {"rhs",
                                                  "mass_matrix",
                                                  "forcing",
+                                                 "inverse_dynamics",
                                                  "position_constraints",
                                                  "velocity_constraints",
                                                  "constraint_jacobian",
@@ -150,6 +152,144 @@ ir::LoweredFunction undefined_energy(const model::Model& m) {
   return f;
 }
 
+// Whether any step reads an input (then the blocks the forcing is built on depend on u,
+// and h is not h0 + H u with H = dh/du).
+bool steps_read_inputs(const model::Model& m, const std::vector<ir::Step>& steps) {
+  auto reads = [&](const GiNaC::ex& e) {
+    for (const auto& in : m.inputs)
+      if (e.has(in.sym)) return true;
+    return false;
+  };
+  for (const auto& step : steps) {
+    if (const auto* d = std::get_if<ir::Define>(&step)) {
+      if (reads(d->value)) return true;
+      continue;
+    }
+    const auto& solve = std::get<ir::Solve>(step);
+    for (const auto& e : solve.A)
+      if (reads(e)) return true;
+    for (const auto& e : solve.B)
+      if (reads(e)) return true;
+  }
+  return false;
+}
+
+// inverse_dynamics(t, x, zdot, p, u): the inputs that give the independent accelerations
+// zdot. The forcing is affine in the inputs, h = h0 + H u (H = dh/du, h0 = h at u = 0),
+// so M zdot = h becomes H u = M zdot - h0 = r, solved in the generated code: by LU when
+// there are as many inputs as degrees of freedom; with fewer, least squares through the
+// normal equations H^T H u = H^T r; with more, the smallest inputs u = H^T y,
+// H H^T y = r. A model whose forcing is not affine in its inputs gets a function that
+// returns 4.
+ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eom, std::vector<ir::Step> steps,
+                                       const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
+  const int nd = eom.ndof(), nin = static_cast<int>(m.inputs.size());
+  ir::FunctionSpec f{"inverse_dynamics",
+                     "inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of\n"
+                     "H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==\n"
+                     "kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof",
+                     "u", "kNin", {}, {}};
+  f.third_arg = "zdot";
+  if (nin == 0) return f;
+  if (nd == 0) {
+    // Nothing to move: every input gives the (empty) motion; the smallest is zero.
+    for (int k = 0; k < nin; ++k) f.outputs.push_back(0);
+    return f;
+  }
+  f.steps = std::move(steps);
+  std::vector<GiNaC::ex> h0(static_cast<std::size_t>(nd)), H(static_cast<std::size_t>(nd * nin));
+  GiNaC::exmap zero_inputs;
+  for (const auto& in : m.inputs) zero_inputs[in.sym] = 0;
+  bool affine = !steps_read_inputs(m, f.steps);
+  for (int i = 0; i < nd && affine; ++i) {
+    const GiNaC::ex h = fin(eom.h(i, 0));
+    h0[static_cast<std::size_t>(i)] = h.subs(zero_inputs);
+    for (int k = 0; k < nin; ++k) {
+      const GiNaC::ex d = fin(h.diff(m.inputs[static_cast<std::size_t>(k)].sym));
+      for (const auto& in : m.inputs) affine = affine && !d.has(in.sym);
+      H[static_cast<std::size_t>(i * nin + k)] = d;
+    }
+  }
+  if (!affine) {
+    f.steps.clear();
+    f.outputs.assign(static_cast<std::size_t>(nin), GiNaC::ex(0));
+    f.undefined_reason = fmt::format("the forcing of model '{}' is not affine in its inputs", m.name);
+    return f;
+  }
+  // r = M zdot - h0, with zdot the independent speeds' rates (bound to zdot[i]).
+  std::vector<GiNaC::ex> r(static_cast<std::size_t>(nd));
+  for (int i = 0; i < nd; ++i) {
+    GiNaC::ex sum = -h0[static_cast<std::size_t>(i)];
+    for (int j = 0; j < nd; ++j) sum += fin(eom.M(i, j)) * m.speed_dots[static_cast<std::size_t>(eom.independent[static_cast<std::size_t>(j)])];
+    r[static_cast<std::size_t>(i)] = sum;
+  }
+  // Inputs that act one each on the independent speeds (H = I: a torque at each
+  // independent joint) need no solve.
+  bool identity = nin == nd;
+  for (int i = 0; i < nd && identity; ++i)
+    for (int k = 0; k < nin; ++k) identity = identity && H[static_cast<std::size_t>(i * nin + k)].is_equal(GiNaC::ex(i == k ? 1 : 0));
+  if (identity) {
+    f.outputs = r;
+    return f;
+  }
+  ir::Solve solve;
+  solve.label = "inputs: H u = M zdot - h0";
+  solve.reported = false;
+  solve.n = std::min(nin, nd);
+  solve.k = 1;
+  for (int k = 0; k < solve.n; ++k) solve.X.push_back(GiNaC::symbol(fmt::format("u_{}", k)));
+  if (nin == nd) {
+    solve.A = H;
+    solve.B = r;
+  } else if (nin > nd) {
+    // More inputs than degrees of freedom: the smallest, u = H^T y with H H^T y = r.
+    for (int a = 0; a < nd; ++a) {
+      for (int b = 0; b < nd; ++b) {
+        GiNaC::ex sum = 0;
+        for (int k = 0; k < nin; ++k) sum += H[static_cast<std::size_t>(a * nin + k)] * H[static_cast<std::size_t>(b * nin + k)];
+        solve.A.push_back(sum);
+      }
+      solve.B.push_back(r[static_cast<std::size_t>(a)]);
+    }
+    f.steps.push_back(solve);
+    for (int k = 0; k < nin; ++k) {
+      GiNaC::ex sum = 0;
+      for (int i = 0; i < nd; ++i) sum += H[static_cast<std::size_t>(i * nin + k)] * solve.X[static_cast<std::size_t>(i)];
+      f.outputs.push_back(sum);
+    }
+    return f;
+  } else {
+    for (int a = 0; a < nin; ++a) {
+      for (int b = 0; b < nin; ++b) {
+        GiNaC::ex sum = 0;
+        for (int i = 0; i < nd; ++i) sum += H[static_cast<std::size_t>(i * nin + a)] * H[static_cast<std::size_t>(i * nin + b)];
+        solve.A.push_back(sum);
+      }
+      GiNaC::ex sum = 0;
+      for (int i = 0; i < nd; ++i) sum += H[static_cast<std::size_t>(i * nin + a)] * r[static_cast<std::size_t>(i)];
+      solve.B.push_back(sum);
+    }
+  }
+  f.steps.push_back(solve);
+  for (const auto& x : solve.X) f.outputs.push_back(x);
+  return f;
+}
+
+// A function this model cannot compute (FunctionSpec::undefined_reason): NaN outputs and
+// status 4, never a number that looks right.
+ir::LoweredFunction undefined_function(const ir::FunctionSpec& spec) {
+  ir::LoweredFunction f;
+  f.name = spec.name;
+  f.doc = spec.name + ": not defined here (" + spec.undefined_reason + ")";
+  f.returns = "Returns 4 (not defined for this model), with NaN in OUT.";
+  f.out_name = spec.out_name;
+  f.out_shape = spec.out_shape;
+  f.third_arg = spec.third_arg;
+  f.nout = static_cast<int>(spec.outputs.size());
+  f.body = fmt::format("  for (int i = 0; i < {}; ++i) OUT[i] = std::nan(\"\");\n  return 4;", f.nout);
+  return f;
+}
+
 }  // namespace
 
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
@@ -232,6 +372,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                        nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
     for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
     specs.push_back(f);
+  }
+  if (wanted("inverse_dynamics")) {
+    preparing("inverse_dynamics");
+    specs.push_back(inverse_dynamics_spec(m, eom, nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, fin));
   }
   std::vector<GiNaC::ex> pos, vel;
   for (const auto& c : m.constraints)
@@ -440,8 +584,16 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   for (std::size_t i = 0; i < specs.size(); ++i) {
     const auto& spec = specs[i];
     checkpoint("generating", fmt::format("function '{}'", spec.name), m.name_pos, i, specs.size());
+    if (!spec.undefined_reason.empty()) {
+      g.functions.push_back(undefined_function(spec));
+      continue;
+    }
+    std::vector<ir::Binding> spec_binds = binds;
+    if (spec.third_arg == "zdot")  // the independent speeds' rates, given
+      for (std::size_t i = 0; i < eom.independent.size(); ++i)
+        spec_binds.push_back({m.speed_dots[static_cast<std::size_t>(eom.independent[i])], fmt::format("zdot[{}]", i)});
     try {
-      g.functions.push_back(ir::lower(spec, binds));
+      g.functions.push_back(ir::lower(spec, spec_binds));
     } catch (const std::exception& e) {
       diags.error(m.nodes.back().pos, fmt::format("cannot generate function '{}': {}", spec.name, e.what()));
       return std::nullopt;

@@ -159,7 +159,7 @@ std::string parameters(const ir::LoweredFunction& f, bool definition) {
     for (const auto& a : f.used_args) used = used || a == name;
     return std::string(type) + (used ? std::string(" ") + name : std::string(" /*") + name + "*/");
   };
-  return param("double", "t") + ", " + param("const double*", "x") + ", " + param("const double*", "u") + ", " +
+  return param("double", "t") + ", " + param("const double*", "x") + ", " + param("const double*", f.third_arg.c_str()) + ", " +
          param("const double*", "p") + ", double* OUT";
 }
 
@@ -227,7 +227,9 @@ std::string declarations(const GeneratedModel& m) {
            " values (row-major). Cost: " + ops_text(f.ops) + ".\n" +
            (f.returns.empty() ? "Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite\n(a NaN or infinite input)."
                               : f.returns);
-    if (inputs > 0) doc += "\nu: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).";
+    if (f.third_arg == "zdot")
+      doc += "\nzdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.";
+    else if (inputs > 0) doc += "\nu: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).";
     else doc += "\nu: not read (kNin = 0); may be null.";
     blocks.push_back(comment_block(doc, "///") + "\nint " + f.name + "(" + parameters(f, false) + ");");
   }
@@ -239,7 +241,10 @@ std::string definitions(const GeneratedModel& m) {
   std::vector<std::string> blocks;
   for (const auto& f : m.functions) {
     const bool reads_u = std::find(f.used_args.begin(), f.used_args.end(), "u") != f.used_args.end();
-    const std::string check = reads_u ? "  assert(u != nullptr && \"u: the model has inputs (kNin > 0)\");\n" : "";
+    const bool reads_zdot = std::find(f.used_args.begin(), f.used_args.end(), "zdot") != f.used_args.end();
+    const std::string check = reads_u ? "  assert(u != nullptr && \"u: the model has inputs (kNin > 0)\");\n"
+                              : reads_zdot ? "  assert(zdot != nullptr && \"zdot: kNdof accelerations\");\n"
+                                           : "";
     blocks.push_back("int " + f.name + "(" + parameters(f, true) + ") {\n" + check + f.body + "\n}");
   }
   if (m.partitions) blocks.push_back(partition_definitions(m, *m.partitions));
@@ -263,7 +268,7 @@ std::string c_definitions(const GeneratedModel& m) {
   std::vector<std::string> blocks;
   for (const auto& f : m.functions)
     blocks.push_back("extern \"C\" " + c_signature(m, f) + " {\n  return mbsc_gen::" + m.name + "::" + f.name +
-                     "(t, x, u, p, OUT);\n}");
+                     "(t, x, " + f.third_arg + ", p, OUT);\n}");
   if (m.partitions)
     for (const char* f : {"rhs_partition", "conditioning_partition"})
       blocks.push_back("extern \"C\" int mbsc_" + m.name + "_" + f + "(" + kDispatchParams + ") {\n  return mbsc_gen::" +

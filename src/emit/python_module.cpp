@@ -90,8 +90,12 @@ std::string emit_python(const GeneratedModel& m) {
   std::vector<std::string> shapes, partition_shapes, methods;
   for (const auto& f : m.functions) {
     shapes.push_back(c_string_literal(f.name) + ": " + shape_tuple(m, f) + ",");
-    methods.push_back("def " + f.name + "(self, t, x, u=None, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
-                      f.name + "\", t, x, u, p)");
+    if (f.third_arg == "zdot")  // inverse_dynamics: the third argument is kNdof accelerations
+      methods.push_back("def " + f.name + "(self, t, x, zdot, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
+                        f.name + "\", t, x, zdot, p, third=(\"zdot\", kNdof))");
+    else
+      methods.push_back("def " + f.name + "(self, t, x, u=None, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
+                        f.name + "\", t, x, u, p)");
   }
   if (m.partitions) {
     partition_shapes.push_back("\"rhs_partition\": (" + std::to_string(constant(m, "kNx")) + ",),");

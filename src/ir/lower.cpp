@@ -100,6 +100,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
   out.nout = prog->nout;
   out.body = print_program(*prog, out.ops);
   out.used_args = prog->used_args;
+  out.third_arg = spec.third_arg;
   return out;
 }
 

@@ -127,7 +127,8 @@ bool fill_table(void* h, const std::string& kStem, runtime::ModelTable& t, int (
             symbol(h, pre + "full_state", t.full_state, missing) &&
             symbol(h, pre + "conditioning", t.conditioning, missing) &&
             symbol(h, pre + "rhs_partition", t.rhs_partition, missing) &&
-            symbol(h, pre + "conditioning_partition", t.conditioning_partition, missing);
+            symbol(h, pre + "conditioning_partition", t.conditioning_partition, missing) &&
+            symbol(h, pre + "inverse_dynamics", t.inverse_dynamics, missing);
   if (ok && t.multipliers)
     ok = symbol(h, pre + "multipliers", t.multipliers_fn, missing) &&
          symbol(h, pre + "reaction_forces", t.reaction_forces, missing);

@@ -161,6 +161,31 @@ void check_model(std::mt19937& rng, bool reduced = true) {
     REQUIRE(lhs == Approx(h.values[static_cast<std::size_t>(i)]).margin(1e-9 * scale(h.values)));
   }
 
+  // inverse_dynamics(x, z') gives back the inputs that rhs was called with: z' is read
+  // from rhs (M z' = h0 + H u holds there), and H u = M z' - h0 has the solution u when
+  // there are no more inputs than degrees of freedom (least squares with fewer: the
+  // residual is zero, so u again). With more, it gives the smallest inputs that produce
+  // z': rhs at them gives z' back.
+  {
+    std::vector<double> zdot(static_cast<std::size_t>(std::max(M::kNdof, 1)), 0.0);
+    for (int j = 0; j < M::kNdof; ++j)
+      zdot[static_cast<std::size_t>(j)] = xdot.values[static_cast<std::size_t>(find_name(M::kStateNames, M::kNx, M::kDofNames[j]))];
+    const Result inv = call(M::inverse_dynamics, M::kNin, a.t, a.x, zdot.data(), a.p);
+    REQUIRE(inv.guard_intact);
+    require_ok(inv, "inverse_dynamics");
+    if (M::kNin > M::kNdof && reduced) {
+      const Result again = call(M::rhs, M::kNx, a.t, a.x, inv.values.data(), a.p);
+      require_ok(again, "rhs at the inverse's inputs");
+      for (int j = 0; j < M::kNdof; ++j) {
+        const auto s = static_cast<std::size_t>(find_name(M::kStateNames, M::kNx, M::kDofNames[j]));
+        REQUIRE(again.values[s] == Approx(xdot.values[s]).margin(1e-8 * scale(xdot.values)));
+      }
+    } else {
+      for (int k = 0; k < M::kNin && reduced && M::kNdof > 0; ++k)
+        REQUIRE(inv.values[static_cast<std::size_t>(k)] == Approx(a.u[static_cast<std::size_t>(k)]).margin(1e-8));
+    }
+  }
+
   // full_state: the state's own entries, by name (all of them with --state full).
   for (int i = 0; i < M::kNx; ++i) {
     const int f = find_name(M::kFullStateNames, M::kNxFull, M::kStateNames[i]);

@@ -35,6 +35,7 @@
     static constexpr mbsc_test::Function rhs = mbsc_gen::NS::rhs;                                     \
     static constexpr mbsc_test::Function mass_matrix = mbsc_gen::NS::mass_matrix;                     \
     static constexpr mbsc_test::Function forcing = mbsc_gen::NS::forcing;                             \
+    static constexpr mbsc_test::Function inverse_dynamics = mbsc_gen::NS::inverse_dynamics;           \
     static constexpr mbsc_test::Function position_constraints = mbsc_gen::NS::position_constraints;   \
     static constexpr mbsc_test::Function velocity_constraints = mbsc_gen::NS::velocity_constraints;   \
     static constexpr mbsc_test::Function constraint_jacobian = mbsc_gen::NS::constraint_jacobian;     \

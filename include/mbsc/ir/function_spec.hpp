@@ -67,6 +67,12 @@ struct FunctionSpec {
   std::string out_shape;  // "kNx" or "kNdof*kNdof" (text for the header comment)
   std::vector<Step> steps;
   std::vector<GiNaC::ex> outputs;
+  /// The name of the third pointer argument: "u" (the inputs), or "zdot" for
+  /// inverse_dynamics (the independent accelerations, kNdof values).
+  std::string third_arg = "u";
+  /// When set, the function cannot be computed for this model: it is emitted returning 4
+  /// with NaN outputs, and this sentence in its documentation.
+  std::string undefined_reason;
 };
 
 }  // namespace mbsc::ir

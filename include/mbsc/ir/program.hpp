@@ -34,7 +34,8 @@ struct LoweredFunction {
   std::string out_shape;
   int nout = 0;
   std::string body;        // C++ statements of the function body (indented 2 spaces), ends with `return 0;`
-  std::vector<std::string> used_args;  // which of "t","x","u","p" the body reads
+  std::vector<std::string> used_args;  // which of "t","x","u","zdot","p" the body reads
+  std::string third_arg = "u";         // FunctionSpec::third_arg
   std::string returns;     // when set, replaces the usual "Returns 0 on success, ..." of its declaration
   OpCount ops;
 };

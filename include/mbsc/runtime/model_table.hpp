@@ -40,6 +40,9 @@ struct ModelTable {
       energy, outputs, full_state, conditioning;
   PartitionFn rhs_partition, conditioning_partition;
   Fn multipliers_fn, reaction_forces;  // multipliers form only, else nullptr
+  /// inverse_dynamics(t, x, zdot, p, u): the inputs giving the independent accelerations
+  /// zdot (kNdof); both forms. Its third argument is zdot, not the inputs.
+  Fn inverse_dynamics;
 
   bool full_state_layout() const { return nq == nq_full && nu == nu_full; }
   /// Index of `name` in names[0..n), or -1.
@@ -60,7 +63,8 @@ struct ModelTable {
         NS::kConstraintNames, NS::kPositionConstraintNames, NS::kOutputNames, NS::kPartitionNames, NS::kFullStateNames, \
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
-        &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, nullptr, nullptr        \
+        &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, nullptr, nullptr,       \
+        &NS::inverse_dynamics                                                                                        \
   }
 
 /// The same for a model generated with --formulation multipliers.
@@ -72,5 +76,5 @@ struct ModelTable {
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
         &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, &NS::multipliers,       \
-        &NS::reaction_forces                                                                                         \
+        &NS::reaction_forces, &NS::inverse_dynamics                                                                  \
   }

@@ -68,6 +68,9 @@ def compare(function, got, status, expected):
 for function, (status, expected) in calls.items():
     if function == "rhs_partition":
         got = model.rhs_partition(0, t, x, u, p)
+    elif function == "inverse_dynamics":
+        # Its third argument is the kNdof independent accelerations, not the inputs.
+        got = model.inverse_dynamics(t, x, inputs["zdot"], p)
     elif status == 4:
         # Not defined for this model: the status becomes ModelError naming it.
         try:

@@ -71,6 +71,11 @@ int main(int argc, char** argv) {
     const int status = f.f(t, x.data(), u.data(), p.data(), out.data());
     values("call", f.name, status, out.data(), f.n);
   }
+  // inverse_dynamics: its third argument is kNdof accelerations.
+  std::vector<double> zdot(m::kNdof + 1), inv(static_cast<std::size_t>(m::kNin) + 1);
+  for (auto& e : zdot) e = d(rng);
+  values("input", "zdot", -1, zdot.data(), m::kNdof);
+  values("call", "inverse_dynamics", m::inverse_dynamics(t, x.data(), zdot.data(), p.data(), inv.data()), inv.data(), m::kNin);
   std::vector<double> out(static_cast<std::size_t>(m::kNx));
   const int status = m::rhs_partition(0, t, x.data(), u.data(), p.data(), out.data());
   values("call", "rhs_partition", status, out.data(), m::kNx);

@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `mbsc inverse` from the command line (include/mbsc/run/inverse_cli.hpp): the model
+// compiled and loaded as for `mbsc run`, then the inverse-dynamics core.
+#include "mbsc/run/inverse_cli.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <optional>
+#include <ostream>
+
+#include "inverse_command.hpp"
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/csv_table.hpp"
+#include "mbsc/run/gnuplot_plot.hpp"
+#include "mbsc/run/run_setup.hpp"
+
+namespace mbsc::run {
+
+int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
+  (void)out;
+  auto fail = [&](const std::string& message) {
+    err << "mbsc: error: " << message << "\n";
+    return 1;
+  };
+  if (a.prescribe.empty()) return fail("--prescribe: give the motion of as many coordinates as the model has degrees of freedom");
+  if (!(a.t_end > a.t_start) || !std::isfinite(a.t_end) || !std::isfinite(a.t_start))
+    return fail("--t-end must be a number after --t-start");
+  const double dt_out = a.dt_out > 0 ? a.dt_out : (a.t_end - a.t_start) / 500;
+  if ((a.t_end - a.t_start) / dt_out > 1e7) return fail("--dt-out gives more than 10 million rows");
+  if (!a.plot.empty() && plot_format(a.plot).empty())
+    return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
+
+  std::vector<std::string> sources;
+  const std::optional<model::Model> m = read_model(a.model, a.work, sources, err);
+  if (!m) return 1;
+  std::string error;
+  std::map<std::string, double> sets, inits, fixed;
+  if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error) ||
+      !parse_assignments(a.fixed_inputs, "--input", fixed, error))
+    return fail(error);
+  CompileRequest req;
+  req.model_path = a.model;
+  req.multipliers = a.multipliers;
+  req.cache_dir = a.cache_dir;
+  req.work = a.work;
+  int code = 1;
+  const auto compiled = compile_model(req, *m, sources, err, code);
+  if (!compiled) return code;
+  const runtime::ModelTable& T = compiled->table();
+
+  InverseCommandOptions opt;
+  opt.prescribe = a.prescribe;
+  opt.unknowns = a.unknowns;
+  opt.params = sets;
+  opt.fixed_inputs = fixed;
+  opt.t_start = a.t_start;
+  opt.t_end = a.t_end;
+  opt.dt_out = dt_out;
+  opt.output_csv = a.csv.empty() ? m->name + "_inverse.csv" : a.csv;
+  // The branch: where the model's own initial state (and --init) assembles, when it does;
+  // else the raw values given.
+  std::vector<double> p;
+  if (!parameter_values(T, sets, p, error)) return fail(error);
+  std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
+  InitialState init;
+  if (initial_state(*m, T, p, u, inits, a.t_start, init, error)) {
+    for (int i = 0; i < T.nq; ++i) opt.guess[T.state_names[i]] = init.x[static_cast<std::size_t>(i)];
+  } else {
+    opt.guess = inits;
+  }
+  const InverseOutcome r = inverse_command(T, opt, a.model);
+  if (!r.message.empty()) err << r.message << "\n";
+  if (r.exit_code != 0) return r.exit_code;
+  if (!a.work.quiet)
+    err << fmt::format("mbsc: wrote {} ({} rows, {} columns)\n", printable(opt.output_csv), r.table.rows.size(),
+                       r.table.columns.size());
+  if (!a.plot.empty()) {
+    std::vector<std::string> wanted = a.plot_columns;
+    if (wanted.empty()) {
+      if (a.unknowns.empty())
+        for (int i = 0; i < T.nin; ++i) wanted.emplace_back(T.input_names[i]);
+      else
+        wanted = a.unknowns;
+    }
+    std::vector<int> cols;
+    if (!choose_columns(r.table.columns, wanted, cols, error)) return fail("--plot-columns: " + error);
+    if (!plot_columns(opt.output_csv, r.table.columns, 0, cols, a.plot, m->name + ": inverse dynamics", error))
+      return fail("--plot: " + error);
+    if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.plot));
+  }
+  return 0;
+}
+
+}  // namespace mbsc::run
