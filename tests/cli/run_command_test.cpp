@@ -234,3 +234,41 @@ TEST_CASE("mbsc bench: errors against the reference shrink with the tolerance", 
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("mbsc inverse: the thesis's Whitworth run from the command line, and its bad input", "[cli][run]") {
+  const fs::path dir = fresh_dir("inverse");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/whitworth.mbs");
+  auto r = run(run_in(dir, "inverse " + model + " --prescribe 'crank.theta=pi/4 + pi/2*t' --unknowns u1 --t-end 4 "
+                                               "--dt-out 0.05 -o " + quote((dir / "si.csv").string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Csv c = read_csv(dir / "si.csv");
+  REQUIRE(c.rows.size() == 81);
+  const auto th = static_cast<std::size_t>(c.col("crank.theta")), w = static_cast<std::size_t>(c.col("crank.w")),
+             x = static_cast<std::size_t>(c.col("slider.x")), u1 = static_cast<std::size_t>(c.col("u1"));
+  double peak = 0;
+  for (const auto& row : c.rows) {
+    CHECK(row[th] == Approx(M_PI / 4 + M_PI / 2 * row[0]).margin(1e-9));
+    CHECK(row[w] == Approx(M_PI / 2).margin(1e-9));
+    peak = std::max(peak, std::fabs(row[u1]));
+  }
+  CHECK(c.rows.front()[x] == Approx(0.8).margin(1e-9));  // the thesis's start, from the model's guesses
+  CHECK(peak > 0.5);  // the quick return's torque peaks (about 1 N m)
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--prescribe 'crank.thetax=t'", "crank.thetax"},
+      {"--prescribe 'crank.theta=t' --prescribe 'rocker.theta=t'", "degree(s) of freedom"},
+      {"--prescribe 'crank.theta=t' --unknowns u2", "u2"},
+      {"--prescribe 'crank.theta=t*tt'", "tt"},
+      {"", "--prescribe"},
+  };
+  for (const auto& k : cases) {
+    r = run(run_in(dir, "inverse " + model + " " + k.args + " -o " + quote((dir / "bad.csv").string())));
+    INFO(k.args << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find(k.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "bad.csv"));
+  }
+  fs::remove_all(dir);
+}
