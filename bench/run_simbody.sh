@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-2.0-or-later
+#
+# Simbody, the peer of the speed-versus-error benchmark (`mbsc bench`, docs/benchmarks.md):
+# builds bench/simbody (Debian libsimbody-dev; installed with apt-get when missing and
+# running as root) and integrates every shipped closed-loop model, rebuilt with
+# Simbody's API, from the initial state of bench/simbody/initial_states.txt to T_END
+# with Simbody's integrators at accuracies 1e-3 ... 1e-10, one process per run:
+#   bash bench/run_simbody.sh [MODEL ...]     (repository root; ~10 min on 2 cores)
+# Writes bench/results/simbody_<model>.csv (columns: bench/simbody/simbody_bench.cpp),
+# bench/results/simbody_env.txt (machine, versions, date) and, for runs Simbody could
+# not finish, one line each in bench/results/simbody_failures.txt.
+#   env: T_END (default 5 s), TOLS, METHODS (adaptive, every tolerance), LOW_ORDER and
+#        LOW_TOLS (first-order-error methods, the loose tolerances only), TIMEOUT per run
+#        (default 300 s), SB_BUILD (default build-simbody)
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$ROOT"
+SB=${SB_BUILD:-build-simbody}
+T_END=${T_END:-5}
+TOLS=${TOLS:-"1e-3 1e-4 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10"}
+METHODS=${METHODS:-"rkmerson rkfeldberg rk3 cpodes_bdf"}
+LOW_ORDER=${LOW_ORDER:-"semieuler2 verlet"}
+LOW_TOLS=${LOW_TOLS:-"1e-3 1e-4 1e-5 1e-6"}
+TIMEOUT=${TIMEOUT:-300}
+MODELS=("$@")
+[ ${#MODELS[@]} -gt 0 ] || MODELS=(four_bar four_bar_toggle slider_crank five_bar whitworth three_rrr parallelogram_chain)
+log() { echo "[run_simbody $(date +%T)] $*" >&2; }
+
+if [ ! -f /usr/lib/x86_64-linux-gnu/cmake/simbody/SimbodyConfig.cmake ] && ! dpkg -s libsimbody-dev >/dev/null 2>&1; then
+  [ "$(id -u)" -eq 0 ] || { log "needs libsimbody-dev (apt-get install libsimbody-dev)"; exit 1; }
+  log "installing libsimbody-dev (bench-only peer, not a dependency of mbsc)"
+  DEBIAN_FRONTEND=noninteractive apt-get install -y libsimbody-dev >/dev/null
+fi
+log "building bench/simbody in $SB"
+cmake -S bench/simbody -B "$SB" -DCMAKE_BUILD_TYPE=Release > /dev/null
+cmake --build "$SB" -j2 --target simbody_bench > /dev/null
+
+mkdir -p bench/results
+{
+  echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "machine: nproc $(nproc), $(lscpu | sed -n 's/^Model name: *//p'), $(free -g | awk '/^Mem:/ {print $2}') GiB, Linux $(uname -r)"
+  echo "compiler: $(g++ --version | head -1)"
+  echo "simbody: $(dpkg-query -W -f '${Package} ${Version}' libsimbody-dev 2>/dev/null || echo unknown)"
+  echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+  echo "T_END=$T_END TOLS=$TOLS METHODS=$METHODS LOW_ORDER=$LOW_ORDER LOW_TOLS=$LOW_TOLS"
+} > bench/results/simbody_env.txt
+fail=bench/results/simbody_failures.txt
+: > "$fail"
+
+one() {  # model method tol first
+  local out rc
+  set +e
+  if [ "$4" = 1 ]; then
+    out=$(timeout "$TIMEOUT" "$SB/simbody_bench" "$1" "$2" "$T_END" "$3" --header 2> "$SB/err.txt")
+  else
+    out=$(timeout "$TIMEOUT" "$SB/simbody_bench" "$1" "$2" "$T_END" "$3" 2> "$SB/err.txt")
+  fi
+  rc=$?
+  set -e
+  if [ $rc -eq 0 ]; then
+    echo "$out"
+  else
+    local why
+    why=$(grep -m1 -o 'Integrator step failed at time [0-9.e+-]*\|Unable to advance time past [0-9.e+-]*' "$SB/err.txt" || true)
+    [ $rc -eq 124 ] && why="no result within $TIMEOUT s"
+    [ -n "$why" ] || why=$(head -1 "$SB/err.txt")
+    echo "$1 $3 tol $2: failed (exit $rc): $why" >> "$fail"
+    log "$1 $3 tol $2: failed ($why)"
+  fi
+}
+
+for m in "${MODELS[@]}"; do
+  csv=bench/results/simbody_$m.csv
+  log "$m -> $csv"
+  tmp=$(mktemp)
+  first=1
+  for meth in $METHODS $LOW_ORDER; do
+    tols=$TOLS
+    case " $LOW_ORDER " in *" $meth "*) tols=$LOW_TOLS ;; esac
+    for tol in $tols; do
+      line=$(one "$m" "$tol" "$meth" "$first")
+      if [ -n "$line" ]; then
+        if [ "$first" = 1 ]; then first=0; fi
+        echo "$line" >> "$tmp"
+      fi
+    done
+  done
+  mv "$tmp" "$csv"
+  chmod 644 "$csv"
+done
+echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg); finished $(date -u +%H:%M:%SZ)" >> bench/results/simbody_env.txt
+log "done: bench/results/simbody_*.csv"
