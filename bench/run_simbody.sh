@@ -10,8 +10,11 @@
 # Writes bench/results/simbody_<model>.csv (columns: bench/simbody/simbody_bench.cpp),
 # bench/results/simbody_env.txt (machine, versions, date) and, for runs Simbody could
 # not finish, one line each in bench/results/simbody_failures.txt.
-#   env: T_END (default 5 s), TOLS, METHODS (adaptive, every tolerance), LOW_ORDER and
-#        LOW_TOLS (low-order methods, the loose tolerances only), TIMEOUT per run
+#   env: T_END (default 5 s), TOLS, METHODS (adaptive, every tolerance), TIGHT_TOLS for
+#        TIGHT_METHODS (the explicit Runge-Kutta pairs also at 1e-11, 1e-12, so that
+#        their final-state error reaches 1e-9), LOW_ORDER and LOW_TOLS (low-order
+#        methods, the loose tolerances only), APPEND=1 (add the runs to the existing
+#        CSVs instead of replacing them), TIMEOUT per run
 #        (default 60 s), JOBS (models run side by side, default 1), SB_BUILD
 #        (default build-simbody). rk3 and verlet are left out by default: at the tight
 #        tolerances they take minutes per run (verlet does not finish the four-bar at
@@ -21,10 +24,13 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
 SB=${SB_BUILD:-build-simbody}
 T_END=${T_END:-5}
-TOLS=${TOLS:-"1e-3 1e-4 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10"}
-METHODS=${METHODS:-"rkmerson rkfeldberg cpodes_bdf"}
-LOW_ORDER=${LOW_ORDER:-"semieuler2"}
-LOW_TOLS=${LOW_TOLS:-"1e-3 1e-4 1e-5"}
+TOLS=${TOLS-"1e-3 1e-4 1e-5 1e-6 1e-7 1e-8 1e-9 1e-10"}
+METHODS=${METHODS-"rkmerson rkfeldberg cpodes_bdf"}
+TIGHT_TOLS=${TIGHT_TOLS-"1e-11 1e-12"}
+TIGHT_METHODS=${TIGHT_METHODS-"rkmerson rkfeldberg"}
+LOW_ORDER=${LOW_ORDER-"semieuler2"}
+LOW_TOLS=${LOW_TOLS-"1e-3 1e-4 1e-5"}
+APPEND=${APPEND:-}
 TIMEOUT=${TIMEOUT:-60}
 JOBS=${JOBS:-1}
 MODELS=("$@")
@@ -47,8 +53,10 @@ mkdir -p bench/results
   echo "compiler: $(g++ --version | head -1)"
   echo "simbody: $(dpkg-query -W -f '${Package} ${Version}' libsimbody-dev 2>/dev/null || echo unknown)"
   echo "load at start: $(cut -d' ' -f1-3 /proc/loadavg)"
-  echo "T_END=$T_END TOLS=$TOLS METHODS=$METHODS LOW_ORDER=$LOW_ORDER LOW_TOLS=$LOW_TOLS JOBS=$JOBS"
-} > bench/results/simbody_env.txt
+  echo "T_END=$T_END TOLS=$TOLS METHODS=$METHODS TIGHT_TOLS=$TIGHT_TOLS TIGHT_METHODS=$TIGHT_METHODS"
+  echo "LOW_ORDER=$LOW_ORDER LOW_TOLS=$LOW_TOLS JOBS=$JOBS APPEND=$APPEND"
+} > "$SB/env.txt"
+if [ -n "$APPEND" ]; then { echo; cat "$SB/env.txt"; } >> bench/results/simbody_env.txt; else cp "$SB/env.txt" bench/results/simbody_env.txt; fi
 
 one() {  # model tol method first
   local out rc err="$SB/err_$1.txt"
@@ -77,9 +85,11 @@ model_runs() {  # model: every method and tolerance into bench/results/simbody_<
   local m=$1 csv=bench/results/simbody_$1.csv tmp first=1 line tols meth tol
   log "$m -> $csv"
   tmp=$(mktemp)
+  if [ -n "$APPEND" ] && [ -s "$csv" ]; then cp "$csv" "$tmp"; first=0; fi
   : > "$SB/fail_$m.txt"
   for meth in $METHODS $LOW_ORDER; do
     tols=$TOLS
+    case " $TIGHT_METHODS " in *" $meth "*) tols="$TOLS $TIGHT_TOLS" ;; esac
     case " $LOW_ORDER " in *" $meth "*) tols=$LOW_TOLS ;; esac
     for tol in $tols; do
       line=$(one "$m" "$tol" "$meth" "$first")
@@ -101,6 +111,7 @@ for m in "${MODELS[@]}"; do
   if [ "$running" -ge "$JOBS" ]; then wait -n; running=$((running - 1)); fi
 done
 wait
-for m in "${MODELS[@]}"; do cat "$SB/fail_$m.txt"; done > bench/results/simbody_failures.txt
+[ -n "$APPEND" ] || : > bench/results/simbody_failures.txt
+for m in "${MODELS[@]}"; do cat "$SB/fail_$m.txt"; done >> bench/results/simbody_failures.txt
 echo "load at end: $(cut -d' ' -f1-3 /proc/loadavg); finished $(date -u +%H:%M:%SZ)" >> bench/results/simbody_env.txt
 log "done: bench/results/simbody_*.csv"
