@@ -4,7 +4,7 @@
 // assemble() and integrated by fixed-step RK4 (h small enough that its error is far below
 // the agreement checked). Prints the same columns as `simbody_bench ... --trajectory DT`:
 //   t,<the model's independent coordinates and speeds, in the file's order>
-// Usage: mbsc_reference_MODEL T_END DT [H]   (H default 1e-4)
+// Usage: mbsc_reference_MODEL T_END DT [H]   (H default 1e-4; the check uses 2.5e-5)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
