@@ -199,7 +199,6 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::Solve final_solve;
     final_solve.label = "reduced mass matrix M z' = h";
     final_solve.spd = eom.mass_matrix_spd;
-    final_solve.reported = false;  // regular whenever the blocks before it are
     final_solve.n = nd;
     final_solve.k = 1;
     for (int i = 0; i < nd; ++i) {
