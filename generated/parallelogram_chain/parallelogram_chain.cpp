@@ -12,7 +12,7 @@
 //   energy: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
-//   conditioning: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388
+//   conditioning: 38 adds, 148 muls, 0 divs, 14 calls, 579 solve flops, total 779
 //
 // structural parameter (loop bound or index): N = 3
 //
@@ -106,11 +106,33 @@ int lu_solve(double* A, double* B) {
 
 namespace {
 
-// 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
-// receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
-// near machine epsilon mean the block is numerically singular.
-template <int n>
-double rcond_1norm(double* A, double* W) {
+// How safely the rhs can make one of its solves, for `conditioning`: 1 / (|A|_1 |A^-1|_1)
+// of the n x n row-major A (destroyed), divided by max(1, |A^-1 G|_1) where G (n x g,
+// row-major; unused when g = 0) holds the coefficients of the independent rates that the
+// solve turns into dependent rates, so a block that is small next to them (even a 1 x 1
+// one) reports it. spd: A is the reduced mass matrix the rhs factors by Cholesky; 0 where
+// that factorisation fails (the test of chol_solve). W: n x n workspace that receives
+// A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
+// machine epsilon mean the solve is numerically singular.
+template <int n, int g, bool spd>
+double rcond_1norm(double* A, const double* G, double* W) {
+  if (spd) {
+    double dmax = 0.0;
+    for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+    for (int i = 0; i < n * n; ++i) W[i] = A[i];
+    for (int j = 0; j < n; ++j) {
+      double d = W[j * n + j];
+      for (int m = 0; m < j; ++m) d -= W[j * n + m] * W[j * n + m];
+      if (!(d > 1e-13 * dmax)) return 0.0;
+      const double ljj = std::sqrt(d);
+      W[j * n + j] = ljj;
+      for (int i = j + 1; i < n; ++i) {
+        double s = W[i * n + j];
+        for (int m = 0; m < j; ++m) s -= W[i * n + m] * W[j * n + m];
+        W[i * n + j] = s / ljj;
+      }
+    }
+  }
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -126,7 +148,18 @@ double rcond_1norm(double* A, double* W) {
     for (int i = 0; i < n; ++i) col += std::fabs(W[i * n + j]);
     norm_inv = std::fmax(norm_inv, col);
   }
-  const double r = 1.0 / (norm_a * norm_inv);
+  // |A^-1 G|_1: the largest column sum of the dependent rates per unit independent rate.
+  double gain = 1.0;
+  for (int j = 0; j < g; ++j) {
+    double col = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (int m = 0; m < n; ++m) s += W[i * n + m] * G[m * g + j];
+      col += std::fabs(s);
+    }
+    gain = std::fmax(gain, col);
+  }
+  const double r = 1.0 / (norm_a * norm_inv * gain);
   return r == r ? r : 0.0;
 }
 
@@ -1513,18 +1546,90 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double c4 = std::cos(x[11]);
   const double s5 = std::sin(x[20]);
   const double c5 = std::cos(x[20]);
-  // B_0[0] = reciprocal condition number of A_0 (6x6): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  const double s6 = std::sin(x[2]);
+  const double c6 = std::cos(x[2]);
+  const double t0 = p[1]*s0;
+  const double t1 = -p[0]*s1;
+  const double t2 = -c0*p[1];
+  const double t3 = c1*p[0];
+  const double t4 = -p[1]*s0;
+  const double t5 = s2*p[1];
+  const double t6 = -p[0]*s3;
+  const double t7 = c0*p[1];
+  const double t8 = -c2*p[1];
+  const double t9 = p[0]*c3;
+  const double t10 = -s2*p[1];
+  const double t11 = s4*p[1];
+  const double t12 = -s5*p[0];
+  const double t13 = c2*p[1];
+  const double t14 = -c4*p[1];
+  const double t15 = p[0]*c5;
+  const double t16 = -s6*p[1];
+  const double t17 = x[35]*x[35];
+  const double t18 = x[26]*x[26];
+  const double t19 = x[23]*x[23];
+  const double t20 = c6*p[1];
+  const double t21 = x[29]*x[29];
+  const double t22 = x[38]*x[38];
+  const double t23 = x[32]*x[32];
+  const double t24 = x[41]*x[41];
+  // solve A_0 X = B_0 (6x6, 2 columns): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
   double A_0[36] = {
-      p[1]*s0, 0.0, 0.0, -p[0]*s1, 0.0, 0.0,
-      -c0*p[1], 0.0, 0.0, c1*p[0], 0.0, 0.0,
-      -p[1]*s0, s2*p[1], 0.0, 0.0, -p[0]*s3, 0.0,
-      c0*p[1], -c2*p[1], 0.0, 0.0, p[0]*c3, 0.0,
-      0.0, -s2*p[1], s4*p[1], 0.0, 0.0, -s5*p[0],
-      0.0, c2*p[1], -c4*p[1], 0.0, 0.0, p[0]*c5};
-  double B_0[37];
-  B_0[0] = rcond_1norm<6>(A_0, B_0 + 1);
-  OUT[0] = B_0[0];
-  if (!all_finite(OUT, 1)) return 2;
+      t0, 0.0, 0.0, t1, 0.0, 0.0,
+      t2, 0.0, 0.0, t3, 0.0, 0.0,
+      t4, t5, 0.0, 0.0, t6, 0.0,
+      t7, t8, 0.0, 0.0, t9, 0.0,
+      0.0, t10, t11, 0.0, 0.0, t12,
+      0.0, t13, t14, 0.0, 0.0, t15};
+  double B_0[12] = {
+      t16, c0*t18*p[1] - c1*t17*p[0] - t19*c6*p[1],
+      t20, t18*p[1]*s0 - s6*t19*p[1] - t17*p[0]*s1,
+      0.0, c2*p[1]*t21 - c0*t18*p[1] - p[0]*c3*t22,
+      0.0, s2*p[1]*t21 - t18*p[1]*s0 - p[0]*s3*t22,
+      0.0, c4*t23*p[1] - t24*p[0]*c5 - c2*p[1]*t21,
+      0.0, t23*s4*p[1] - s2*p[1]*t21 - t24*s5*p[0]};
+  if (lu_solve<6, 2>(A_0, B_0) != 0) {
+    const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(A_0, 36) && all_finite(in_, 18) ? 1 : 2;
+  }
+  // B_1[0] = reciprocal condition number of A_1 (6x6): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  double A_1[36] = {
+      t0, 0.0, 0.0, t1, 0.0, 0.0,
+      t2, 0.0, 0.0, t3, 0.0, 0.0,
+      t4, t5, 0.0, 0.0, t6, 0.0,
+      t7, t8, 0.0, 0.0, t9, 0.0,
+      0.0, t10, t11, 0.0, 0.0, t12,
+      0.0, t13, t14, 0.0, 0.0, t15};
+  double G_1[6] = {
+      t16,
+      t20,
+      0.0,
+      0.0,
+      0.0,
+      0.0};
+  double B_1[37];
+  B_1[0] = rcond_1norm<6, 1, false>(A_1, G_1, B_1 + 1);
+  const double t25 = 0.08333333333333333*(p[4]*p[0]*p[0]);
+  const double t26 = p[0]*B_0[6]*s1 - 2.0*s6*p[1];
+  const double t27 = 2.0*c6*p[1] - c1*p[0]*B_0[6];
+  const double t28 = p[3]*p[1]*p[1];
+  const double t29 = 0.08333333333333333*t28;
+  const double t30 = B_0[2]*B_0[2];
+  const double t31 = -2.0*B_0[2]*c2*p[1] - B_0[10]*p[0]*c5;
+  const double t32 = 0.25*t28;
+  const double t33 = -B_0[8]*p[0]*c3 - 2.0*c0*p[1]*B_0[0];
+  const double t34 = B_0[4]*B_0[4];
+  const double t35 = B_0[0]*B_0[0];
+  const double t36 = -s5*B_0[10]*p[0] - 2.0*s2*B_0[2]*p[1];
+  const double t37 = -B_0[8]*p[0]*s3 - 2.0*p[1]*s0*B_0[0];
+  // B_2[0] = reciprocal condition number of A_2 (1x1): reduced mass matrix M z' = h
+  double A_2[1] = {
+      t25*B_0[10]*B_0[10] + 0.25*p[4]*t26*t26 + 0.25*p[4]*t27*t27 + t29*t30 + 0.25*t31*t31*p[4] + B_0[8]*B_0[8]*t25 + s2*s2*t32*t30 + 0.25*p[4]*t33*t33 + t29 + t32*s6*s6 + s4*s4*t32*t34 + t35*t29 + 0.25*t36*t36*p[4] + t25*B_0[6]*B_0[6] + 0.25*t37*t37*p[4] + t35*c0*c0*t32 + t32*c6*c6 + t34*t29 + t32*t30*c2*c2 + t32*t34*c4*c4 + t35*t32*s0*s0};
+  double B_2[2];
+  B_2[0] = rcond_1norm<1, 0, true>(A_2, nullptr, B_2 + 1);
+  OUT[0] = B_1[0];
+  OUT[1] = B_2[0];
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -1538,12 +1643,12 @@ int rhs_partition(int k, double t, const double* x, const double* u, const doubl
 int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: {
-      double rc[1];
+      double rc[2];
       const int status = conditioning(t, x, u, p, rc);
       double smallest = 1.0;
-      for (int i = 0; i < 1; ++i) smallest = rc[i] < smallest ? rc[i] : smallest;
+      for (int i = 0; i < 2; ++i) smallest = rc[i] < smallest ? rc[i] : smallest;
       OUT[0] = status == 0 ? smallest : 0.0;
-      return status;
+      return status == 1 ? 0 : status;
     }
     default: return 3;
   }

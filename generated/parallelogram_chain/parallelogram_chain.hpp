@@ -12,7 +12,7 @@
 //   energy: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
-//   conditioning: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388
+//   conditioning: 38 adds, 148 muls, 0 divs, 14 calls, 579 solve flops, total 779
 //
 // structural parameter (loop bound or index): N = 3
 //
@@ -45,7 +45,7 @@ inline constexpr int kNqFull = 21;
 inline constexpr int kNuFull = 21;
 inline constexpr int kNxFull = 42;
 inline constexpr int kNpartitions = 1;
-inline constexpr int kNblocks = 1;
+inline constexpr int kNblocks = 2;
 
 inline constexpr const char* kStateNames[] = {
     "crank_0.x",
@@ -192,7 +192,8 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank_0.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 14 state-free pivots"};
+    "subsystem '<top>': dependent block B*, core left by 14 state-free pivots",
+    "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.5, 0.3, 9.81, 0.3, 0.5};
 
@@ -276,7 +277,7 @@ int outputs(double t, const double* x, const double* u, const double* p, double*
 int full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
-/// OUT: rcond, kNblocks values (row-major). Cost: 0 adds, 16 muls, 0 divs, 12 calls, 360 solve flops, total 388.
+/// OUT: rcond, kNblocks values (row-major). Cost: 38 adds, 148 muls, 0 divs, 14 calls, 579 solve flops, total 779.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
@@ -287,8 +288,9 @@ int conditioning(double t, const double* x, const double* u, const double* p, do
 /// Returns what that rhs returns, or 3 when k is out of range.
 int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k
-/// solves by LU at this state; 1 when it solves none, 0 when one is singular. The
+/// OUT[0] = the smallest reciprocal condition number (1-norm) of the solves partition k's
+/// rhs makes at this state (dependent blocks with their gains, the reduced mass
+/// matrix); 1 when it makes none, 0 when one is singular or fails. The
 /// run time switches to another partition when this degrades
 /// (include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.
 int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);

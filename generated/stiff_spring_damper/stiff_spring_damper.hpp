@@ -178,8 +178,9 @@ int conditioning(double t, const double* x, const double* u, const double* p, do
 /// Returns what that rhs returns, or 3 when k is out of range.
 int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 
-/// OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k
-/// solves by LU at this state; 1 when it solves none, 0 when one is singular. The
+/// OUT[0] = the smallest reciprocal condition number (1-norm) of the solves partition k's
+/// rhs makes at this state (dependent blocks with their gains, the reduced mass
+/// matrix); 1 when it makes none, 0 when one is singular or fails. The
 /// run time switches to another partition when this degrades
 /// (include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.
 int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);

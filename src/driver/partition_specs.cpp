@@ -19,9 +19,14 @@ ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::strin
     ir::Solve c;
     c.label = s->label;
     c.n = s->n;
-    c.k = 1;
     c.A = s->A;
+    c.spd = s->spd;
     c.condition = true;
+    // The gain columns: a block that is regular but small next to them amplifies the
+    // independent rates into huge dependent ones (a 1x1 block's plain rcond is always 1).
+    c.k = s->gains;
+    for (int i = 0; i < s->n; ++i)
+      for (int j = 0; j < s->gains; ++j) c.B.push_back(s->B[static_cast<std::size_t>(i * s->k + j)]);
     c.X = {GiNaC::symbol(fmt::format("rcond_{}", block++))};
     f.outputs.push_back(c.X[0]);
     f.steps.push_back(c);

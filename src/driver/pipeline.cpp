@@ -16,6 +16,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
+#include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -339,7 +340,6 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::Solve final_solve;
     final_solve.label = "reduced mass matrix M z' = h";
     final_solve.spd = eom.mass_matrix_spd;
-    final_solve.reported = false;  // regular whenever the blocks before it are
     final_solve.n = nd;
     final_solve.k = 1;
     for (int i = 0; i < nd; ++i) {
@@ -347,6 +347,9 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       final_solve.B.push_back(fin(eom.h(i, 0)));
       final_solve.X.push_back(m.speed_dots[eom.independent[i]]);
     }
+    // `conditioning` reports it unless it is constant (a constant M cannot degrade).
+    final_solve.reported = false;
+    for (const auto& e : final_solve.A) final_solve.reported = final_solve.reported || !sym::is_state_free(e, m);
     if (nd > 0) f.steps.push_back(final_solve);
     if (minimal) {
       for (int c : minimal->kept_coords) f.outputs.push_back(fin(m.coord_rates[c]));

@@ -172,8 +172,9 @@ std::string partition_declarations() {
                        "Returns what that rhs returns, or 3 when k is out of range.",
                        "///") +
          "\nint rhs_partition(" + kDispatchParams + ");\n\n" +
-         comment_block("OUT[0] = the smallest reciprocal condition number (1-norm) of the blocks partition k\n"
-                       "solves by LU at this state; 1 when it solves none, 0 when one is singular. The\n"
+         comment_block("OUT[0] = the smallest reciprocal condition number (1-norm) of the solves partition k's\n"
+                       "rhs makes at this state (dependent blocks with their gains, the reduced mass\n"
+                       "matrix); 1 when it makes none, 0 when one is singular or fails. The\n"
                        "run time switches to another partition when this degrades\n"
                        "(include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.",
                        "///") +
@@ -204,7 +205,8 @@ std::string partition_definitions(const GeneratedModel& m, const PartitionTable&
     cond += "      const int status = " + name + "(t, x, u, p, rc);\n";
     cond += "      double smallest = 1.0;\n";
     cond += "      for (int i = 0; i < " + std::to_string(nout) + "; ++i) smallest = rc[i] < smallest ? rc[i] : smallest;\n";
-    cond += "      OUT[0] = status == 0 ? smallest : 0.0;\n      return status;\n    }\n";
+    // A solve of the rhs that fails (status 1) is the answer: rcond 0.
+    cond += "      OUT[0] = status == 0 ? smallest : 0.0;\n      return status == 1 ? 0 : status;\n    }\n";
   }
   cond += "    default: return 3;\n  }\n}";
   return rhs + "\n\n" + cond;

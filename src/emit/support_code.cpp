@@ -195,15 +195,38 @@ int lu_solve_2x2(int k, const double* A, double* B) {
   return code;
 }
 
-// Reciprocal 1-norm condition number of a block, through lu_solve on the identity.
+// Reciprocal 1-norm condition number of one solve an rhs makes, through lu_solve on the
+// identity; with the gain columns of a dependent block and the Cholesky test of a mass matrix.
 const std::string& rcond_code() {
   static const std::string code = R"cpp(namespace {
 
-// 1 / (|A|_1 |A^-1|_1) of the n x n row-major A (destroyed); W: n x n workspace that
-// receives A^-1. 0 when lu_solve finds A singular. 1 is perfectly conditioned; values
-// near machine epsilon mean the block is numerically singular.
-template <int n>
-double rcond_1norm(double* A, double* W) {
+// How safely the rhs can make one of its solves, for `conditioning`: 1 / (|A|_1 |A^-1|_1)
+// of the n x n row-major A (destroyed), divided by max(1, |A^-1 G|_1) where G (n x g,
+// row-major; unused when g = 0) holds the coefficients of the independent rates that the
+// solve turns into dependent rates, so a block that is small next to them (even a 1 x 1
+// one) reports it. spd: A is the reduced mass matrix the rhs factors by Cholesky; 0 where
+// that factorisation fails (the test of chol_solve). W: n x n workspace that receives
+// A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
+// machine epsilon mean the solve is numerically singular.
+template <int n, int g, bool spd>
+double rcond_1norm(double* A, const double* G, double* W) {
+  if (spd) {
+    double dmax = 0.0;
+    for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+    for (int i = 0; i < n * n; ++i) W[i] = A[i];
+    for (int j = 0; j < n; ++j) {
+      double d = W[j * n + j];
+      for (int m = 0; m < j; ++m) d -= W[j * n + m] * W[j * n + m];
+      if (!(d > 1e-13 * dmax)) return 0.0;
+      const double ljj = std::sqrt(d);
+      W[j * n + j] = ljj;
+      for (int i = j + 1; i < n; ++i) {
+        double s = W[i * n + j];
+        for (int m = 0; m < j; ++m) s -= W[i * n + m] * W[j * n + m];
+        W[i * n + j] = s / ljj;
+      }
+    }
+  }
   double norm_a = 0.0;
   for (int j = 0; j < n; ++j) {
     double col = 0.0;
@@ -219,7 +242,18 @@ double rcond_1norm(double* A, double* W) {
     for (int i = 0; i < n; ++i) col += std::fabs(W[i * n + j]);
     norm_inv = std::fmax(norm_inv, col);
   }
-  const double r = 1.0 / (norm_a * norm_inv);
+  // |A^-1 G|_1: the largest column sum of the dependent rates per unit independent rate.
+  double gain = 1.0;
+  for (int j = 0; j < g; ++j) {
+    double col = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double s = 0.0;
+      for (int m = 0; m < n; ++m) s += W[i * n + m] * G[m * g + j];
+      col += std::fabs(s);
+    }
+    gain = std::fmax(gain, col);
+  }
+  const double r = 1.0 / (norm_a * norm_inv * gain);
   return r == r ? r : 0.0;
 }
 

@@ -22,7 +22,8 @@ const std::string& solve_1x1_code();
 const std::string& chol_1x1_code();
 const std::string& lu_solve_2x2_code();
 
-/// rcond_1norm(n, A, W): reciprocal 1-norm condition number of a block (needs lu_solve).
+/// rcond_1norm<n, g, spd>(A, G, W): reciprocal 1-norm condition number of one solve, with the
+/// gain columns G of a dependent block and the Cholesky test of a mass matrix (needs lu_solve).
 const std::string& rcond_code();
 
 /// The licence exception of generated files, as lines without comment markers.

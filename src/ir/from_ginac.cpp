@@ -90,7 +90,7 @@ GinacConverter::GinacConverter(Dag& dag, const FunctionSpec& spec, const std::ve
     } else {
       const auto& s = std::get<Solve>(spec.steps[j]);
       if (s.n < 0 || s.k < 0 || s.A.size() != static_cast<std::size_t>(s.n) * static_cast<std::size_t>(s.n) ||
-          (s.condition ? s.B.size() != 0 || s.X.size() != 1
+          (s.condition ? s.B.size() != static_cast<std::size_t>(s.n) * static_cast<std::size_t>(s.k) || s.X.size() != 1
                        : s.B.size() != static_cast<std::size_t>(s.n) * static_cast<std::size_t>(s.k) || s.X.size() != s.B.size()))
         throw std::runtime_error("solve step '" + s.label + "' has inconsistent sizes");
       for (std::size_t e = 0; e < s.X.size(); ++e) add(s.X[e], SymKind::SolveX, step, static_cast<int>(e), {}, false);

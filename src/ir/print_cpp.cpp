@@ -99,11 +99,15 @@ class Printer {
       }
     };
     if (s.condition) {
-      // A_i is destroyed; B_i holds the result, then A_i^-1 as workspace.
+      // A_i is destroyed; G_i holds the gain columns (if any); B_i holds the result, then
+      // A_i^-1 as workspace.
       array("A_", s.A, s.n);
+      if (s.k > 0) array("G_", s.B, s.k);
       lines.push_back("  double B_" + id + "[" + std::to_string(s.n * s.n + 1) + "];");
-      lines.push_back("  B_" + id + "[0] = rcond_1norm<" + std::to_string(s.n) + ">(A_" + id + ", B_" + id + " + 1);");
-      ops_.solve_flops += lu_solve_flops(s.n, s.n) + 2L * s.n * s.n;
+      lines.push_back("  B_" + id + "[0] = rcond_1norm<" + std::to_string(s.n) + ", " + std::to_string(s.k) + ", " +
+                      (s.spd ? "true" : "false") + ">(A_" + id + ", " + (s.k > 0 ? "G_" + id : std::string("nullptr")) +
+                      ", B_" + id + " + 1);");
+      ops_.solve_flops += lu_solve_flops(s.n, s.n) + 2L * s.n * s.n + 2L * s.n * s.n * s.k + (s.spd ? s.n * s.n * s.n / 3L : 0L);
       return;
     }
     array("A_", s.A, s.n);

@@ -571,6 +571,7 @@ class Deriver {
         if (blocks.size() > 1) solve.label += fmt::format(", part {} of {}", b + 1, blocks.size());
         solve.n = nb;
         solve.k = ni + 1;
+        solve.gains = ni;
         for (int i : block.rows) {
           const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
           for (int j : block.vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);

@@ -68,7 +68,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
 std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal = nullptr);
 
 /// The `conditioning` function of an rhs: the rcond of every block the rhs solves that
-/// is `reported` (not the reduced mass matrix), one output per block in solve order.
+/// is `reported` (the dependent blocks with their gains, the reduced mass matrix by the
+/// Cholesky test its solve makes), one output per block in solve order.
 ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::string& name);
 /// The labels of those blocks (kBlockNames).
 std::vector<std::string> conditioning_labels(const ir::FunctionSpec& conditioning);

@@ -46,12 +46,17 @@ struct Solve {
   /// positive definite to working precision.
   bool spd = false;
   /// Not a solve: X[0] := the reciprocal 1-norm condition number of A,
-  /// 1 / (|A|_1 |A^-1|_1), or 0 when A is singular to working precision (B unused, k = 1).
-  /// What the generated `conditioning` functions report for each block the rhs solves.
+  /// 1 / (|A|_1 |A^-1|_1), divided by max(1, |A^-1 B|_1) when B is given (n x k: the
+  /// coefficients of the independent rates, so that a 1x1 block that is small next to
+  /// them reports it), or 0 when A is singular to working precision (with `spd`: when
+  /// the Cholesky factorisation the solve uses fails). What the generated `conditioning`
+  /// functions report for each solve the rhs makes.
   bool condition = false;
-  /// Whether the generated `conditioning` function reports this block (the numeric
-  /// blocks a partition or the constraints make singular; not a reduced mass matrix).
+  /// Whether the generated `conditioning` function reports this block.
   bool reported = true;
+  /// The first `gains` columns of B are the coefficients of the independent rates (a
+  /// dependent block B* solved for the complement): its conditioning counts them too.
+  int gains = 0;
 };
 
 using Step = std::variant<Define, Solve>;
