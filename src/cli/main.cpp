@@ -189,6 +189,9 @@ int main(int argc, char** argv) {
   r->add_option("--projection", run.projection,
                 "project onto the constraints after steps: auto (on for the complement form with constraints), on, off")
       ->capture_default_str();
+  r->add_flag("--continuation", run.continuation,
+              "continue on the branch where the constraints lose rank for an instant (a parallelogram chain's flat "
+              "poses): projected and bridged rhs evaluations there; costs a conditioning report per evaluation");
   r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)");
   r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)");
   r->add_option("--cache-dir", run.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");

@@ -11,10 +11,11 @@ namespace mbsc::run {
 
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
-                      runtime::SimulationOptions sim, const Observer& observe) {
+                      runtime::SimulationOptions sim, const Observer& observe, bool continuation) {
   // The loop owns what the rhs goes through: the inputs at t and the independent set.
   runtime::ModelDynamics dynamics(model.table(), p,
                                   [&model, &p](double t, double* u) { return model.inputs(t, p.data(), u); });
+  if (continuation) dynamics.continue_through_rank_loss();
   auto stepper = make_integrator(integrator, dynamics.rhs(), model.table().nx, options);
   // Project only once the constraints drift past what the tolerances allow anyway: each
   // projection restarts the stepper, which costs a multistep method (BDF) its order and

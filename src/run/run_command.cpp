@@ -233,7 +233,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     csv.row(row);
     progress.update(t);
   };
-  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe);
+  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();

@@ -272,3 +272,36 @@ TEST_CASE("mbsc inverse: the thesis's Whitworth run from the command line, and i
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("mbsc run --continuation: the parallelogram chain through its flat poses stays a parallelogram",
+          "[cli][run]") {
+  // The shipped chain starts off its flat pose at 12 rad/s: about 40 flat poses in 20 s.
+  // Without continuation the run leaves the branch (the cranks stop being parallel).
+  const fs::path dir = fresh_dir("run_chain");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/parallelogram_chain.mbs");
+  for (const char* tol : {"1e-7", "1e-9"}) {
+    auto r = run(run_in(dir, "run " + model + " --t-end 20 --continuation -q --rtol " + tol + " -o " +
+                                 quote((dir / "c.csv").string())));
+    INFO(tol << "\n" << r.output);
+    REQUIRE(r.exit_code == 0);
+    const Csv c = read_csv(dir / "c.csv");
+    std::vector<std::size_t> cranks;
+    for (std::size_t k = 0; k < c.header.size(); ++k)
+      if (c.header[k].rfind("crank_", 0) == 0 && c.header[k].size() > 6 &&
+          c.header[k].substr(c.header[k].size() - 6) == ".theta")
+        cranks.push_back(k);
+    REQUIRE(cranks.size() == 4);
+    const auto e = static_cast<std::size_t>(c.col("energy"));
+    const double e0 = c.rows.front()[e];
+    double parallel = 0, drift = 0, turned = 0;
+    for (const auto& row : c.rows) {
+      for (auto k : cranks) parallel = std::max(parallel, std::fabs(row[k] - row[cranks[0]]));
+      drift = std::max(drift, std::fabs(row[e] - e0));
+      turned = std::max(turned, std::fabs(row[cranks[0]] - c.rows.front()[cranks[0]]));
+    }
+    CHECK(turned > 40 * M_PI);  // over the top about 40 times: through every flat pose
+    CHECK(parallel < 1e-4);
+    CHECK(drift < 1e-3 * std::fabs(e0));
+  }
+  fs::remove_all(dir);
+}

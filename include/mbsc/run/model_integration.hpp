@@ -23,9 +23,10 @@ struct Integration {
 
 using Observer = std::function<void(double t, const std::vector<double>& x)>;
 
-/// `integrator` must be one of available_integrators().
+/// `integrator` must be one of available_integrators(); `continuation` evaluates the rhs
+/// through the runtime's BranchContinuation (through rank loss of the constraints).
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
-                      runtime::SimulationOptions sim, const Observer& observe);
+                      runtime::SimulationOptions sim, const Observer& observe, bool continuation = false);
 
 }  // namespace mbsc::run

@@ -30,6 +30,7 @@ struct RunArgs {
   std::vector<std::string> columns;       // --columns (default: t, the state, outputs, energy)
   std::string plot;               // --plot file.svg|png
   std::vector<std::string> plot_columns;  // --plot-columns (default: outputs, else the dof speeds)
+  bool continuation = false;      // --continuation: through rank loss of the constraints
   std::string projection = "auto";  // auto (on for full state with constraints), on, off
   double baumgarte_alpha = -1, baumgarte_beta = -1;  // < 0: the model's defaults
   std::string cache_dir;

@@ -33,6 +33,7 @@
 
 #include "mbsc/runtime/make_stepper.hpp"
 #include "mbsc/runtime/model_table.hpp"
+#include "mbsc/runtime/branch_continuation.hpp"
 #include "mbsc/runtime/partition_selector.hpp"
 #include "mbsc/runtime/projection.hpp"
 #include "mbsc/runtime/stepper.hpp"
@@ -63,9 +64,20 @@ class ModelDynamics {
   int evaluate(double t, const double* x, double* xdot) {
     ++evals_;
     if (const int s = inputs_at(t); s != 0) return s;
+    if (continuation_) {
+      continuation_->set_partition(m_.npartitions > 1 ? selector_.active() : 0);
+      return continuation_->rhs(t, x, xdot);
+    }
     if (m_.npartitions > 1 && m_.rhs_partition) return selector_.rhs(t, x, u_.data(), p_.data(), xdot);
     return m_.rhs(t, x, u_.data(), p_.data(), xdot);
   }
+  /// Evaluates the rhs through a BranchContinuation (branch_continuation.hpp): robust where
+  /// the constraints lose rank for an instant (a parallelogram chain's flat poses), at
+  /// the price of the conditioning report in every evaluation. Off by default.
+  void continue_through_rank_loss(BranchSettings s = {}) {
+    continuation_ = std::make_unique<BranchContinuation>(m_, u_.data(), p_.data(), s);
+  }
+  const BranchContinuation* continuation() const { return continuation_.get(); }
   /// evaluate() as a Stepper's Rhs (holds a pointer to this object).
   Rhs rhs() {
     return [this](double t, const double* x, double* xdot) { return evaluate(t, x, xdot); };
@@ -89,6 +101,7 @@ class ModelDynamics {
   InputFunction inputs_;
   std::vector<double> u_;
   PartitionSelector selector_;
+  std::unique_ptr<BranchContinuation> continuation_;
   long evals_ = 0;
 };
 
