@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // mbsc command line: flag parsing only; the work is in mbsc::driver.
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include "mbsc/diag/diagnostics.hpp"
@@ -84,6 +86,19 @@ struct WorkFlags {
   }
 };
 
+/// A finite number above `low` (CLI11's range checks let nan through).
+CLI::Validator finite_above(double low, const std::string& what) {
+  return CLI::Validator(
+      [low, what](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || !end || *end != '\0' || !std::isfinite(v) || !(v > low))
+          return what + " (got '" + mbsc::printable(text) + "')";
+        return "";
+      },
+      "");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -159,8 +174,11 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("run", "simulate a model: compile it (cached), assemble the initial state, integrate, "
                                       "write CSV and a plot");
   r->add_option("model", run.model, "model file (.mbs)")->required();
-  r->add_option("--t-end", run.t_end, "end time, s")->capture_default_str();
-  r->add_option("--dt-out", run.dt_out, "time between output rows, s (default: t-end / 500)");
+  r->add_option("--t-end", run.t_end, "end time, s")
+      ->check(finite_above(0, "a positive number of seconds"))
+      ->capture_default_str();
+  r->add_option("--dt-out", run.dt_out, "time between output rows, s (default: t-end / 500)")
+      ->check(finite_above(0, "a positive number of seconds"));
   r->add_option("--integrator", run.integrator,
                 "integration method: " + [] {
                   std::string s;
@@ -168,9 +186,14 @@ int main(int argc, char** argv) {
                   return s;
                 }())
       ->capture_default_str();
-  r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods")->capture_default_str();
-  r->add_option("--atol", run.atol, "absolute tolerance of adaptive methods")->capture_default_str();
-  r->add_option("--h", run.h, "step of fixed-step methods, s (default: dt-out / 10)");
+  r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods (1e-14 .. 0.1)")
+      ->check(finite_above(1e-14 * 0.999, "a relative tolerance of at least 1e-14"))
+      ->capture_default_str();
+  r->add_option("--atol", run.atol, "absolute tolerance of adaptive methods")
+      ->check(finite_above(0, "a positive number"))
+      ->capture_default_str();
+  r->add_option("--h", run.h, "step of fixed-step methods, s (default: dt-out / 10)")
+      ->check(finite_above(0, "a positive number of seconds"));
   r->add_option("--formulation", run_formulation, "complement or multipliers (as for generate)")
       ->check(CLI::IsMember({"complement", "multipliers"}))
       ->default_val("complement");
@@ -192,8 +215,10 @@ int main(int argc, char** argv) {
   r->add_flag("--continuation", run.continuation,
               "continue on the branch where the constraints lose rank for an instant (a parallelogram chain's flat "
               "poses): projected and bridged rhs evaluations there; costs a conditioning report per evaluation");
-  r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)");
-  r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)");
+  r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)")
+      ->check(finite_above(-1e-300, "a gain of 0 or more"));
+  r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)")
+      ->check(finite_above(-1e-300, "a gain of 0 or more"));
   r->add_option("--cache-dir", run.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");
   WorkFlags run_work;
   run_work.add_to(r);
@@ -203,8 +228,11 @@ int main(int argc, char** argv) {
   auto* b = app.add_subcommand("bench", "speed against error: every formulation x integrator x tolerance against a "
                                         "reference run; CSV, markdown table and work-precision plot");
   b->add_option("model", bench.model, "model file (.mbs)")->required();
-  b->add_option("--t-end", bench.t_end, "end time, s")->capture_default_str();
-  b->add_option("--dt-out", bench.dt_out, "spacing of the trajectory's error samples, s (default t-end / 100)");
+  b->add_option("--t-end", bench.t_end, "end time, s")
+      ->check(finite_above(0, "a positive number of seconds"))
+      ->capture_default_str();
+  b->add_option("--dt-out", bench.dt_out, "spacing of the trajectory's error samples, s (default t-end / 100)")
+      ->check(finite_above(0, "a positive number of seconds"));
   b->add_option("--formulations", bench_formulations, "complement, multipliers (default both)");
   b->add_option("--integrators", bench_integrators, "methods to compare (default: dopri5, dop853 and bdf when built)");
   b->add_option("--tolerances", bench_tolerances, "relative tolerances (default 1e-4,1e-6,1e-8,1e-10)");
@@ -216,7 +244,9 @@ int main(int argc, char** argv) {
   b->add_option("--peer", bench.peers, "a peer tool's CSV (method, tol, cpu_s and final state columns) to plot alongside");
   b->add_option("-o,--out", bench.csv, "CSV of the results (default: <model>_bench.csv)");
   b->add_option("--plot", bench.plot, "work-precision plot, FILE.svg or FILE.png (gnuplot)");
-  b->add_option("--min-cpu", bench.min_cpu, "repeat each run until this much CPU time, s")->capture_default_str();
+  b->add_option("--min-cpu", bench.min_cpu, "repeat each run until this much CPU time, s")
+      ->check(finite_above(-1e-300, "0 or more seconds"))
+      ->capture_default_str();
   b->add_option("--cache-dir", bench.cache_dir, "where compiled models are kept");
   WorkFlags bench_work;
   bench_work.add_to(b);
@@ -236,9 +266,10 @@ int main(int argc, char** argv) {
   iv->add_option("--formulation", inv_formulation, "complement or multipliers (multipliers adds the reactions)")
       ->check(CLI::IsMember({"complement", "multipliers"}))
       ->default_val("complement");
-  iv->add_option("--t-start", inv.t_start, "start time, s")->capture_default_str();
-  iv->add_option("--t-end", inv.t_end, "end time, s")->capture_default_str();
-  iv->add_option("--dt-out", inv.dt_out, "time between rows, s (default: the span / 500)");
+  iv->add_option("--t-start", inv.t_start, "start time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
+  iv->add_option("--t-end", inv.t_end, "end time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
+  iv->add_option("--dt-out", inv.dt_out, "time between rows, s (default: the span / 500)")
+      ->check(finite_above(0, "a positive number of seconds"));
   iv->add_option("-o,--out", inv.csv, "CSV file (default: <model name>_inverse.csv)");
   iv->add_option("--plot", inv.plot, "also plot to FILE.svg or FILE.png (gnuplot)");
   iv->add_option("--plot-columns", inv_plot_columns, "columns to plot against t (default: the unknown inputs)");

@@ -17,6 +17,7 @@
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
+#include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
 
 namespace mbsc::run {
@@ -105,6 +106,12 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
   std::map<std::string, double> sets, inits;
   if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error))
     return fail(error);
+  const bool with_multipliers =
+      std::find(a.formulations.begin(), a.formulations.end(), "multipliers") != a.formulations.end();
+  if (!check_names(*m, sets, inits, with_multipliers, error)) return fail(error);
+  const std::string csv_path = a.csv.empty() ? m->name + "_bench.csv" : a.csv;
+  if (!check_outputs({{"-o", csv_path}, {"--plot", a.plot}}, sources, error)) return fail(error);
+  if (!a.plot.empty() && !gnuplot_available(error)) return fail("--plot: " + error);
 
   // ---- every formulation compiled; the initial state assembled once ----
   std::map<std::string, std::unique_ptr<CompiledModel>> models;
@@ -282,8 +289,6 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
   }
 
   // ---- CSV, table, plot ----
-  const std::string csv_path = a.csv.empty() ? m->name + "_bench.csv" : a.csv;
-  CsvTable csv;
   {
     std::ofstream o(csv_path);
     if (!o) return fail(fmt::format("-o: cannot write '{}'", printable(csv_path)));

@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <signal.h>
+
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -135,6 +137,33 @@ bool fill_table(void* h, const std::string& kStem, runtime::ModelTable& t, int (
   return ok;
 }
 
+/// Removes the temporary folders of runs that were killed while compiling
+/// (".NAME-KEY.tmpPID" whose process is gone).
+void remove_stale_entries(const fs::path& root) {
+  std::error_code ec;
+  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const auto at = name.rfind(".tmp");
+    if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
+    const std::string pid_text = name.substr(at + 4);
+    if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::strtol(pid_text.c_str(), nullptr, 10);
+    if (pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(it->path(), ec);
+  }
+}
+
+/// Objects from the cache are loaded into this process: an existing cache folder must be
+/// this user's and writable by nobody else.
+bool safe_cache_folder(const fs::path& root, std::ostream& err) {
+  struct stat st {};
+  if (stat(root.c_str(), &st) != 0) return true;  // created below, by us
+  if (st.st_uid == getuid() && (st.st_mode & 022) == 0) return true;
+  err << fmt::format("mbsc: error: the cache folder '{}' belongs to another user or is writable by others; mbsc "
+                     "loads compiled code from it (choose another with --cache-dir)\n",
+                     printable(root.string()));
+  return false;
+}
+
 }  // namespace
 
 CompiledModel::~CompiledModel() {
@@ -146,7 +175,8 @@ std::string cache_folder(const std::string& requested) {
   if (const char* v = std::getenv("MBSC_CACHE_DIR"); v && *v) return v;
   if (const char* v = std::getenv("XDG_CACHE_HOME"); v && *v) return (fs::path(v) / "mbsc").string();
   if (const char* v = std::getenv("HOME"); v && *v) return (fs::path(v) / ".cache" / "mbsc").string();
-  return (fs::temp_directory_path() / "mbsc-cache").string();
+  // No home: a folder of this user's own under the temporary folder (checked below).
+  return (fs::temp_directory_path() / fmt::format("mbsc-cache-{}", static_cast<long>(getuid()))).string();
 }
 
 std::string input_expression_cpp(const model::Model& m, const std::string& text, std::string& error) {
@@ -167,6 +197,8 @@ std::string input_expression_cpp(const model::Model& m, const std::string& text,
     std::string why = ex.what();
     if (why.find("unknown symbol") != std::string::npos || why.find("find_or_insert_symbol") != std::string::npos)
       why = "it names something that is neither t nor a parameter";
+    else if (why.find("GiNaC") != std::string::npos || why.find(".cpp") != std::string::npos)
+      why = "an unknown function, or not an expression";
     error = fmt::format("cannot read '{}' as an expression of t and the parameters ({})", printable(text), printable(why));
     return "";
   }
@@ -204,7 +236,11 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   // ---- the key ----
   const std::string cxx = compiler();
   const std::vector<std::string> flags = {"-std=c++17", "-O2", "-fPIC", "-shared"};
-  ProcessResult version = run_process({cxx, "--version"});
+  ProcessResult version = run_process({cxx, "--version"}, "", 30);
+  if (version.timed_out) {
+    err << fmt::format("mbsc: error: the C++ compiler '{}' did not answer --version within 30 s\n", printable(cxx));
+    return nullptr;
+  }
   if (version.exit_code != 0) {
     err << fmt::format("mbsc: error: no working C++ compiler: '{}' {} (install g++, or name one with the CXX or "
                        "MBSC_CXX environment variable)\n",
@@ -225,6 +261,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
 
   auto result = std::unique_ptr<CompiledModel>(new CompiledModel());
   std::error_code ec;
+  if (!safe_cache_folder(root, err)) return nullptr;
   if (!fs::exists(object, ec)) {
     // ---- generate + compile into a temporary folder, then rename it into place ----
     fs::create_directories(root, ec);
@@ -233,6 +270,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
                          printable(root.string()), ec.message());
       return nullptr;
     }
+    remove_stale_entries(root);
     const fs::path tmp = root / fmt::format(".{}-{}.tmp{}", m.name, key, static_cast<long>(getpid()));
     fs::remove_all(tmp, ec);
     driver::GenerateArgs gen;
@@ -264,11 +302,21 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     cmd.insert(cmd.end(), flags.begin(), flags.end());
     cmd.insert(cmd.end(), {"-o", (src / "lib.so").string(), (src / (kStem + ".cpp")).string(),
                            (src / "shim.cpp").string()});
-    const ProcessResult cc = run_process(cmd);
+    const ProcessResult cc = run_process(cmd, "", req.work.budget.seconds);
+    if (cc.timed_out) {
+      err << fmt::format("mbsc: error: the C++ compiler '{}' took more than the time budget of {:g} s on the generated "
+                         "code and was stopped (raise it with --budget SECONDS)\n",
+                         printable(cxx), req.work.budget.seconds);
+      fs::remove_all(tmp, ec);
+      return nullptr;
+    }
     if (cc.exit_code != 0) {
-      std::string shown = cc.output.substr(0, 4000);
-      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}):\n{}\n",
-                         printable(cxx), cc.exit_code, printable(shown));
+      // Its first lines, each made safe to print.
+      std::string shown;
+      std::istringstream lines(cc.output.substr(0, 4000));
+      for (std::string line; std::getline(lines, line);) shown += "  " + printable(line) + "\n";
+      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}{}):\n{}",
+                         printable(cxx), cc.exit_code, cc.spawn_error.empty() ? "" : ", " + cc.spawn_error, shown);
       fs::remove_all(tmp, ec);
       return nullptr;
     }

@@ -92,7 +92,7 @@ bool plot_loglog(const std::vector<PlotSeries>& series, const std::string& xlabe
     error = fmt::format("'{}' should end in .svg or .png", printable(image));
     return false;
   }
-  std::string s = "set logscale xy\nset grid\nset key outside right\n";
+  std::string s = "set logscale xy\nset grid\nset key outside right\nset format y '%.0e'\nset format x '%g'\n";
   s += fmt::format("set title {}\nset xlabel {}\nset ylabel {}\n", quoted(title), quoted(xlabel), quoted(ylabel));
   std::string plot = "plot ";
   std::string data;

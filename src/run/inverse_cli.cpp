@@ -13,12 +13,12 @@
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
+#include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
 
 namespace mbsc::run {
 
 int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
-  (void)out;
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;
@@ -39,6 +39,12 @@ int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
   if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error) ||
       !parse_assignments(a.fixed_inputs, "--input", fixed, error))
     return fail(error);
+  if (!check_names(*m, sets, inits, a.multipliers, error)) return fail(error);
+  const bool to_stdout = a.csv == "-";
+  const std::string csv_path = a.csv.empty() ? m->name + "_inverse.csv" : a.csv;
+  if (!a.plot.empty() && to_stdout) return fail("--plot needs the CSV in a file (-o FILE), not on standard output");
+  if (!check_outputs({{"-o", csv_path}, {"--plot", a.plot}}, sources, error)) return fail(error);
+  if (!a.plot.empty() && !gnuplot_available(error)) return fail("--plot: " + error);
   CompileRequest req;
   req.model_path = a.model;
   req.multipliers = a.multipliers;
@@ -57,7 +63,7 @@ int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
   opt.t_start = a.t_start;
   opt.t_end = a.t_end;
   opt.dt_out = dt_out;
-  opt.output_csv = a.csv.empty() ? m->name + "_inverse.csv" : a.csv;
+  opt.output_csv = to_stdout ? "" : csv_path;
   // The branch: where the model's own initial state (and --init) assembles, when it does;
   // else the raw values given.
   std::vector<double> p;
@@ -70,9 +76,10 @@ int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
     opt.guess = inits;
   }
   const InverseOutcome r = inverse_command(T, opt, a.model);
+  if (to_stdout && r.exit_code != 1) out << inverse_csv(r.table);
   if (!r.message.empty()) err << r.message << "\n";
   if (r.exit_code != 0) return r.exit_code;
-  if (!a.work.quiet)
+  if (!a.work.quiet && !to_stdout)
     err << fmt::format("mbsc: wrote {} ({} rows, {} columns)\n", printable(opt.output_csv), r.table.rows.size(),
                        r.table.columns.size());
   if (!a.plot.empty()) {

@@ -204,8 +204,12 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     for (int j = 0; j < m.nu; ++j) out.table.columns.push_back(std::string("reaction:") + m.state_names[m.nq + j]);
 
   const long steps = std::lround(std::floor((opt.t_end - opt.t_start) / opt.dt_out * (1 + 1e-12)));
-  for (long k = 0; k <= steps; ++k) {
-    const double t = k == steps && opt.t_start + steps * opt.dt_out > opt.t_end ? opt.t_end : opt.t_start + k * opt.dt_out;
+  // Rows every dt_out, and one at t_end when the span is not a whole number of dt_out.
+  const bool extra = opt.t_start + steps * opt.dt_out < opt.t_end - 1e-9 * opt.dt_out;
+  for (long k = 0; k <= steps + (extra ? 1 : 0); ++k) {
+    const double t = k > steps || (k == steps && opt.t_start + steps * opt.dt_out > opt.t_end)
+                         ? opt.t_end
+                         : opt.t_start + k * opt.dt_out;
     runtime::InverseSample s;
     if (!inv.solve(t, x, s)) {
       out.exit_code = 2;

@@ -5,60 +5,74 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
-
-extern char** environ;
 
 namespace mbsc::run {
 
-ProcessResult run_process(const std::vector<std::string>& args, const std::string& input) {
+ProcessResult run_process(const std::vector<std::string>& args, const std::string& input, double timeout_seconds) {
   ProcessResult r;
-  int out[2], in[2];
-  if (pipe(out) != 0) {
+  int out[2], in[2], err_pipe[2];
+  if (pipe2(out, O_CLOEXEC) != 0 || pipe2(in, O_CLOEXEC) != 0 || pipe2(err_pipe, O_CLOEXEC) != 0) {
     r.exit_code = 127;
     r.spawn_error = std::strerror(errno);
     return r;
   }
-  if (pipe(in) != 0) {
-    close(out[0]), close(out[1]);
-    r.exit_code = 127;
-    r.spawn_error = std::strerror(errno);
-    return r;
-  }
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-  posix_spawn_file_actions_adddup2(&fa, out[1], 1);
-  posix_spawn_file_actions_adddup2(&fa, out[1], 2);
-  posix_spawn_file_actions_addclose(&fa, in[1]);
-  posix_spawn_file_actions_addclose(&fa, out[0]);
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // The child: dies with mbsc (a killed mbsc leaves no compiler behind), in its own
+    // process group (so a timeout can stop whatever it started), stdin/stdout/stderr on
+    // the pipes. An exec failure is reported through err_pipe.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    setpgid(0, 0);
+    dup2(in[0], 0);
+    dup2(out[1], 1);
+    dup2(out[1], 2);
+    execvp(argv[0], argv.data());
+    const int e = errno;
+    if (write(err_pipe[1], &e, sizeof e) < 0) _exit(127);
+    _exit(127);
+  }
   close(in[0]);
   close(out[1]);
-  if (rc != 0) {
-    close(in[1]), close(out[0]);
+  close(err_pipe[1]);
+  if (pid < 0) {
+    close(in[1]), close(out[0]), close(err_pipe[0]);
     r.exit_code = 127;
-    r.spawn_error = std::string("cannot be started: ") + std::strerror(rc);
+    r.spawn_error = std::string("cannot be started: ") + std::strerror(errno);
     return r;
   }
-  // Feed the input and drain the output together (either may fill its pipe).
-  signal(SIGPIPE, SIG_IGN);
+  int exec_errno = 0;
+  const bool exec_failed = read(err_pipe[0], &exec_errno, sizeof exec_errno) == sizeof exec_errno;
+  close(err_pipe[0]);
+  // Feed the input and drain the output together (either may fill its pipe), until the
+  // program closes its output or the time is up.
+  struct sigaction ignore {}, old {};
+  ignore.sa_handler = SIG_IGN;
+  sigaction(SIGPIPE, &ignore, &old);
   std::size_t written = 0;
-  if (input.empty()) close(in[1]), in[1] = -1;
+  if (input.empty() || exec_failed) close(in[1]), in[1] = -1;
+  const auto start = std::chrono::steady_clock::now();
   char buf[4096];
-  for (;;) {
+  while (!exec_failed) {
+    const double left = timeout_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (timeout_seconds > 0 && left <= 0) {
+      r.timed_out = true;
+      break;
+    }
     pollfd fds[2] = {{out[0], POLLIN, 0}, {in[1], POLLOUT, 0}};
-    const int n = poll(fds, in[1] >= 0 ? 2 : 1, -1);
+    const int wait_ms = timeout_seconds > 0 ? static_cast<int>(std::min(left, 1.0) * 1000) + 1 : 1000;
+    const int n = poll(fds, in[1] >= 0 ? 2 : 1, wait_ms);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) break;
     if (in[1] >= 0 && (fds[1].revents & (POLLOUT | POLLERR | POLLHUP))) {
@@ -72,13 +86,22 @@ ProcessResult run_process(const std::vector<std::string>& args, const std::strin
       else if (got == 0 || errno != EINTR) break;
     }
   }
+  if (r.timed_out) {
+    kill(-pid, SIGKILL);
+    kill(pid, SIGKILL);
+  }
   if (in[1] >= 0) close(in[1]);
   close(out[0]);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  sigaction(SIGPIPE, &old, nullptr);
+  if (exec_failed) {
+    r.exit_code = 127;
+    r.spawn_error = std::string("cannot be started: ") + std::strerror(exec_errno);
+    return r;
+  }
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-  if (r.exit_code == 127 && r.output.empty()) r.spawn_error = "not found";
   return r;
 }
 

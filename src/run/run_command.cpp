@@ -23,6 +23,7 @@
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
+#include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/runtime/simulate.hpp"
 
@@ -90,6 +91,8 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     return fail("--projection takes auto, on or off");
   if (!a.plot.empty() && plot_format(a.plot).empty())
     return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
+  if (a.h > 0 && a.t_end / a.h > 1e9)
+    return fail(fmt::format("--h {:g} makes more than a billion steps to t = {:g}; choose a larger step", a.h, a.t_end));
 
   // ---- the model ----
   std::vector<std::string> sources;
@@ -103,6 +106,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     return fail("--baumgarte applies to --formulation multipliers");
   if (a.baumgarte_alpha >= 0) sets["baumgarte_alpha"] = a.baumgarte_alpha;
   if (a.baumgarte_beta >= 0) sets["baumgarte_beta"] = a.baumgarte_beta;
+  // Names and output paths are checked before anything is compiled or written.
+  if (!check_names(*m, sets, inits, a.multipliers, error)) return fail(error);
+  const std::string csv_path = a.csv.empty() ? m->name + ".csv" : a.csv;
+  if (!a.plot.empty() && csv_path == "-") return fail("--plot needs the CSV in a file (-o FILE), not on standard output");
+  if (!check_outputs({{"-o", csv_path}, {"--plot", a.plot}}, sources, error)) return fail(error);
+  if (!a.plot.empty() && !gnuplot_available(error)) return fail("--plot: " + error);
 
   CompileRequest req;
   req.model_path = a.model;
@@ -186,8 +195,6 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     if (!choose_columns(column_names, wanted, plotted, error))
       return fail("--plot-columns: " + error + " (a plotted column must be in the CSV)");
   }
-  const std::string csv_path = a.csv.empty() ? m->name + ".csv" : a.csv;
-  if (!a.plot.empty() && csv_path == "-") return fail("--plot needs the CSV in a file (-o FILE), not on standard output");
   CsvTable csv;
   if (!csv.open(csv_path, column_names, error)) return fail("-o: " + error);
 
@@ -211,6 +218,9 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   std::vector<double> row(columns.size()), all(available.size());
   std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());
   double max_drift = 0.0;
+  // Residuals of the rows written (dense output between steps is not projected).
+  double row_position = 0.0, row_velocity = 0.0;
+  std::vector<double> res(static_cast<std::size_t>(std::max({1, T.nposc, T.nc})));
   auto observe = [&](double t, const std::vector<double>& x) {
     all[0] = t;
     input_fn(t, uu.data());
@@ -222,6 +232,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     if (T.ny > 0 && T.outputs(t, x.data(), uu.data(), p.data(), y.data()) == 0)
       for (int i = 0; i < T.ny; ++i) all[first_output + static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(i)];
     for (int i = 0; i < T.nin && T.nin > 0; ++i) all[first_input + static_cast<std::size_t>(i)] = uu[static_cast<std::size_t>(i)];
+    if (T.full_state_layout()) {
+      if (T.nposc > 0 && T.position_constraints(t, x.data(), uu.data(), p.data(), res.data()) == 0)
+        for (int i = 0; i < T.nposc; ++i) row_position = std::max(row_position, std::fabs(res[static_cast<std::size_t>(i)]));
+      if (T.nc > 0 && T.velocity_constraints(t, x.data(), uu.data(), p.data(), res.data()) == 0)
+        for (int i = 0; i < T.nc; ++i) row_velocity = std::max(row_velocity, std::fabs(res[static_cast<std::size_t>(i)]));
+    }
     if (has_energy) {
       double e[3];
       if (T.energy(t, x.data(), uu.data(), p.data(), e) == 0) {
@@ -245,10 +261,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
                      m->name, run.method, r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
                      st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
   if (T.nposc + T.nc > 0)
-    err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g}{}\n", r.max_position_residual,
-                       r.max_velocity_residual, projecting ? fmt::format(" (projected {} times)", r.projections) : "");
+    err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g} (at step ends {:.3g}, {:.3g}){}\n",
+                       std::max(row_position, r.max_position_residual), std::max(row_velocity, r.max_velocity_residual),
+                       r.max_position_residual, r.max_velocity_residual,
+                       projecting ? fmt::format("; projected {} times", r.projections) : "");
   if (has_energy)
-    err << fmt::format("mbsc: energy drift: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
+    err << fmt::format("mbsc: energy change: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
                        a.inputs.empty() ? "" : ", the inputs do work");
   if (!r.switches.empty()) {
     std::string list;
@@ -258,14 +276,15 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   }
   if (!closed) return fail(error);
   if (!r.ok()) {
-    err << fmt::format("mbsc: error: the run failed at t = {:g}: {}; {} kept {} rows up to there\n", r.t, r.message,
-                       printable(csv_path), csv.rows());
+    err << fmt::format("mbsc: error: the run failed at t = {:g}: {}; {} kept {} rows up to there{}\n", r.t, r.message,
+                       printable(csv_path), csv.rows(), a.plot.empty() ? "" : " (no plot drawn)");
     return 2;
   }
   if (csv_path != "-" && !a.work.quiet)
     err << fmt::format("mbsc: wrote {} ({} rows, {} columns)\n", printable(csv_path), csv.rows(), columns.size());
   if (!a.plot.empty()) {
-    if (!plot_columns(csv_path, column_names, 0, plotted, a.plot, m->name, error)) return fail("--plot: " + error);
+    if (!plot_columns(csv_path, column_names, 0, plotted, a.plot, m->name, error))
+      return fail(fmt::format("--plot: {} ({} was written)", error, printable(csv_path)));
     if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.plot));
   }
   return 0;

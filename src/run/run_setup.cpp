@@ -2,6 +2,7 @@
 // Parameters and the initial state of a run (include/mbsc/run/run_setup.hpp).
 #include "mbsc/run/run_setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <ginac/ginac.h>
@@ -82,8 +83,39 @@ bool parse_assignments(const std::vector<std::string>& items, const std::string&
                           printable(item.substr(eq + 1)), why);
       return false;
     }
+    if (out.count(item.substr(0, eq))) {
+      error = fmt::format("{} {} is given twice", flag, printable(item.substr(0, eq)));
+      return false;
+    }
     out[item.substr(0, eq)] = v;
   }
+  return true;
+}
+
+bool check_names(const model::Model& m, const std::map<std::string, double>& sets,
+                 const std::map<std::string, double>& inits, bool multipliers, std::string& error) {
+  std::vector<std::string> params, state;
+  for (const auto& v : m.params)
+    if (!m.structural.count(v.name)) params.push_back(v.name);
+  if (multipliers) params.insert(params.end(), {"baumgarte_alpha", "baumgarte_beta"});
+  for (const auto& v : m.coords) state.push_back(v.name);
+  for (const auto& v : m.speeds) state.push_back(v.name);
+  for (const auto& [name, value] : sets)
+    if (std::find(params.begin(), params.end(), name) == params.end()) {
+      const bool structural = m.structural.count(name) > 0;
+      error = structural ? fmt::format("--set: '{}' sets how many bodies the model's loops make; it is fixed when the "
+                                       "model is read (change its default in the model)",
+                                       printable(name))
+                         : fmt::format("--set: the model has no parameter named '{}'{}", printable(name),
+                                       did_you_mean(name, params));
+      return false;
+    }
+  for (const auto& [name, value] : inits)
+    if (std::find(state.begin(), state.end(), name) == state.end()) {
+      error = fmt::format("--init: the model has no coordinate or speed named '{}'{}", printable(name),
+                          did_you_mean(name, state));
+      return false;
+    }
   return true;
 }
 

@@ -69,7 +69,7 @@ TEST_CASE("mbsc run: the CSV follows the constraints and conserves energy; the c
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK(r.output.find("compiled pend") != std::string::npos);
-  CHECK(r.output.find("energy drift") != std::string::npos);
+  CHECK(r.output.find("energy change") != std::string::npos);
   const Csv c = read_csv(dir / "out.csv");
   REQUIRE(c.rows.size() == 301);
   const int t = c.col("t"), th = c.col("arm.th"), bx = c.col("b.x"), by = c.col("b.y"), e = c.col("energy");
@@ -162,6 +162,10 @@ TEST_CASE("mbsc run: bad input is exit 1 with nothing written", "[cli][run]") {
       {"--t-end -1", "--t-end"},
       {"--plot x.pdf", ".svg or .png"},
       {"--columns t,angl", "no column named 'angl' (did you mean 'angle'?)"},
+      {"--dt-out 0", "--dt-out"},
+      {"--dt-out nan", "--dt-out"},
+      {"--rtol 1e-20", "--rtol"},
+      {"--init arm.th=1 --init arm.th=2", "given twice"},
   };
   for (const auto& c : cases) {
     auto r = run(run_in(dir, "run " + model + " -o " + csv + " " + c.args));
@@ -170,6 +174,48 @@ TEST_CASE("mbsc run: bad input is exit 1 with nothing written", "[cli][run]") {
     CHECK(r.output.find(c.expect) != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "x.csv"));
   }
+  {
+    const std::string same = quote((dir / "same.svg").string());
+    auto r = run(run_in(dir, "run " + model + " -o " + same + " --plot " + same));
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("name the same file") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "same.svg"));
+  }
+  // Never the model file (also through a link), never a folder.
+  const std::string before = [&] {
+    std::ifstream in(dir / "pend.mbs");
+    std::stringstream t;
+    t << in.rdbuf();
+    return t.str();
+  }();
+  fs::create_symlink(dir / "pend.mbs", dir / "link.csv");
+  for (const std::string& target : {model, quote((dir / "link.csv").string()), quote(dir.string())}) {
+    auto r = run(run_in(dir, "run " + model + " -o " + target));
+    INFO(target << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK((r.output.find("will not overwrite") != std::string::npos || r.output.find("is a folder") != std::string::npos));
+  }
+  for (const char* cmd : {"bench", "inverse"}) {
+    auto r = run(run_in(dir, std::string(cmd) + " " + model + " --prescribe arm.th=t -o " + model));
+    INFO(r.output);
+    CHECK(r.exit_code == 1);
+  }
+  {
+    std::ifstream in(dir / "pend.mbs");
+    std::stringstream t;
+    t << in.rdbuf();
+    CHECK(t.str() == before);
+  }
+  // A compiler that hangs is stopped by the budget (and a model text the cache lacks).
+  write(dir / "hang.sh", "#!/bin/sh\nif [ \"$1\" = --version ]; then echo hang 1; exit 0; fi\nsleep 600\n");
+  fs::permissions(dir / "hang.sh", fs::perms::owner_all);
+  write(dir / "pend3.mbs", std::string(kPendulum) + "# a third text\n");
+  auto hang = run("MBSC_CXX=" + quote((dir / "hang.sh").string()) + " " +
+                  run_in(dir, "run " + quote((dir / "pend3.mbs").string()) + " --budget 3 -o " + csv));
+  INFO(hang.output);
+  CHECK(hang.exit_code == 1);
+  CHECK(hang.output.find("time budget") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.csv"));
   // An unwritable output path.
   auto r = run(run_in(dir, "run " + model + " -o " + quote((dir / "no" / "such" / "x.csv").string())));
   CHECK(r.exit_code == 1);

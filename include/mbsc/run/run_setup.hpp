@@ -26,6 +26,12 @@ std::optional<model::Model> read_model(const std::string& path, const driver::Wo
 bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
                        std::map<std::string, double>& out, std::string& error);
 
+/// The --set names are parameters of the model (or the Baumgarte gains with
+/// `multipliers`), the --init names its coordinates and speeds: checked on the model
+/// itself, before anything is compiled. False with `error` naming the first unknown one.
+bool check_names(const model::Model& m, const std::map<std::string, double>& sets,
+                 const std::map<std::string, double>& inits, bool multipliers, std::string& error);
+
 /// kParamDefaults with the --set values; the Baumgarte gains of the multipliers form are
 /// parameters too (baumgarte_alpha, baumgarte_beta). False with `error` naming an
 /// unknown parameter (and the closest known name).
