@@ -86,6 +86,21 @@ struct WorkFlags {
   }
 };
 
+/// "NAME=EXPR" items of --input / --prescribe split at the first '=', in order; false
+/// (with the error printed) for an item without a name or '='.
+bool split_name_expr(const std::vector<std::string>& items, const char* flag,
+                     std::vector<std::pair<std::string, std::string>>& out) {
+  for (const auto& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      std::cerr << "mbsc: error: " << flag << " expects NAME=EXPR, got '" << mbsc::printable(item) << "'\n";
+      return false;
+    }
+    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+  }
+  return true;
+}
+
 /// A finite number above `low` (CLI11's range checks let nan through).
 CLI::Validator finite_above(double low, const std::string& what) {
   return CLI::Validator(
@@ -303,14 +318,9 @@ int main(int argc, char** argv) {
       run.minimal_state = run_state == "minimal";
       run.columns = split_list(run_columns);
       run.plot_columns = split_list(run_plot_columns);
-      for (const auto& item : run_inputs) {
-        const auto eq = item.find('=');
-        if (eq == std::string::npos || eq == 0) {
-          std::cerr << "mbsc: error: --input expects name=EXPR, got '" << mbsc::printable(item) << "'\n";
-          return 1;
-        }
-        run.inputs[item.substr(0, eq)] = item.substr(eq + 1);
-      }
+      std::vector<std::pair<std::string, std::string>> inputs;
+      if (!split_name_expr(run_inputs, "--input", inputs)) return 1;
+      for (const auto& [name, expr] : inputs) run.inputs[name] = expr;
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
     }
     if (*iv) {
@@ -318,14 +328,7 @@ int main(int argc, char** argv) {
       inv.multipliers = inv_formulation == "multipliers";
       inv.unknowns = split_list(inv_unknowns);
       inv.plot_columns = split_list(inv_plot_columns);
-      for (const auto& item : inv_prescribe) {
-        const auto eq = item.find('=');
-        if (eq == std::string::npos || eq == 0) {
-          std::cerr << "mbsc: error: --prescribe expects NAME=EXPR, got '" << mbsc::printable(item) << "'\n";
-          return 1;
-        }
-        inv.prescribe.emplace_back(item.substr(0, eq), item.substr(eq + 1));
-      }
+      if (!split_name_expr(inv_prescribe, "--prescribe", inv.prescribe)) return 1;
       return mbsc::run::run_inverse(inv, std::cout, std::cerr);
     }
     if (*b) {
@@ -345,14 +348,9 @@ int main(int argc, char** argv) {
           bench.tolerances.push_back(v);
         }
       }
-      for (const auto& item : bench_inputs) {
-        const auto eq = item.find('=');
-        if (eq == std::string::npos || eq == 0) {
-          std::cerr << "mbsc: error: --input expects name=EXPR, got '" << mbsc::printable(item) << "'\n";
-          return 1;
-        }
-        bench.inputs[item.substr(0, eq)] = item.substr(eq + 1);
-      }
+      std::vector<std::pair<std::string, std::string>> inputs;
+      if (!split_name_expr(bench_inputs, "--input", inputs)) return 1;
+      for (const auto& [name, expr] : inputs) bench.inputs[name] = expr;
       return mbsc::run::run_bench(bench, std::cout, std::cerr);
     }
     for (const auto& o : split_list(outputs)) gen.functions.insert(o);

@@ -32,7 +32,6 @@ struct MotionExpressions {
 // converter read it (same syntax, functions and messages); its columns are shifted back.
 constexpr const char* kWrapHead = "model prescribed\noutput value = ";
 
-std::vector<std::string> names_of(const char* const* names, int n) { return std::vector<std::string>(names, names + n); }
 
 // Reads `text` as an expression of t and the parameters; the error is
 // "--prescribe NAME:COL: error: ..." (columns of the expression as given).
@@ -127,7 +126,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     return bad("--t-end: error: must be a number after the start time");
 
   // Parameters: the defaults, then --set.
-  const auto param_names = names_of(m.param_names, m.np);
+  const auto param_names = runtime::ModelTable::names_of(m.param_names, m.np);
   std::map<std::string, double> params;
   std::vector<double> p(m.param_defaults, m.param_defaults + m.np);
   for (int k = 0; k < m.np; ++k) params[m.param_names[k]] = p[static_cast<std::size_t>(k)];
@@ -139,7 +138,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
   }
 
   // Prescriptions.
-  const auto coord_names = names_of(m.state_names, m.nq);
+  const auto coord_names = runtime::ModelTable::names_of(m.state_names, m.nq);
   if (static_cast<int>(opt.prescribe.size()) != m.ndof)
     return bad(fmt::format("--prescribe: error: model {} has {} degree(s) of freedom, so exactly {} coordinate(s) must be prescribed "
                            "({} given)",
@@ -164,7 +163,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
   }
 
   // Unknown and fixed inputs.
-  const auto input_names = names_of(m.input_names, m.nin);
+  const auto input_names = runtime::ModelTable::names_of(m.input_names, m.nin);
   std::vector<int> unknowns;
   for (const auto& name : opt.unknowns) {
     const int k = runtime::ModelTable::find(m.input_names, m.nin, name.c_str());
@@ -185,7 +184,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
 
   // The guess that picks the branch.
   std::vector<double> x(static_cast<std::size_t>(m.nx), 0.0);
-  const auto state_names = names_of(m.state_names, m.nx);
+  const auto state_names = runtime::ModelTable::names_of(m.state_names, m.nx);
   for (const auto& [name, value] : opt.guess) {
     const int k = runtime::ModelTable::find(m.state_names, m.nx, name.c_str());
     if (k < 0) return bad(fmt::format("--init {}: error: model {} has no coordinate or speed '{}'{}", name, model_label, name, did_you_mean(name, state_names)));

@@ -33,12 +33,6 @@ namespace mbsc::run {
 
 namespace {
 
-std::vector<std::string> names_of(const char* const* names, int n) {
-  std::vector<std::string> v;
-  for (int i = 0; i < n; ++i) v.emplace_back(names[i]);
-  return v;
-}
-
 /// A progress bar on a terminal for runs longer than a second.
 class RunProgress {
  public:
@@ -156,12 +150,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
 
   // ---- columns ----
   std::vector<std::string> available = {"t"};
-  for (const auto& s : names_of(T.full_state_names, nfull)) available.push_back(s);
+  for (const auto& s : runtime::ModelTable::names_of(T.full_state_names, nfull)) available.push_back(s);
   const std::size_t first_output = available.size();
-  for (const auto& s : names_of(T.output_names, T.ny)) available.push_back(s);
+  for (const auto& s : runtime::ModelTable::names_of(T.output_names, T.ny)) available.push_back(s);
   const std::size_t first_input = available.size();
   if (T.nin > 0)
-    for (const auto& s : names_of(T.input_names, T.nin)) available.push_back(s);
+    for (const auto& s : runtime::ModelTable::names_of(T.input_names, T.nin)) available.push_back(s);
   double e0[3] = {0, 0, 0};
   const bool has_energy = T.energy(0.0, x0.data(), u.data(), p.data(), e0) == 0;
   const std::size_t first_energy = available.size();
@@ -183,7 +177,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     if (wanted.empty()) {
       for (std::size_t i = first_output; i < first_input; ++i) wanted.push_back(available[i]);
       if (wanted.empty())
-        for (const auto& s : names_of(T.dof_names, T.ndof)) wanted.push_back(s);
+        for (const auto& s : runtime::ModelTable::names_of(T.dof_names, T.ndof)) wanted.push_back(s);
       // Only what the CSV has (--columns may leave them out); else its first columns.
       std::vector<std::string> present;
       for (const auto& w : wanted)

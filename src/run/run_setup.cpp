@@ -18,12 +18,6 @@ namespace mbsc::run {
 
 namespace {
 
-std::vector<std::string> names_of(const char* const* names, int n) {
-  std::vector<std::string> v;
-  for (int i = 0; i < n; ++i) v.emplace_back(names[i]);
-  return v;
-}
-
 /// A number, or a constant expression of the symbols in `table` (and pi).
 bool evaluate(const std::string& text, GiNaC::symtab table, const GiNaC::exmap& values, double& value, std::string& why) {
   table["pi"] = GiNaC::Pi;
@@ -122,7 +116,7 @@ bool check_names(const model::Model& m, const std::map<std::string, double>& set
 bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, double>& sets, std::vector<double>& p,
                       std::string& error) {
   p.assign(t.param_defaults, t.param_defaults + t.np);
-  const auto names = names_of(t.param_names, t.np);
+  const auto names = runtime::ModelTable::names_of(t.param_names, t.np);
   for (const auto& [name, value] : sets) {
     const int i = runtime::ModelTable::find(t.param_names, t.np, name.c_str());
     if (i < 0) {
@@ -138,7 +132,7 @@ bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, 
 bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
                    const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
                    InitialState& out, std::string& error) {
-  const auto state = names_of(t.state_names, t.nx);
+  const auto state = runtime::ModelTable::names_of(t.state_names, t.nx);
   out.x.assign(static_cast<std::size_t>(t.nx), 0.0);
   std::vector<bool> given(static_cast<std::size_t>(t.nx), false);
   out.given.clear();

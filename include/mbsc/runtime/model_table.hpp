@@ -14,6 +14,8 @@
 /// parameters are the Baumgarte gains alpha, beta) from the complement form; models of
 /// the complement form have null `multipliers_fn` / `reaction_forces`.
 #include <cstring>
+#include <string>
+#include <vector>
 
 namespace mbsc::runtime {
 
@@ -45,6 +47,10 @@ struct ModelTable {
   Fn inverse_dynamics;
 
   bool full_state_layout() const { return nq == nq_full && nu == nu_full; }
+  /// names[0..n) as strings (for messages and column lists).
+  static std::vector<std::string> names_of(const char* const* names, int n) {
+    return std::vector<std::string>(names, names + n);
+  }
   /// Index of `name` in names[0..n), or -1.
   static int find(const char* const* names, int n, const char* name) {
     for (int i = 0; i < n; ++i)
