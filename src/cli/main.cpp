@@ -147,6 +147,9 @@ int main(int argc, char** argv) {
   p->add_option("--state", print_state, "with --stats: full or minimal (as for generate)")
       ->check(CLI::IsMember({"full", "minimal"}))
       ->default_val("full");
+  p->add_option("--solver", print.solver, "with --stats: auto, dense or sparse (as for generate)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse"}))
+      ->default_val("auto");
   WorkFlags print_work;
   print_work.add_to(p);
 
@@ -171,6 +174,12 @@ int main(int argc, char** argv) {
                 "position constraint, independent speeds), the rest rebuilt in every function")
       ->check(CLI::IsMember({"full", "minimal"}))
       ->default_val("full");
+  g->add_option("--solver", gen.solver,
+                "how rhs solves for the accelerations: dense (the reduced mass matrix by Cholesky; multipliers: the "
+                "Schur complement), sparse (O(N): block elimination over all speeds in a tree order), auto (sparse "
+                "for a tree of bodies when it is cheaper)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse"}))
+      ->default_val("auto");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
   g->add_flag("--python", gen.python,

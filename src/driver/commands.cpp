@@ -211,6 +211,7 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     opt.frozen = a.frozen;
     opt.functions = a.functions;
     opt.minimal_state = a.minimal_state;
+    opt.solver = solver_named(a.solver);
     auto g = generate(m, eom, opt, diags);
     if (!g) return false;
     text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", "function", "adds", "muls", "divs", "calls",
@@ -334,6 +335,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.functions = a.functions;
     opt.multipliers = a.multipliers;
     opt.minimal_state = a.minimal_state;
+    opt.solver = solver_named(a.solver);
     opt.frozen = a.frozen;
     opt.name = a.name;
     g = generate(*m, *eom, opt, diags);

@@ -11,7 +11,7 @@
 namespace mbsc::driver {
 
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                               const BaumgarteGains& gains) {
+                                               const BaumgarteGains& gains, Diagnostics& diags) {
   const sym::MultiplierForm form = sym::multiplier_form(m);
   const unsigned nu = form.My.rows(), nc = form.A.rows();
   auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
@@ -56,43 +56,76 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       const GiNaC::ex e = fin(form.My(i, j));
       diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) && at_defaults.eval(e) != 0.0 : e.is_zero();
     }
-  std::vector<ir::Step> steps;  // every function below starts with them
-  if (diagonal && nc > 0) {
-    ir::Solve s;
-    s.label = "multipliers: (A My^-1 A^T) lambda = -(b + 2 alpha f' + beta^2 f) - A My^-1 hy";
-    s.n = static_cast<int>(nc);
-    s.k = 1;
-    s.spd = true;
-    for (unsigned r = 0; r < nc; ++r) {
-      for (unsigned c = 0; c < nc; ++c) {
-        GiNaC::ex e = 0;
+  auto dense_steps = [&]() {
+    std::vector<ir::Step> steps;
+    if (diagonal && nc > 0) {
+      ir::Solve s;
+      s.label = "multipliers: (A My^-1 A^T) lambda = -(b + 2 alpha f' + beta^2 f) - A My^-1 hy";
+      s.n = static_cast<int>(nc);
+      s.k = 1;
+      s.spd = true;
+      for (unsigned r = 0; r < nc; ++r) {
+        for (unsigned c = 0; c < nc; ++c) {
+          GiNaC::ex e = 0;
+          for (unsigned j = 0; j < nu; ++j)
+            if (!form.A(r, j).is_zero() && !form.A(c, j).is_zero()) e += form.A(r, j) * form.A(c, j) / form.My(j, j);
+          s.A.push_back(fin(e));
+        }
+        GiNaC::ex rhs = -(form.b(r, 0) + 2 * gains.alpha * form.velocity(r, 0) + gains.beta * gains.beta * form.g(r, 0));
         for (unsigned j = 0; j < nu; ++j)
-          if (!form.A(r, j).is_zero() && !form.A(c, j).is_zero()) e += form.A(r, j) * form.A(c, j) / form.My(j, j);
-        s.A.push_back(fin(e));
+          if (!form.A(r, j).is_zero()) rhs -= form.A(r, j) * form.hy(j, 0) / form.My(j, j);
+        s.B.push_back(fin(rhs));
+        s.X.push_back(lambda[r]);
       }
-      GiNaC::ex rhs = -(form.b(r, 0) + 2 * gains.alpha * form.velocity(r, 0) + gains.beta * gains.beta * form.g(r, 0));
-      for (unsigned j = 0; j < nu; ++j)
-        if (!form.A(r, j).is_zero()) rhs -= form.A(r, j) * form.hy(j, 0) / form.My(j, j);
-      s.B.push_back(fin(rhs));
-      s.X.push_back(lambda[r]);
+      steps.push_back(s);
+      for (unsigned j = 0; j < nu; ++j) {
+        GiNaC::ex e = form.hy(j, 0);
+        for (unsigned r = 0; r < nc; ++r)
+          if (!form.A(r, j).is_zero()) e += form.A(r, j) * lambda[r];
+        steps.push_back(ir::Define{m.speed_dots[j], fin(e / form.My(j, j))});
+      }
+    } else {
+      steps.push_back(kkt());
     }
-    steps.push_back(s);
-    for (unsigned j = 0; j < nu; ++j) {
-      GiNaC::ex e = form.hy(j, 0);
-      for (unsigned r = 0; r < nc; ++r)
-        if (!form.A(r, j).is_zero()) e += form.A(r, j) * lambda[r];
-      steps.push_back(ir::Define{m.speed_dots[j], fin(e / form.My(j, j))});
+    return steps;
+  };
+  std::vector<ir::Step> steps;  // every function below starts with them
+  const std::string rhs_doc = "state derivative: xdot = (q0 rates, q1 rates), multipliers formulation";
+  std::vector<GiNaC::ex> rhs_outputs;
+  for (const auto& r : m.coord_rates) rhs_outputs.push_back(fin(r));
+  for (const auto& s : m.speed_dots) rhs_outputs.push_back(s);
+  // The sparse elimination of the same system in a tree order (O(N), docs/formulation.md).
+  std::optional<sym::KktElimination> sparse;
+  if (opt.solver != Solver::Dense && nu > 0) {
+    const sym::KktSystem sys = sym::kkt_system(m);
+    std::vector<GiNaC::ex> c;
+    for (unsigned r = 0; r < nc; ++r)
+      c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));
+    std::string why;
+    sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+    if (!sparse && opt.solver == Solver::Sparse) {
+      diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
+      return {};
     }
-  } else {
-    steps.push_back(kkt());
   }
+  if (sparse) {
+    std::vector<ir::Binding> binds = bindings(m, eom);
+    const std::size_t np = eom.free_params.size();
+    binds.push_back({gains.alpha, fmt::format("p[{}]", np), true});
+    binds.push_back({gains.beta, fmt::format("p[{}]", np + 1), true});
+    const ir::FunctionSpec sparse_rhs{"rhs", rhs_doc, "xdot", "kNx", sparse->steps, rhs_outputs};
+    auto dense = [&]() {
+      ir::FunctionSpec f{"rhs", rhs_doc, "xdot", "kNx", {}, rhs_outputs};
+      f.steps = dense_steps();
+      return f;
+    };
+    if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) steps = sparse->steps;
+  }
+  if (steps.empty()) steps = dense_steps();
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };
   std::vector<ir::FunctionSpec> specs;
   if (wanted("rhs")) {
-    ir::FunctionSpec f{"rhs", "state derivative: xdot = (q0 rates, q1 rates), multipliers formulation", "xdot", "kNx",
-                       steps, {}};
-    for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
-    for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+    ir::FunctionSpec f{"rhs", rhs_doc, "xdot", "kNx", steps, rhs_outputs};
     specs.push_back(f);
   }
   if (wanted("multipliers") && nc > 0) {

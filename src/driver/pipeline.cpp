@@ -334,32 +334,60 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   };
   if (wanted("rhs")) {
     preparing("rhs");
-    ir::FunctionSpec f{"rhs",
-                       minimal ? "state derivative: xdot = (kept q0 rates, z rates)" : "state derivative: xdot = (q0 rates, q1 rates)",
-                       "xdot", "kNx", with_rebuild(solve_steps(m, eom)), {}};
-    ir::Solve final_solve;
-    final_solve.label = "reduced mass matrix M z' = h";
-    final_solve.spd = eom.mass_matrix_spd;
-    final_solve.n = nd;
-    final_solve.k = 1;
-    for (int i = 0; i < nd; ++i) {
-      for (int j = 0; j < nd; ++j) final_solve.A.push_back(fin(eom.M(i, j)));
-      final_solve.B.push_back(fin(eom.h(i, 0)));
-      final_solve.X.push_back(m.speed_dots[eom.independent[i]]);
-    }
-    // `conditioning` reports it unless it is constant (a constant M cannot degrade).
-    final_solve.reported = false;
-    for (const auto& e : final_solve.A) final_solve.reported = final_solve.reported || !sym::is_state_free(e, m);
-    if (nd > 0) f.steps.push_back(final_solve);
+    const std::string doc =
+        minimal ? "state derivative: xdot = (kept q0 rates, z rates)" : "state derivative: xdot = (q0 rates, q1 rates)";
+    std::vector<GiNaC::ex> outputs;
     if (minimal) {
-      for (int c : minimal->kept_coords) f.outputs.push_back(fin(m.coord_rates[c]));
-      for (int s : eom.independent) f.outputs.push_back(m.speed_dots[s]);
+      for (int c : minimal->kept_coords) outputs.push_back(fin(m.coord_rates[c]));
+      for (int s : eom.independent) outputs.push_back(m.speed_dots[s]);
     } else {
-      for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
-      for (const auto& r : m.coord_rates) f.outputs.push_back(fin(r));
-      for (const auto& s : m.speed_dots) f.outputs.push_back(s);
+      for (const auto& r : m.coord_rates) outputs.push_back(fin(r));
+      for (const auto& s : m.speed_dots) outputs.push_back(s);
     }
-    specs.push_back(f);
+    // The reduced equations M z' = h solved by Cholesky (dense, the modular method's own form).
+    auto dense = [&]() {
+      ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(solve_steps(m, eom)), outputs};
+      ir::Solve final_solve;
+      final_solve.label = "reduced mass matrix M z' = h";
+      final_solve.spd = eom.mass_matrix_spd;
+      final_solve.n = nd;
+      final_solve.k = 1;
+      for (int i = 0; i < nd; ++i) {
+        for (int j = 0; j < nd; ++j) final_solve.A.push_back(fin(eom.M(i, j)));
+        final_solve.B.push_back(fin(eom.h(i, 0)));
+        final_solve.X.push_back(m.speed_dots[eom.independent[i]]);
+      }
+      // `conditioning` reports it unless it is constant (a constant M cannot degrade).
+      final_solve.reported = false;
+      for (const auto& e : final_solve.A) final_solve.reported = final_solve.reported || !sym::is_state_free(e, m);
+      if (nd > 0) f.steps.push_back(final_solve);
+      if (!minimal)
+        for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
+      return f;
+    };
+    // Or the same accelerations from the system over all speeds, A q1' = -b, eliminated
+    // in a tree order (O(N); the two agree to rounding, tests/numeric/sparse_rhs_test.cpp).
+    std::optional<ir::FunctionSpec> chosen;
+    if (opt.solver != Solver::Dense && nd > 0) {
+      const sym::KktSystem sys = sym::kkt_system(m);
+      std::vector<GiNaC::ex> c;
+      std::vector<GiNaC::symbol> lambda;
+      for (std::size_t r = 0; r < sys.b.size(); ++r) {
+        c.push_back(-sys.b[r]);
+        lambda.emplace_back(fmt::format("lambda_{}", r));
+      }
+      std::string why;
+      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+      if (!sparse && opt.solver == Solver::Sparse) {
+        diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
+        return {};
+      }
+      if (sparse) {
+        ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(sparse->steps), outputs};
+        if (prefer_sparse(m, opt, *sparse, f, dense, bindings(m, eom, minimal))) chosen = std::move(f);
+      }
+    }
+    specs.push_back(chosen ? *chosen : dense());
   }
   if (wanted("mass_matrix")) {
     preparing("mass_matrix");
@@ -468,7 +496,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
       for (const auto& n : all_function_names()) rest.functions.insert(n);
     for (const char* own : {"rhs", "multipliers", "reaction_forces", "conditioning"}) rest.functions.erase(own);
     if (opt.functions.empty() && !eom.has_energy) rest.functions.erase("energy");  // undefined_energy below
-    specs = multiplier_specs(m, eom, opt, gains);
+    specs = multiplier_specs(m, eom, opt, gains, diags);
     if (!rest.functions.empty())
       for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(f);
   } else {

@@ -38,6 +38,7 @@ struct PrintArgs {
   std::map<std::string, double> frozen;
   std::set<std::string> functions;  // for --stats with --outputs
   bool minimal_state = false;       // for --stats with --state minimal
+  std::string solver = "auto";      // for --stats: --solver auto|dense|sparse
   WorkArgs work;
 };
 int run_print(const PrintArgs& a, std::ostream& out, std::ostream& err);
@@ -50,6 +51,7 @@ struct GenerateArgs {
   std::string name;                 // --name (default: the model's name)
   bool minimal_state = false;       // --state minimal
   bool multipliers = false;         // --formulation multipliers
+  std::string solver = "auto";      // --solver auto|dense|sparse (GenerateOptions::solver)
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
   std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)

@@ -2,6 +2,7 @@
 #pragma once
 /// The whole compiler as one call per stage group: model file -> Model -> Eom ->
 /// functions -> files. Only the CLI touches the file system for output.
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -13,6 +14,7 @@
 #include "mbsc/ir/function_spec.hpp"
 #include "mbsc/model/model.hpp"
 #include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/kkt_elimination.hpp"
 #include "mbsc/sym/minimal_state.hpp"
 
 namespace mbsc::driver {
@@ -24,12 +26,23 @@ const std::vector<std::string>& all_function_names();
 /// the first name in `functions` that generate does not know, or "" when all are known.
 std::string unknown_function_message(const std::set<std::string>& functions);
 
+/// How rhs solves for the accelerations (docs/formulation.md, "O(N) right-hand side").
+enum class Solver {
+  Auto,    // sparse where the model's bodies form a tree and it is cheaper, else dense
+  Dense,   // the reduced M z' = h by Cholesky (complement) / the Schur complement or KKT LU (multipliers)
+  Sparse,  // block elimination of the sparse system over all speeds, in a tree order
+};
+
+/// "auto", "dense" or "sparse" (the CLI has checked the name).
+Solver solver_named(const std::string& name);
+
 struct GenerateOptions {
   std::set<std::string> functions;        // empty: all that the model defines
   std::map<std::string, double> frozen;   // --freeze name=value
   std::string name;                       // --name: C++ namespace and file stem (default: the model's name)
   bool minimal_state = false;             // --state minimal: x = (kept q0, z), see sym/minimal_state.hpp
   bool multipliers = false;               // --formulation multipliers (sym/multipliers.hpp)
+  Solver solver = Solver::Auto;           // --solver
 };
 
 /// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]
@@ -41,7 +54,22 @@ struct BaumgarteGains {
 
 /// rhs, multipliers and reaction_forces of the multipliers formulation.
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                               const BaumgarteGains& gains);
+                                               const BaumgarteGains& gains, Diagnostics& diags);
+
+/// The O(N) solve of the accelerations (sym/kkt_elimination.hpp) with constraint
+/// right-hand sides `c` (A q1' = c), prepared for emission: steps that define every
+/// speed's rate and every lambda. nullopt with `why` when the model has no such order.
+std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, const sym::Eom& eom,
+                                                      const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
+                                                      const std::vector<GiNaC::symbol>& lambda, std::string& why);
+
+/// Whether rhs uses the sparse steps: --solver sparse or dense decides; auto takes them
+/// for a tree of bodies (no fill-in) when they cost fewer operations than the dense
+/// rhs (both lowered and counted; above 64 speeds the dense cost, cubic, is not built).
+/// `dense` builds the dense rhs when it is needed.
+bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
+                   const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
+                   const std::vector<ir::Binding>& binds);
 
 /// Parses and builds a model file (includes resolved). nullopt on error.
 /// `overrides` (the --freeze values) also set the parameters `for` loops and indices use,

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The O(N) right-hand side: the dependent-coordinate system over all speeds,
+///
+///   [ My  -A^T ] [ q1'    ]   [ hy ]
+///   [ -A   0   ] [ lambda ] = [ -c ]      (A q1' = c at order 2)
+///
+/// solved by block Gaussian elimination in an order fixed at generation time, emitted
+/// as straight-line steps: small dense pivot solves and named Schur-complement updates.
+/// Unknowns are grouped into blocks (a leaf's speeds and the speeds its inertia couples;
+/// the constraint rows that touch the same speed blocks) and a block is eliminated when
+/// its current pivot is definite at the probe point (speeds: positive, constraints:
+/// negative), cheapest first (fewest scalar neighbours). For a tree of bodies this is the
+/// articulated-body order of the literature (Baraff 1996, "Linear-time dynamics using
+/// Lagrange multipliers"): leaves first, no fill-in, O(N) operations, every pivot an
+/// articulated inertia or its constraint's counterpart. Closed loops add fill where the
+/// loops are (docs/formulation.md, "O(N) right-hand side").
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/ir/function_spec.hpp"
+#include "mbsc/model/model.hpp"
+#include "mbsc/sym/kkt_system.hpp"
+#include "mbsc/sym/probe.hpp"
+
+namespace mbsc::sym {
+
+struct KktElimination {
+  /// Pivot solves and definitions; after them every m.speed_dots[j] and lambda[r] is
+  /// defined (named Defines).
+  std::vector<ir::Step> steps;
+  bool forest = false;  // the block graph has no cycle (a tree of bodies): no fill-in
+  int blocks = 0;       // pivot blocks eliminated
+  int largest = 0;      // size of the largest pivot block
+  long fill = 0;        // block pairs coupled by the elimination that were not coupled before
+};
+
+/// Eliminates the system with constraint right-hand sides `c` (A q1' = c). `fin` prepares
+/// every expression for emission (formals, frozen values); `probe` evaluates prepared
+/// expressions. nullopt, with `why` set, when no order with definite pivots exists at the
+/// probe point (a massless part that no constraint fixes, redundant constraints).
+std::optional<KktElimination> eliminate_kkt(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
+                                            const std::vector<GiNaC::symbol>& lambda,
+                                            const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
+                                            std::string& why);
+
+}  // namespace mbsc::sym
