@@ -239,6 +239,9 @@ int main(int argc, char** argv) {
   r->add_flag("--continuation", run.continuation,
               "continue on the branch where the constraints lose rank for an instant (a parallelogram chain's flat "
               "poses): projected and bridged rhs evaluations there; costs a conditioning report per evaluation");
+  r->add_option("--solver", run.solver, "auto, dense or sparse (as for generate)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse"}))
+      ->default_val("auto");
   r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)")
       ->check(finite_above(-1e-300, "a gain of 0 or more"));
   r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)")

@@ -251,6 +251,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   for (const auto& f : flags) key_text += f + " ";
   key_text += req.multipliers ? "\nmultipliers\n" : "\ncomplement\n";
   key_text += req.minimal_state ? "minimal\n" : "full\n";
+  key_text += "solver " + req.solver + "\n";
   key_text += inputs_body;
   for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
   const std::string key = driver::text_hash(key_text);
@@ -279,6 +280,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     gen.name = kStem;
     gen.multipliers = req.multipliers;
     gen.minimal_state = req.minimal_state;
+    gen.solver = req.solver;
     gen.work = req.work;
     gen.work.quiet = true;
     std::ostringstream sink;

@@ -114,6 +114,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   req.cache_dir = a.cache_dir;
   req.work = a.work;
   req.minimal_state = a.minimal_state;
+  req.solver = a.solver;
   int code = 1;
   const auto compiled = compile_model(req, *m, sources, err, code);
   if (!compiled) return code;

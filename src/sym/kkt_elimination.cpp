@@ -208,7 +208,11 @@ class Eliminator {
     b.v[b.at(i, j)] = probe_.eval(e);
   }
 
-  // Union-find over the block graph: a forest has edges = blocks - components.
+  // No closed loop: the block graph is a forest (union-find: no edge inside a component),
+  // and each tree is tied to the ground (or fixed in space) by at most one constraint
+  // block. A block whose rows touch a single speed block is such a tie (a ground joint, a
+  // rod to a fixed point, a blade on the ground): two of them in one tree close a loop
+  // through the ground (a four-bar's crank and rocker pivots), invisible in the graph.
   bool is_forest() {
     const int G = static_cast<int>(groups_.size());
     std::vector<int> parent(static_cast<std::size_t>(G));
@@ -220,6 +224,11 @@ class Eliminator {
         if (a == z) return false;
         parent[static_cast<std::size_t>(a)] = z;
       }
+    std::map<int, int> ties;
+    for (int g = 0; g < G; ++g)
+      if (!groups_[static_cast<std::size_t>(g)].speed && off_[static_cast<std::size_t>(g)].size() == 1 &&
+          ++ties[find(parent, g)] > 1)
+        return false;
     return true;
   }
 

@@ -26,6 +26,7 @@ struct CompileRequest {
   std::string model_path;
   bool multipliers = false;  // --formulation multipliers
   bool minimal_state = false;  // --state minimal
+  std::string solver = "auto";  // --solver auto|dense|sparse
   /// --input NAME=EXPR: the input's value as an expression of t and the parameters,
   /// compiled into the object (inputs not named here are 0).
   std::map<std::string, std::string> input_expressions;

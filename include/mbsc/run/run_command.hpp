@@ -23,6 +23,7 @@ struct RunArgs {
   double h = 0.0;                 // fixed-step methods (0: dt_out / 10)
   bool multipliers = false;       // --formulation multipliers
   bool minimal_state = false;     // --state minimal
+  std::string solver = "auto";    // --solver auto|dense|sparse (as for generate)
   std::vector<std::string> sets;  // --set name=value
   std::vector<std::string> inits; // --init name=value
   std::map<std::string, std::string> inputs;  // --input name=EXPR

@@ -31,7 +31,11 @@ struct KktElimination {
   /// Pivot solves and definitions; after them every m.speed_dots[j] and lambda[r] is
   /// defined (named Defines).
   std::vector<ir::Step> steps;
-  bool forest = false;  // the block graph has no cycle (a tree of bodies): no fill-in
+  /// No closed loop: the block graph is a forest and no tree is tied to the ground twice
+  /// (a tree of bodies). Then every pivot is an articulated inertia or a joint's
+  /// counterpart, regular wherever the joint itself is; in a loop an intermediate pivot
+  /// can vanish where the loop's open chain folds (a toggle of that chain).
+  bool forest = false;
   int blocks = 0;       // pivot blocks eliminated
   int largest = 0;      // size of the largest pivot block
   long fill = 0;        // block pairs coupled by the elimination that were not coupled before
