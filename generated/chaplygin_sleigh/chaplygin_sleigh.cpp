@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 2 adds, 3 muls, 0 divs, 2 calls, 0 solve flops, total 7
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
+//   constraint_jacobian_values: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 2 adds, 9 muls, 0 divs, 0 calls, 0 solve flops, total 11
 //   outputs: 2 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -167,7 +169,22 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  OUT[0] = -s0;
+  OUT[1] = c0;
+  OUT[2] = -p[2];
+  if (!all_finite(OUT, 3)) return 2;
+  return 0;
+}
+
 int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
@@ -259,8 +276,16 @@ extern "C" int mbsc_chaplygin_sleigh_constraint_jacobian(double t, const double*
   return mbsc_gen::chaplygin_sleigh::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_chaplygin_sleigh_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::chaplygin_sleigh::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_chaplygin_sleigh_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::chaplygin_sleigh::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_chaplygin_sleigh_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::chaplygin_sleigh::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_chaplygin_sleigh_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 2 adds, 3 muls, 0 divs, 2 calls, 0 solve flops, total 7
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
+//   constraint_jacobian_values: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 2 adds, 9 muls, 0 divs, 0 calls, 0 solve flops, total 11
 //   outputs: 2 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 3;
 inline constexpr int kNuFull = 3;
 inline constexpr int kNxFull = 6;
+inline constexpr int kConstraintJacobianNnz = 3;
+inline constexpr int kPositionJacobianNnz = 0;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
 
@@ -84,6 +88,16 @@ inline constexpr const char* kPartitionNames[] = {"sleigh.u, sleigh.v"};
 inline constexpr const char* kBlockNames[1] = {""};
 
 inline constexpr double kParamDefaults[] = {1.0, 0.1, 0.5};
+
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 3};
+
+inline constexpr int kConstraintJacobianColIdx[] = {0, 1, 2};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0};
+
+// kPositionJacobianColIdx is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kPositionJacobianColIdx[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 3 adds, 9 muls, 0 divs, 2 calls, 4 solve flops, total 18.
@@ -136,12 +150,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 0 muls, 0 divs, 2 calls, 0 solve flops, total 2.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 2 adds, 9 muls, 0 divs, 0 calls, 0 solve flops, total 11.
@@ -195,7 +225,9 @@ int mbsc_chaplygin_sleigh_inverse_dynamics(double t, const double* x, const doub
 int mbsc_chaplygin_sleigh_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_chaplygin_sleigh_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_chaplygin_sleigh_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_chaplygin_sleigh_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

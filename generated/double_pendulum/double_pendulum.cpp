@@ -8,7 +8,9 @@
 //   position_constraints: 6 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 14
 //   velocity_constraints: 6 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 18
 //   constraint_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
+//   constraint_jacobian_values: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
 //   position_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
+//   position_jacobian_values: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
 //   energy: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -327,31 +329,37 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   const double c0 = std::cos(x[4]);
   const double s1 = std::sin(x[5]);
   const double c1 = std::cos(x[5]);
+  for (int i = 0; i < 24; ++i) OUT[i] = 0.0;  // 14 of the 24 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
   OUT[4] = -c0*p[2];
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
   OUT[7] = 1.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = -p[2]*s0;
-  OUT[11] = 0.0;
   OUT[12] = -1.0;
-  OUT[13] = 0.0;
   OUT[14] = 1.0;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
   OUT[17] = -c1*p[3];
-  OUT[18] = 0.0;
   OUT[19] = -1.0;
-  OUT[20] = 0.0;
   OUT[21] = 1.0;
-  OUT[22] = 0.0;
   OUT[23] = -p[3]*s1;
   if (!all_finite(OUT, 24)) return 2;
+  return 0;
+}
+
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[4]);
+  const double c0 = std::cos(x[4]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  OUT[0] = 1.0;
+  OUT[1] = -c0*p[2];
+  OUT[2] = 1.0;
+  OUT[3] = -p[2]*s0;
+  OUT[4] = -1.0;
+  OUT[5] = 1.0;
+  OUT[6] = -c1*p[3];
+  OUT[7] = -1.0;
+  OUT[8] = 1.0;
+  OUT[9] = -p[3]*s1;
+  if (!all_finite(OUT, 10)) return 2;
   return 0;
 }
 
@@ -360,31 +368,37 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   const double c0 = std::cos(x[4]);
   const double s1 = std::sin(x[5]);
   const double c1 = std::cos(x[5]);
+  for (int i = 0; i < 24; ++i) OUT[i] = 0.0;  // 14 of the 24 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
   OUT[4] = -c0*p[2];
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
   OUT[7] = 1.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = -p[2]*s0;
-  OUT[11] = 0.0;
   OUT[12] = -1.0;
-  OUT[13] = 0.0;
   OUT[14] = 1.0;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
   OUT[17] = -c1*p[3];
-  OUT[18] = 0.0;
   OUT[19] = -1.0;
-  OUT[20] = 0.0;
   OUT[21] = 1.0;
-  OUT[22] = 0.0;
   OUT[23] = -p[3]*s1;
   if (!all_finite(OUT, 24)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[4]);
+  const double c0 = std::cos(x[4]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  OUT[0] = 1.0;
+  OUT[1] = -c0*p[2];
+  OUT[2] = 1.0;
+  OUT[3] = -p[2]*s0;
+  OUT[4] = -1.0;
+  OUT[5] = 1.0;
+  OUT[6] = -c1*p[3];
+  OUT[7] = -1.0;
+  OUT[8] = 1.0;
+  OUT[9] = -p[3]*s1;
+  if (!all_finite(OUT, 10)) return 2;
   return 0;
 }
 
@@ -495,8 +509,16 @@ extern "C" int mbsc_double_pendulum_constraint_jacobian(double t, const double* 
   return mbsc_gen::double_pendulum::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_double_pendulum_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::double_pendulum::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_double_pendulum_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::double_pendulum::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_double_pendulum_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::double_pendulum::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_double_pendulum_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

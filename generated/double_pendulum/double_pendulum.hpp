@@ -8,7 +8,9 @@
 //   position_constraints: 6 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 14
 //   velocity_constraints: 6 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 18
 //   constraint_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
+//   constraint_jacobian_values: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
 //   position_jacobian: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
+//   position_jacobian_values: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8
 //   energy: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 6;
 inline constexpr int kNuFull = 6;
 inline constexpr int kNxFull = 12;
+inline constexpr int kConstraintJacobianNnz = 10;
+inline constexpr int kPositionJacobianNnz = 10;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
 
@@ -92,6 +96,14 @@ inline constexpr const char* kPartitionNames[] = {"w1, w2"};
 inline constexpr const char* kBlockNames[] = {"reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {1.0, 0.5, 1.0, 0.8, 9.81};
+
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 2, 4, 7, 10};
+
+inline constexpr int kConstraintJacobianColIdx[] = {0, 4, 1, 4, 0, 2, 5, 1, 3, 5};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 7, 10};
+
+inline constexpr int kPositionJacobianColIdx[] = {0, 4, 1, 4, 0, 2, 5, 1, 3, 5};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 18 adds, 47 muls, 0 divs, 4 calls, 5 solve flops, total 74.
@@ -144,12 +156,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 4 muls, 0 divs, 4 calls, 0 solve flops, total 8.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 9 adds, 19 muls, 0 divs, 0 calls, 0 solve flops, total 28.
@@ -203,7 +231,9 @@ int mbsc_double_pendulum_inverse_dynamics(double t, const double* x, const doubl
 int mbsc_double_pendulum_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_double_pendulum_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_double_pendulum_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_double_pendulum_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -8,7 +8,9 @@
 //   position_constraints: 32 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 64
 //   velocity_constraints: 28 adds, 42 muls, 1 divs, 8 calls, 0 solve flops, total 79
 //   constraint_jacobian: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33
+//   constraint_jacobian_values: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33
 //   position_jacobian: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32
+//   position_jacobian_values: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32
 //   energy: 43 adds, 78 muls, 0 divs, 0 calls, 0 solve flops, total 121
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 19;
 inline constexpr int kNuFull = 23;
 inline constexpr int kNxFull = 42;
+inline constexpr int kConstraintJacobianNnz = 47;
+inline constexpr int kPositionJacobianNnz = 43;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -232,6 +236,20 @@ inline constexpr double kParamDefaults[] = {
     2e1,
     9.81};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {
+    0, 2, 4, 6, 9, 12, 14, 16, 18, 20, 23, 26, 28, 31, 34, 37, 40, 43, 45, 47};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    0, 6, 1, 6, 2, 6, 3, 6, 7, 4, 6, 7, 5, 7, 8, 14, 9, 14, 10, 14, 11, 14, 15, 12, 14, 15, 13, 15,
+    6, 7, 16, 6, 7, 17, 14, 15, 16, 14, 15, 17, 7, 15, 18, 6, 19, 14, 21};
+
+inline constexpr int kPositionJacobianRowPtr[] = {
+    0, 2, 4, 6, 9, 12, 14, 16, 18, 20, 23, 26, 28, 31, 34, 37, 40, 43};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    0, 6, 1, 6, 2, 6, 3, 6, 7, 4, 6, 7, 5, 7, 8, 14, 9, 14, 10, 14, 11, 14, 15, 12, 14, 15, 13, 15,
+    6, 7, 16, 6, 7, 17, 14, 15, 16, 14, 15, 17, 7, 15, 18};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 106 adds, 260 muls, 0 divs, 8 calls, 42 solve flops, total 416.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -283,12 +301,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 24 muls, 1 divs, 8 calls, 0 solve flops, total 33.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 24 muls, 0 divs, 8 calls, 0 solve flops, total 32.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 43 adds, 78 muls, 0 divs, 0 calls, 0 solve flops, total 121.
@@ -342,7 +376,9 @@ int mbsc_five_bar_inverse_dynamics(double t, const double* x, const double* zdot
 int mbsc_five_bar_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_five_bar_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_five_bar_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_five_bar_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

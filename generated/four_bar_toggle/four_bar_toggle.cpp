@@ -8,7 +8,9 @@
 //   position_constraints: 17 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 39
 //   velocity_constraints: 16 adds, 24 muls, 0 divs, 6 calls, 0 solve flops, total 46
 //   constraint_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
+//   constraint_jacobian_values: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
 //   position_jacobian: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
+//   position_jacobian_values: 0 adds, 16 muls, 0 divs, 6 calls, 0 solve flops, total 22
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -391,83 +393,75 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   const double c1 = std::cos(x[5]);
   const double s2 = std::sin(x[8]);
   const double c2 = std::cos(x[8]);
+  for (int i = 0; i < 72; ++i) OUT[i] = 0.0;  // 48 of the 72 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[0];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = 1.0;
   const double t1 = -0.5*p[0]*c0;
   OUT[11] = t1;
-  OUT[12] = 0.0;
-  OUT[13] = 0.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
   OUT[18] = -1.0;
-  OUT[19] = 0.0;
   OUT[20] = t0;
   OUT[21] = 1.0;
-  OUT[22] = 0.0;
   const double t2 = 0.5*p[1]*s1;
   OUT[23] = t2;
-  OUT[24] = 0.0;
-  OUT[25] = 0.0;
-  OUT[26] = 0.0;
-  OUT[27] = 0.0;
   OUT[28] = -1.0;
   OUT[29] = t1;
-  OUT[30] = 0.0;
   OUT[31] = 1.0;
   const double t3 = -0.5*c1*p[1];
   OUT[32] = t3;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
-  OUT[35] = 0.0;
-  OUT[36] = 0.0;
-  OUT[37] = 0.0;
-  OUT[38] = 0.0;
   OUT[39] = -1.0;
-  OUT[40] = 0.0;
   OUT[41] = t2;
   OUT[42] = 1.0;
-  OUT[43] = 0.0;
   OUT[44] = -0.5*s2*p[2];
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
-  OUT[47] = 0.0;
-  OUT[48] = 0.0;
   OUT[49] = -1.0;
   OUT[50] = t3;
-  OUT[51] = 0.0;
   OUT[52] = 1.0;
   OUT[53] = 0.5*p[2]*c2;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
   OUT[60] = 1.0;
-  OUT[61] = 0.0;
   OUT[62] = 0.5*s2*p[2];
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
-  OUT[65] = 0.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
   OUT[70] = 1.0;
   OUT[71] = -0.5*p[2]*c2;
   if (!all_finite(OUT, 72)) return 2;
+  return 0;
+}
+
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  const double s2 = std::sin(x[8]);
+  const double c2 = std::cos(x[8]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[0];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[0]*c0;
+  OUT[3] = t1;
+  OUT[4] = -1.0;
+  OUT[5] = t0;
+  OUT[6] = 1.0;
+  const double t2 = 0.5*p[1]*s1;
+  OUT[7] = t2;
+  OUT[8] = -1.0;
+  OUT[9] = t1;
+  OUT[10] = 1.0;
+  const double t3 = -0.5*c1*p[1];
+  OUT[11] = t3;
+  OUT[12] = -1.0;
+  OUT[13] = t2;
+  OUT[14] = 1.0;
+  OUT[15] = -0.5*s2*p[2];
+  OUT[16] = -1.0;
+  OUT[17] = t3;
+  OUT[18] = 1.0;
+  OUT[19] = 0.5*p[2]*c2;
+  OUT[20] = 1.0;
+  OUT[21] = 0.5*s2*p[2];
+  OUT[22] = 1.0;
+  OUT[23] = -0.5*p[2]*c2;
+  if (!all_finite(OUT, 24)) return 2;
   return 0;
 }
 
@@ -478,83 +472,75 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   const double c1 = std::cos(x[5]);
   const double s2 = std::sin(x[8]);
   const double c2 = std::cos(x[8]);
+  for (int i = 0; i < 72; ++i) OUT[i] = 0.0;  // 48 of the 72 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[0];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = 1.0;
   const double t1 = -0.5*p[0]*c0;
   OUT[11] = t1;
-  OUT[12] = 0.0;
-  OUT[13] = 0.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
   OUT[18] = -1.0;
-  OUT[19] = 0.0;
   OUT[20] = t0;
   OUT[21] = 1.0;
-  OUT[22] = 0.0;
   const double t2 = 0.5*p[1]*s1;
   OUT[23] = t2;
-  OUT[24] = 0.0;
-  OUT[25] = 0.0;
-  OUT[26] = 0.0;
-  OUT[27] = 0.0;
   OUT[28] = -1.0;
   OUT[29] = t1;
-  OUT[30] = 0.0;
   OUT[31] = 1.0;
   const double t3 = -0.5*c1*p[1];
   OUT[32] = t3;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
-  OUT[35] = 0.0;
-  OUT[36] = 0.0;
-  OUT[37] = 0.0;
-  OUT[38] = 0.0;
   OUT[39] = -1.0;
-  OUT[40] = 0.0;
   OUT[41] = t2;
   OUT[42] = 1.0;
-  OUT[43] = 0.0;
   OUT[44] = -0.5*s2*p[2];
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
-  OUT[47] = 0.0;
-  OUT[48] = 0.0;
   OUT[49] = -1.0;
   OUT[50] = t3;
-  OUT[51] = 0.0;
   OUT[52] = 1.0;
   OUT[53] = 0.5*p[2]*c2;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
   OUT[60] = 1.0;
-  OUT[61] = 0.0;
   OUT[62] = 0.5*s2*p[2];
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
-  OUT[65] = 0.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
   OUT[70] = 1.0;
   OUT[71] = -0.5*p[2]*c2;
   if (!all_finite(OUT, 72)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  const double s2 = std::sin(x[8]);
+  const double c2 = std::cos(x[8]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[0];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[0]*c0;
+  OUT[3] = t1;
+  OUT[4] = -1.0;
+  OUT[5] = t0;
+  OUT[6] = 1.0;
+  const double t2 = 0.5*p[1]*s1;
+  OUT[7] = t2;
+  OUT[8] = -1.0;
+  OUT[9] = t1;
+  OUT[10] = 1.0;
+  const double t3 = -0.5*c1*p[1];
+  OUT[11] = t3;
+  OUT[12] = -1.0;
+  OUT[13] = t2;
+  OUT[14] = 1.0;
+  OUT[15] = -0.5*s2*p[2];
+  OUT[16] = -1.0;
+  OUT[17] = t3;
+  OUT[18] = 1.0;
+  OUT[19] = 0.5*p[2]*c2;
+  OUT[20] = 1.0;
+  OUT[21] = 0.5*s2*p[2];
+  OUT[22] = 1.0;
+  OUT[23] = -0.5*p[2]*c2;
+  if (!all_finite(OUT, 24)) return 2;
   return 0;
 }
 
@@ -986,8 +972,16 @@ extern "C" int mbsc_four_bar_toggle_constraint_jacobian(double t, const double* 
   return mbsc_gen::four_bar_toggle::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_four_bar_toggle_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::four_bar_toggle::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_four_bar_toggle_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::four_bar_toggle::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_four_bar_toggle_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::four_bar_toggle::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_four_bar_toggle_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 4 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   velocity_constraints: 4 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 10
 //   constraint_jacobian: 0 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 4
+//   constraint_jacobian_values: 0 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 4
 //   position_jacobian: 0 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 4
+//   position_jacobian_values: 0 adds, 2 muls, 0 divs, 2 calls, 0 solve flops, total 4
 //   energy: 3 adds, 10 muls, 0 divs, 0 calls, 0 solve flops, total 13
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -141,54 +143,62 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
 int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
+  for (int i = 0; i < 20; ++i) OUT[i] = 0.0;  // 12 of the 20 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
   OUT[6] = 1.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = -1.0;
-  OUT[11] = 0.0;
   OUT[12] = s0*p[1];
   OUT[13] = 1.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
   OUT[16] = -1.0;
   OUT[17] = -c0*p[1];
-  OUT[18] = 0.0;
   OUT[19] = 1.0;
   if (!all_finite(OUT, 20)) return 2;
+  return 0;
+}
+
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  OUT[0] = 1.0;
+  OUT[1] = 1.0;
+  OUT[2] = -1.0;
+  OUT[3] = s0*p[1];
+  OUT[4] = 1.0;
+  OUT[5] = -1.0;
+  OUT[6] = -c0*p[1];
+  OUT[7] = 1.0;
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
 int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
+  for (int i = 0; i < 20; ++i) OUT[i] = 0.0;  // 12 of the 20 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
   OUT[6] = 1.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
   OUT[10] = -1.0;
-  OUT[11] = 0.0;
   OUT[12] = s0*p[1];
   OUT[13] = 1.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
   OUT[16] = -1.0;
   OUT[17] = -c0*p[1];
-  OUT[18] = 0.0;
   OUT[19] = 1.0;
   if (!all_finite(OUT, 20)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  OUT[0] = 1.0;
+  OUT[1] = 1.0;
+  OUT[2] = -1.0;
+  OUT[3] = s0*p[1];
+  OUT[4] = 1.0;
+  OUT[5] = -1.0;
+  OUT[6] = -c0*p[1];
+  OUT[7] = 1.0;
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
@@ -281,8 +291,16 @@ extern "C" int mbsc_massless_rod_pendulum_constraint_jacobian(double t, const do
   return mbsc_gen::massless_rod_pendulum::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_massless_rod_pendulum_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::massless_rod_pendulum::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_massless_rod_pendulum_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::massless_rod_pendulum::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_massless_rod_pendulum_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::massless_rod_pendulum::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_massless_rod_pendulum_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

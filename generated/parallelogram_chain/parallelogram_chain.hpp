@@ -8,7 +8,9 @@
 //   position_constraints: 47 adds, 42 muls, 0 divs, 14 calls, 0 solve flops, total 103
 //   velocity_constraints: 44 adds, 60 muls, 0 divs, 14 calls, 0 solve flops, total 118
 //   constraint_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
+//   constraint_jacobian_values: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
 //   position_jacobian: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
+//   position_jacobian_values: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54
 //   energy: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -44,6 +46,8 @@ inline constexpr int kNy = 1;
 inline constexpr int kNqFull = 21;
 inline constexpr int kNuFull = 21;
 inline constexpr int kNxFull = 42;
+inline constexpr int kConstraintJacobianNnz = 64;
+inline constexpr int kPositionJacobianNnz = 64;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -197,6 +201,22 @@ inline constexpr const char* kBlockNames[] = {
 
 inline constexpr double kParamDefaults[] = {0.5, 0.3, 9.81, 0.3, 0.5};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {
+    0, 2, 4, 6, 8, 10, 12, 14, 16, 20, 24, 28, 32, 36, 40, 44, 48, 52, 56, 60, 64};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    0, 2, 1, 2, 3, 5, 4, 5, 6, 8, 7, 8, 9, 11, 10, 11, 0, 2, 12, 14, 1, 2, 13, 14, 3, 5, 12, 14, 4,
+    5, 13, 14, 3, 5, 15, 17, 4, 5, 16, 17, 6, 8, 15, 17, 7, 8, 16, 17, 6, 8, 18, 20, 7, 8, 19, 20,
+    9, 11, 18, 20, 10, 11, 19, 20};
+
+inline constexpr int kPositionJacobianRowPtr[] = {
+    0, 2, 4, 6, 8, 10, 12, 14, 16, 20, 24, 28, 32, 36, 40, 44, 48, 52, 56, 60, 64};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    0, 2, 1, 2, 3, 5, 4, 5, 6, 8, 7, 8, 9, 11, 10, 11, 0, 2, 12, 14, 1, 2, 13, 14, 3, 5, 12, 14, 4,
+    5, 13, 14, 3, 5, 15, 17, 4, 5, 16, 17, 6, 8, 15, 17, 7, 8, 16, 17, 6, 8, 18, 20, 7, 8, 19, 20,
+    9, 11, 18, 20, 10, 11, 19, 20};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 122 adds, 374 muls, 0 divs, 14 calls, 145 solve flops, total 655.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -248,12 +268,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 40 muls, 0 divs, 14 calls, 0 solve flops, total 54.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 53 adds, 79 muls, 0 divs, 0 calls, 0 solve flops, total 132.
@@ -307,7 +343,9 @@ int mbsc_parallelogram_chain_inverse_dynamics(double t, const double* x, const d
 int mbsc_parallelogram_chain_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_parallelogram_chain_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_parallelogram_chain_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_parallelogram_chain_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 10 adds, 7 muls, 0 divs, 2 calls, 0 solve flops, total 19
 //   constraint_jacobian: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
+//   constraint_jacobian_values: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -366,49 +368,56 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
 }
 
 int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  for (int i = 0; i < 35; ++i) OUT[i] = 0.0;  // 21 of the 35 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   OUT[2] = p[2];
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
   OUT[8] = 1.0;
-  OUT[9] = 0.0;
-  OUT[10] = 0.0;
-  OUT[11] = 0.0;
-  OUT[12] = 0.0;
-  OUT[13] = 0.0;
   OUT[14] = 1.0;
-  OUT[15] = 0.0;
   const double t0 = p[5] - x[6];
   const double s0 = std::sin(t0);
   const double c0 = std::cos(t0);
   OUT[16] = c0*p[2];
   OUT[17] = -1.0;
-  OUT[18] = 0.0;
   OUT[19] = -c0*p[3];
-  OUT[20] = 0.0;
-  OUT[21] = 0.0;
   OUT[22] = 1.0;
   OUT[23] = s0*p[2];
-  OUT[24] = 0.0;
   OUT[25] = -1.0;
   OUT[26] = -s0*p[3];
-  OUT[27] = 0.0;
   OUT[28] = -1.0;
-  OUT[29] = 0.0;
-  OUT[30] = 0.0;
   OUT[31] = 1.0;
-  OUT[32] = 0.0;
-  OUT[33] = 0.0;
   OUT[34] = c0*(p[2] - p[3]);
   if (!all_finite(OUT, 35)) return 2;
   return 0;
 }
 
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  OUT[0] = 1.0;
+  OUT[1] = p[2];
+  OUT[2] = 1.0;
+  OUT[3] = 1.0;
+  const double t0 = p[5] - x[6];
+  const double s0 = std::sin(t0);
+  const double c0 = std::cos(t0);
+  OUT[4] = c0*p[2];
+  OUT[5] = -1.0;
+  OUT[6] = -c0*p[3];
+  OUT[7] = 1.0;
+  OUT[8] = s0*p[2];
+  OUT[9] = -1.0;
+  OUT[10] = -s0*p[3];
+  OUT[11] = -1.0;
+  OUT[12] = 1.0;
+  OUT[13] = c0*(p[2] - p[3]);
+  if (!all_finite(OUT, 14)) return 2;
+  return 0;
+}
+
 int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+  (void)OUT;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
@@ -551,8 +560,16 @@ extern "C" int mbsc_ring_disc_constraint_jacobian(double t, const double* x, con
   return mbsc_gen::ring_disc::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_ring_disc_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_ring_disc_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::ring_disc::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_ring_disc_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_ring_disc_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

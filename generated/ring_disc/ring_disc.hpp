@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 10 adds, 7 muls, 0 divs, 2 calls, 0 solve flops, total 19
 //   constraint_jacobian: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
+//   constraint_jacobian_values: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 1;
 inline constexpr int kNqFull = 7;
 inline constexpr int kNuFull = 7;
 inline constexpr int kNxFull = 14;
+inline constexpr int kConstraintJacobianNnz = 14;
+inline constexpr int kPositionJacobianNnz = 0;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -106,6 +110,16 @@ inline constexpr const char* kBlockNames[] = {
 
 inline constexpr double kParamDefaults[] = {0.67, 0.08, 1.0, 0.3, 9.8, 0.9272952180016122};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 2, 3, 7, 11, 14};
+
+inline constexpr int kConstraintJacobianColIdx[] = {0, 2, 1, 0, 2, 3, 5, 1, 2, 4, 5, 0, 3, 6};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0};
+
+// kPositionJacobianColIdx is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kPositionJacobianColIdx[1] = {0};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 32 adds, 89 muls, 0 divs, 4 calls, 8 solve flops, total 133.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -157,12 +171,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 2 adds, 5 muls, 0 divs, 2 calls, 0 solve flops, total 9.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62.
@@ -216,7 +246,9 @@ int mbsc_ring_disc_inverse_dynamics(double t, const double* x, const double* zdo
 int mbsc_ring_disc_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -8,7 +8,9 @@
 //   position_constraints: 6 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 9
 //   velocity_constraints: 12 adds, 15 muls, 1 divs, 0 calls, 0 solve flops, total 28
 //   constraint_jacobian: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
+//   constraint_jacobian_values: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
 //   position_jacobian: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12
+//   position_jacobian_values: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12
 //   energy: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -391,20 +393,45 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
-  OUT[0] = 0.0;
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  OUT[0] = 1.0;
   OUT[1] = 1.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
+  OUT[2] = p[2];
+  OUT[3] = 2.0*x[0] - 2.0*x[3];
+  OUT[4] = 2.0*x[1] - 2.0*x[4];
+  OUT[5] = 2.0*x[3] - 2.0*x[0];
+  OUT[6] = 2.0*x[4] - 2.0*x[1];
+  const double t0 = x[4] - x[1];
+  const double t1 = 1.0/(p[2] - p[3]);
+  OUT[7] = t0*t1;
+  const double t2 = x[0] - x[3];
+  OUT[8] = t2*t1;
+  OUT[9] = -p[2];
+  OUT[10] = -t0*t1;
+  OUT[11] = -t2*t1;
+  OUT[12] = p[3];
+  if (!all_finite(OUT, 13)) return 2;
+  return 0;
+}
+
+int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  for (int i = 0; i < 12; ++i) OUT[i] = 0.0;  // 7 of the 12 entries are zero
+  OUT[1] = 1.0;
   OUT[6] = 2.0*x[0] - 2.0*x[3];
   OUT[7] = 2.0*x[1] - 2.0*x[4];
-  OUT[8] = 0.0;
   OUT[9] = 2.0*x[3] - 2.0*x[0];
   OUT[10] = 2.0*x[4] - 2.0*x[1];
-  OUT[11] = 0.0;
   if (!all_finite(OUT, 12)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = 1.0;
+  OUT[1] = 2.0*x[0] - 2.0*x[3];
+  OUT[2] = 2.0*x[1] - 2.0*x[4];
+  OUT[3] = 2.0*x[3] - 2.0*x[0];
+  OUT[4] = 2.0*x[4] - 2.0*x[1];
+  if (!all_finite(OUT, 5)) return 2;
   return 0;
 }
 
@@ -544,8 +571,16 @@ extern "C" int mbsc_ring_disc_joints_constraint_jacobian(double t, const double*
   return mbsc_gen::ring_disc_joints::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_ring_disc_joints_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc_joints::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_ring_disc_joints_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::ring_disc_joints::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_ring_disc_joints_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::ring_disc_joints::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_ring_disc_joints_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

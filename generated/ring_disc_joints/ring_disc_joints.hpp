@@ -8,7 +8,9 @@
 //   position_constraints: 6 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 9
 //   velocity_constraints: 12 adds, 15 muls, 1 divs, 0 calls, 0 solve flops, total 28
 //   constraint_jacobian: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
+//   constraint_jacobian_values: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20
 //   position_jacobian: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12
+//   position_jacobian_values: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12
 //   energy: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 1;
 inline constexpr int kNqFull = 6;
 inline constexpr int kNuFull = 6;
 inline constexpr int kNxFull = 12;
+inline constexpr int kConstraintJacobianNnz = 13;
+inline constexpr int kPositionJacobianNnz = 5;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -101,6 +105,14 @@ inline constexpr const char* kBlockNames[] = {
 
 inline constexpr double kParamDefaults[] = {0.67, 0.08, 1.0, 0.3, 9.8, 0.9272952180016122};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 1, 3, 7, 13};
+
+inline constexpr int kConstraintJacobianColIdx[] = {1, 0, 2, 0, 1, 3, 4, 0, 1, 2, 3, 4, 5};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 5};
+
+inline constexpr int kPositionJacobianColIdx[] = {1, 0, 1, 3, 4};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 30 adds, 61 muls, 1 divs, 2 calls, 20 solve flops, total 114.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -152,12 +164,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 7 adds, 12 muls, 1 divs, 0 calls, 0 solve flops, total 20.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 4 adds, 8 muls, 0 divs, 0 calls, 0 solve flops, total 12.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 17 adds, 43 muls, 0 divs, 2 calls, 0 solve flops, total 62.
@@ -211,7 +239,9 @@ int mbsc_ring_disc_joints_inverse_dynamics(double t, const double* x, const doub
 int mbsc_ring_disc_joints_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_joints_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_ring_disc_joints_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_ring_disc_joints_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -8,7 +8,9 @@
 //   position_constraints: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24
 //   velocity_constraints: 12 adds, 12 muls, 0 divs, 4 calls, 0 solve flops, total 28
 //   constraint_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
+//   constraint_jacobian_values: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   position_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
+//   position_jacobian_values: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   energy: 19 adds, 34 muls, 0 divs, 0 calls, 0 solve flops, total 53
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -383,67 +385,63 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
   const double c1 = std::cos(x[5]);
+  for (int i = 0; i < 56; ++i) OUT[i] = 0.0;  // 37 of the 56 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[0];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
   OUT[9] = 1.0;
   const double t1 = -0.5*p[0]*c0;
   OUT[10] = t1;
-  OUT[11] = 0.0;
-  OUT[12] = 0.0;
-  OUT[13] = 0.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
   OUT[16] = -1.0;
-  OUT[17] = 0.0;
   OUT[18] = t0;
   OUT[19] = 1.0;
-  OUT[20] = 0.0;
   const double t2 = 0.5*p[1]*s1;
   OUT[21] = t2;
-  OUT[22] = 0.0;
-  OUT[23] = 0.0;
-  OUT[24] = 0.0;
   OUT[25] = -1.0;
   OUT[26] = t1;
-  OUT[27] = 0.0;
   OUT[28] = 1.0;
   const double t3 = -0.5*c1*p[1];
   OUT[29] = t3;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
   OUT[35] = -1.0;
-  OUT[36] = 0.0;
   OUT[37] = t2;
   OUT[38] = 1.0;
-  OUT[39] = 0.0;
-  OUT[40] = 0.0;
-  OUT[41] = 0.0;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
   OUT[44] = -1.0;
   OUT[45] = t3;
-  OUT[46] = 0.0;
   OUT[47] = 1.0;
-  OUT[48] = 0.0;
-  OUT[49] = 0.0;
-  OUT[50] = 0.0;
-  OUT[51] = 0.0;
-  OUT[52] = 0.0;
-  OUT[53] = 0.0;
-  OUT[54] = 0.0;
   OUT[55] = 1.0;
   if (!all_finite(OUT, 56)) return 2;
+  return 0;
+}
+
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[0];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[0]*c0;
+  OUT[3] = t1;
+  OUT[4] = -1.0;
+  OUT[5] = t0;
+  OUT[6] = 1.0;
+  const double t2 = 0.5*p[1]*s1;
+  OUT[7] = t2;
+  OUT[8] = -1.0;
+  OUT[9] = t1;
+  OUT[10] = 1.0;
+  const double t3 = -0.5*c1*p[1];
+  OUT[11] = t3;
+  OUT[12] = -1.0;
+  OUT[13] = t2;
+  OUT[14] = 1.0;
+  OUT[15] = -1.0;
+  OUT[16] = t3;
+  OUT[17] = 1.0;
+  OUT[18] = 1.0;
+  if (!all_finite(OUT, 19)) return 2;
   return 0;
 }
 
@@ -452,67 +450,63 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
   const double c1 = std::cos(x[5]);
+  for (int i = 0; i < 56; ++i) OUT[i] = 0.0;  // 37 of the 56 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[0];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
   OUT[9] = 1.0;
   const double t1 = -0.5*p[0]*c0;
   OUT[10] = t1;
-  OUT[11] = 0.0;
-  OUT[12] = 0.0;
-  OUT[13] = 0.0;
-  OUT[14] = 0.0;
-  OUT[15] = 0.0;
   OUT[16] = -1.0;
-  OUT[17] = 0.0;
   OUT[18] = t0;
   OUT[19] = 1.0;
-  OUT[20] = 0.0;
   const double t2 = 0.5*p[1]*s1;
   OUT[21] = t2;
-  OUT[22] = 0.0;
-  OUT[23] = 0.0;
-  OUT[24] = 0.0;
   OUT[25] = -1.0;
   OUT[26] = t1;
-  OUT[27] = 0.0;
   OUT[28] = 1.0;
   const double t3 = -0.5*c1*p[1];
   OUT[29] = t3;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
   OUT[35] = -1.0;
-  OUT[36] = 0.0;
   OUT[37] = t2;
   OUT[38] = 1.0;
-  OUT[39] = 0.0;
-  OUT[40] = 0.0;
-  OUT[41] = 0.0;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
   OUT[44] = -1.0;
   OUT[45] = t3;
-  OUT[46] = 0.0;
   OUT[47] = 1.0;
-  OUT[48] = 0.0;
-  OUT[49] = 0.0;
-  OUT[50] = 0.0;
-  OUT[51] = 0.0;
-  OUT[52] = 0.0;
-  OUT[53] = 0.0;
-  OUT[54] = 0.0;
   OUT[55] = 1.0;
   if (!all_finite(OUT, 56)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[0];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[0]*c0;
+  OUT[3] = t1;
+  OUT[4] = -1.0;
+  OUT[5] = t0;
+  OUT[6] = 1.0;
+  const double t2 = 0.5*p[1]*s1;
+  OUT[7] = t2;
+  OUT[8] = -1.0;
+  OUT[9] = t1;
+  OUT[10] = 1.0;
+  const double t3 = -0.5*c1*p[1];
+  OUT[11] = t3;
+  OUT[12] = -1.0;
+  OUT[13] = t2;
+  OUT[14] = 1.0;
+  OUT[15] = -1.0;
+  OUT[16] = t3;
+  OUT[17] = 1.0;
+  OUT[18] = 1.0;
+  if (!all_finite(OUT, 19)) return 2;
   return 0;
 }
 
@@ -650,8 +644,16 @@ extern "C" int mbsc_slider_crank_constraint_jacobian(double t, const double* x, 
   return mbsc_gen::slider_crank::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_slider_crank_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::slider_crank::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_slider_crank_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::slider_crank::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_slider_crank_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::slider_crank::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_slider_crank_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 12 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 24
 //   velocity_constraints: 12 adds, 12 muls, 0 divs, 4 calls, 0 solve flops, total 28
 //   constraint_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
+//   constraint_jacobian_values: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   position_jacobian: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
+//   position_jacobian_values: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   energy: 19 adds, 34 muls, 0 divs, 0 calls, 0 solve flops, total 53
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 1;
 inline constexpr int kNqFull = 8;
 inline constexpr int kNuFull = 8;
 inline constexpr int kNxFull = 16;
+inline constexpr int kConstraintJacobianNnz = 19;
+inline constexpr int kPositionJacobianNnz = 19;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -123,6 +127,16 @@ inline constexpr double kParamDefaults[] = {
     0.075552,
     9.81};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 2, 4, 8, 12, 15, 18, 19};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    0, 2, 1, 2, 0, 2, 3, 5, 1, 2, 4, 5, 3, 5, 6, 4, 5, 7, 7};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 8, 12, 15, 18, 19};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    0, 2, 1, 2, 0, 2, 3, 5, 1, 2, 4, 5, 3, 5, 6, 4, 5, 7, 7};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 37 adds, 104 muls, 0 divs, 4 calls, 3 solve flops, total 148.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -174,12 +188,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 8 muls, 0 divs, 4 calls, 0 solve flops, total 12.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 19 adds, 34 muls, 0 divs, 0 calls, 0 solve flops, total 53.
@@ -233,7 +263,9 @@ int mbsc_slider_crank_inverse_dynamics(double t, const double* x, const double* 
 int mbsc_slider_crank_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_slider_crank_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_slider_crank_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_slider_crank_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

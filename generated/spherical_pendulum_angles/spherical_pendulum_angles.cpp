@@ -8,7 +8,9 @@
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
+//   constraint_jacobian_values: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
 //   position_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
+//   position_jacobian_values: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
 //   energy: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -334,6 +336,23 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[3]);
+  const double c0 = std::cos(x[3]);
+  const double s1 = std::sin(x[4]);
+  const double c1 = std::cos(x[4]);
+  OUT[0] = 1.0;
+  OUT[1] = s0*p[1];
+  OUT[2] = 1.0;
+  OUT[3] = -c1*c0*p[1];
+  OUT[4] = s0*p[1]*s1;
+  OUT[5] = 1.0;
+  OUT[6] = -c0*p[1]*s1;
+  OUT[7] = -c1*s0*p[1];
+  if (!all_finite(OUT, 8)) return 2;
+  return 0;
+}
+
 int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[3]);
   const double c0 = std::cos(x[3]);
@@ -355,6 +374,23 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   OUT[13] = -c0*p[1]*s1;
   OUT[14] = -c1*s0*p[1];
   if (!all_finite(OUT, 15)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[3]);
+  const double c0 = std::cos(x[3]);
+  const double s1 = std::sin(x[4]);
+  const double c1 = std::cos(x[4]);
+  OUT[0] = 1.0;
+  OUT[1] = s0*p[1];
+  OUT[2] = 1.0;
+  OUT[3] = -c1*c0*p[1];
+  OUT[4] = s0*p[1]*s1;
+  OUT[5] = 1.0;
+  OUT[6] = -c0*p[1]*s1;
+  OUT[7] = -c1*s0*p[1];
+  if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
@@ -463,8 +499,16 @@ extern "C" int mbsc_spherical_pendulum_angles_constraint_jacobian(double t, cons
   return mbsc_gen::spherical_pendulum_angles::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_spherical_pendulum_angles_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_angles::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_spherical_pendulum_angles_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::spherical_pendulum_angles::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_spherical_pendulum_angles_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_angles::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_spherical_pendulum_angles_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 3 adds, 5 muls, 0 divs, 4 calls, 0 solve flops, total 12
 //   velocity_constraints: 5 adds, 14 muls, 0 divs, 4 calls, 0 solve flops, total 23
 //   constraint_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
+//   constraint_jacobian_values: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
 //   position_jacobian: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
+//   position_jacobian_values: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13
 //   energy: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 3;
 inline constexpr int kNqFull = 5;
 inline constexpr int kNuFull = 5;
 inline constexpr int kNxFull = 10;
+inline constexpr int kConstraintJacobianNnz = 8;
+inline constexpr int kPositionJacobianNnz = 8;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
 
@@ -88,6 +92,14 @@ inline constexpr const char* kPartitionNames[] = {"dtheta, dphi"};
 inline constexpr const char* kBlockNames[] = {"reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {1.0, 1.0, 9.81};
+
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 2, 5, 8};
+
+inline constexpr int kConstraintJacobianColIdx[] = {0, 3, 1, 3, 4, 2, 3, 4};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 5, 8};
+
+inline constexpr int kPositionJacobianColIdx[] = {0, 3, 1, 3, 4, 2, 3, 4};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 19 adds, 62 muls, 0 divs, 4 calls, 5 solve flops, total 90.
@@ -140,12 +152,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 9 muls, 0 divs, 4 calls, 0 solve flops, total 13.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16.
@@ -199,7 +227,9 @@ int mbsc_spherical_pendulum_angles_inverse_dynamics(double t, const double* x, c
 int mbsc_spherical_pendulum_angles_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_angles_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_spherical_pendulum_angles_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_spherical_pendulum_angles_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

@@ -8,7 +8,9 @@
 //   position_constraints: 3 adds, 4 muls, 0 divs, 0 calls, 0 solve flops, total 7
 //   velocity_constraints: 2 adds, 6 muls, 0 divs, 0 calls, 0 solve flops, total 8
 //   constraint_jacobian: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
+//   constraint_jacobian_values: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
 //   position_jacobian: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
+//   position_jacobian_values: 0 adds, 3 muls, 0 divs, 0 calls, 0 solve flops, total 3
 //   energy: 5 adds, 11 muls, 0 divs, 0 calls, 0 solve flops, total 16
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -185,7 +187,23 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = 2.0*x[0];
+  OUT[1] = 2.0*x[1];
+  OUT[2] = 2.0*x[2];
+  if (!all_finite(OUT, 3)) return 2;
+  return 0;
+}
+
 int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = 2.0*x[0];
+  OUT[1] = 2.0*x[1];
+  OUT[2] = 2.0*x[2];
+  if (!all_finite(OUT, 3)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = 2.0*x[0];
   OUT[1] = 2.0*x[1];
   OUT[2] = 2.0*x[2];
@@ -281,8 +299,16 @@ extern "C" int mbsc_spherical_pendulum_cartesian_constraint_jacobian(double t, c
   return mbsc_gen::spherical_pendulum_cartesian::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_spherical_pendulum_cartesian_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_cartesian::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_spherical_pendulum_cartesian_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::spherical_pendulum_cartesian::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_spherical_pendulum_cartesian_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::spherical_pendulum_cartesian::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_spherical_pendulum_cartesian_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

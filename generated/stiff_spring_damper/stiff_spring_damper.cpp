@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   constraint_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 15 adds, 22 muls, 0 divs, 2 calls, 0 solve flops, total 39
 //   outputs: 1 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 1
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -168,28 +170,32 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
 }
 
 int constraint_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
-  OUT[0] = 0.0;
+  for (int i = 0; i < 8; ++i) OUT[i] = 0.0;  // 6 of the 8 entries are zero
   OUT[1] = 1.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
   OUT[7] = 1.0;
   if (!all_finite(OUT, 8)) return 2;
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
-  OUT[0] = 0.0;
+int constraint_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = 1.0;
   OUT[1] = 1.0;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
+  if (!all_finite(OUT, 2)) return 2;
+  return 0;
+}
+
+int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+  for (int i = 0; i < 8; ++i) OUT[i] = 0.0;  // 6 of the 8 entries are zero
+  OUT[1] = 1.0;
   OUT[7] = 1.0;
   if (!all_finite(OUT, 8)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+  OUT[0] = 1.0;
+  OUT[1] = 1.0;
+  if (!all_finite(OUT, 2)) return 2;
   return 0;
 }
 
@@ -288,8 +294,16 @@ extern "C" int mbsc_stiff_spring_damper_constraint_jacobian(double t, const doub
   return mbsc_gen::stiff_spring_damper::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_stiff_spring_damper_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::stiff_spring_damper::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_stiff_spring_damper_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::stiff_spring_damper::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_stiff_spring_damper_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::stiff_spring_damper::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_stiff_spring_damper_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

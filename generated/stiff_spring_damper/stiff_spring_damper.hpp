@@ -8,7 +8,9 @@
 //   position_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   velocity_constraints: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   constraint_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   constraint_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_jacobian: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
+//   position_jacobian_values: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   energy: 15 adds, 22 muls, 0 divs, 2 calls, 0 solve flops, total 39
 //   outputs: 1 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 1
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 1;
 inline constexpr int kNqFull = 4;
 inline constexpr int kNuFull = 4;
 inline constexpr int kNxFull = 8;
+inline constexpr int kConstraintJacobianNnz = 2;
+inline constexpr int kPositionJacobianNnz = 2;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
 
@@ -86,6 +90,14 @@ inline constexpr const char* kPartitionNames[] = {"b1.u, b2.u"};
 inline constexpr const char* kBlockNames[1] = {""};
 
 inline constexpr double kParamDefaults[] = {2.0, 3.0, 2e2, 0.5, 8e5, 0.3, 4e4};
+
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 1, 2};
+
+inline constexpr int kConstraintJacobianColIdx[] = {1, 3};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 2};
+
+inline constexpr int kPositionJacobianColIdx[] = {1, 3};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 12 adds, 19 muls, 3 divs, 4 calls, 5 solve flops, total 43.
@@ -138,12 +150,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 15 adds, 22 muls, 0 divs, 2 calls, 0 solve flops, total 39.
@@ -197,7 +225,9 @@ int mbsc_stiff_spring_damper_inverse_dynamics(double t, const double* x, const d
 int mbsc_stiff_spring_damper_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_stiff_spring_damper_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_stiff_spring_damper_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_stiff_spring_damper_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

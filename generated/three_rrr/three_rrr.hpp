@@ -8,7 +8,9 @@
 //   position_constraints: 45 adds, 18 muls, 0 divs, 15 calls, 0 solve flops, total 78
 //   velocity_constraints: 40 adds, 37 muls, 0 divs, 15 calls, 0 solve flops, total 92
 //   constraint_jacobian: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
+//   constraint_jacobian_values: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
 //   position_jacobian: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
+//   position_jacobian_values: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
 //   energy: 20 adds, 63 muls, 0 divs, 0 calls, 0 solve flops, total 83
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 21;
 inline constexpr int kNuFull = 21;
 inline constexpr int kNxFull = 42;
+inline constexpr int kConstraintJacobianNnz = 54;
+inline constexpr int kPositionJacobianNnz = 54;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -195,6 +199,22 @@ inline constexpr double kParamDefaults[] = {
     0.5,
     0.6666666666666666};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {
+    0, 4, 8, 12, 16, 20, 24, 25, 26, 27, 28, 29, 30, 34, 38, 42, 46, 50, 54};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    0, 2, 3, 5, 1, 2, 4, 5, 6, 8, 9, 11, 7, 8, 10, 11, 12, 14, 15, 17, 13, 14, 16, 17, 0, 1, 6, 7,
+    12, 13, 3, 5, 18, 20, 4, 5, 19, 20, 9, 11, 18, 20, 10, 11, 19, 20, 15, 17, 18, 20, 16, 17, 19,
+    20};
+
+inline constexpr int kPositionJacobianRowPtr[] = {
+    0, 4, 8, 12, 16, 20, 24, 25, 26, 27, 28, 29, 30, 34, 38, 42, 46, 50, 54};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    0, 2, 3, 5, 1, 2, 4, 5, 6, 8, 9, 11, 7, 8, 10, 11, 12, 14, 15, 17, 13, 14, 16, 17, 0, 1, 6, 7,
+    12, 13, 3, 5, 18, 20, 4, 5, 19, 20, 9, 11, 18, 20, 10, 11, 19, 20, 15, 17, 18, 20, 16, 17, 19,
+    20};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 350 adds, 656 muls, 0 divs, 15 calls, 99 solve flops, total 1120.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -246,12 +266,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 20 adds, 63 muls, 0 divs, 0 calls, 0 solve flops, total 83.
@@ -305,7 +341,9 @@ int mbsc_three_rrr_inverse_dynamics(double t, const double* x, const double* zdo
 int mbsc_three_rrr_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_rrr_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_rrr_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_rrr_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

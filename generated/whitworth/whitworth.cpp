@@ -8,7 +8,9 @@
 //   position_constraints: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54
 //   velocity_constraints: 27 adds, 46 muls, 0 divs, 6 calls, 0 solve flops, total 79
 //   constraint_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
+//   constraint_jacobian_values: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
 //   position_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
+//   position_jacobian_values: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
 //   energy: 10 adds, 33 muls, 0 divs, 0 calls, 0 solve flops, total 43
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -425,112 +427,30 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   const double c1 = std::cos(x[7]);
   const double s2 = std::sin(x[10]);
   const double c2 = std::cos(x[10]);
-  OUT[0] = 0.0;
+  for (int i = 0; i < 110; ++i) OUT[i] = 0.0;  // 83 of the 110 entries are zero
   OUT[1] = 0.001;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
-  OUT[10] = 0.0;
   OUT[11] = -1.0;
-  OUT[12] = 0.0;
   OUT[13] = 1.0;
-  OUT[14] = 0.0;
   const double t0 = 0.5*p[3]*s0;
   OUT[15] = t0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
-  OUT[18] = 0.0;
-  OUT[19] = 0.0;
-  OUT[20] = 0.0;
-  OUT[21] = 0.0;
-  OUT[22] = 0.0;
   OUT[23] = -1.0;
-  OUT[24] = 0.0;
   OUT[25] = 1.0;
   const double t1 = -0.5*c0*p[3];
   OUT[26] = t1;
-  OUT[27] = 0.0;
-  OUT[28] = 0.0;
-  OUT[29] = 0.0;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
   OUT[35] = -1.0;
-  OUT[36] = 0.0;
   OUT[37] = t0;
   OUT[38] = 1.0;
-  OUT[39] = 0.0;
   OUT[40] = -0.5*s1*p[6];
-  OUT[41] = 0.0;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
-  OUT[44] = 0.0;
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
   OUT[47] = -1.0;
   OUT[48] = t1;
-  OUT[49] = 0.0;
   OUT[50] = 1.0;
   OUT[51] = 0.5*c1*p[6];
-  OUT[52] = 0.0;
-  OUT[53] = 0.0;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
   OUT[60] = 1.0;
-  OUT[61] = 0.0;
   OUT[62] = 0.5*s1*p[6];
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
-  OUT[65] = 0.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
-  OUT[70] = 0.0;
-  OUT[71] = 0.0;
   OUT[72] = 1.0;
   OUT[73] = -0.5*c1*p[6];
-  OUT[74] = 0.0;
-  OUT[75] = 0.0;
-  OUT[76] = 0.0;
-  OUT[77] = 0.0;
-  OUT[78] = 0.0;
-  OUT[79] = 0.0;
-  OUT[80] = 0.0;
-  OUT[81] = 0.0;
-  OUT[82] = 0.0;
-  OUT[83] = 0.0;
-  OUT[84] = 0.0;
   OUT[85] = 1.0;
-  OUT[86] = 0.0;
-  OUT[87] = 0.0;
-  OUT[88] = 0.0;
-  OUT[89] = 0.0;
-  OUT[90] = 0.0;
-  OUT[91] = 0.0;
-  OUT[92] = 0.0;
-  OUT[93] = 0.0;
-  OUT[94] = 0.0;
-  OUT[95] = 0.0;
-  OUT[96] = 0.0;
   OUT[97] = 1.0;
-  OUT[98] = 0.0;
-  OUT[99] = 0.0;
-  OUT[100] = 0.0;
-  OUT[101] = 0.0;
-  OUT[102] = 0.0;
-  OUT[103] = 0.0;
   OUT[104] = s1;
   OUT[105] = -c1;
   OUT[106] = -0.5*s1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + 0.5*s1*s1*p[6] - 0.5*c1*(2.0*x[8] - 2.0*x[5] + c1*p[6] + 2.0*p[9]*c2) + 0.5*c1*c1*p[6];
@@ -541,6 +461,46 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[4]);
+  const double c0 = std::cos(x[4]);
+  const double s1 = std::sin(x[7]);
+  const double c1 = std::cos(x[7]);
+  const double s2 = std::sin(x[10]);
+  const double c2 = std::cos(x[10]);
+  OUT[0] = 0.001;
+  OUT[1] = -1.0;
+  OUT[2] = 1.0;
+  const double t0 = 0.5*p[3]*s0;
+  OUT[3] = t0;
+  OUT[4] = -1.0;
+  OUT[5] = 1.0;
+  const double t1 = -0.5*c0*p[3];
+  OUT[6] = t1;
+  OUT[7] = -1.0;
+  OUT[8] = t0;
+  OUT[9] = 1.0;
+  OUT[10] = -0.5*s1*p[6];
+  OUT[11] = -1.0;
+  OUT[12] = t1;
+  OUT[13] = 1.0;
+  OUT[14] = 0.5*c1*p[6];
+  OUT[15] = 1.0;
+  OUT[16] = 0.5*s1*p[6];
+  OUT[17] = 1.0;
+  OUT[18] = -0.5*c1*p[6];
+  OUT[19] = 1.0;
+  OUT[20] = 1.0;
+  OUT[21] = s1;
+  OUT[22] = -c1;
+  OUT[23] = -0.5*s1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + 0.5*s1*s1*p[6] - 0.5*c1*(2.0*x[8] - 2.0*x[5] + c1*p[6] + 2.0*p[9]*c2) + 0.5*c1*c1*p[6];
+  OUT[24] = -s1;
+  OUT[25] = c1;
+  OUT[26] = p[9]*s2*s1 + p[9]*c1*c2;
+  if (!all_finite(OUT, 27)) return 2;
+  return 0;
+}
+
 int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[4]);
   const double c0 = std::cos(x[4]);
@@ -548,112 +508,30 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   const double c1 = std::cos(x[7]);
   const double s2 = std::sin(x[10]);
   const double c2 = std::cos(x[10]);
-  OUT[0] = 0.0;
+  for (int i = 0; i < 110; ++i) OUT[i] = 0.0;  // 83 of the 110 entries are zero
   OUT[1] = 0.001;
-  OUT[2] = 0.0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
-  OUT[10] = 0.0;
   OUT[11] = -1.0;
-  OUT[12] = 0.0;
   OUT[13] = 1.0;
-  OUT[14] = 0.0;
   const double t0 = 0.5*p[3]*s0;
   OUT[15] = t0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
-  OUT[18] = 0.0;
-  OUT[19] = 0.0;
-  OUT[20] = 0.0;
-  OUT[21] = 0.0;
-  OUT[22] = 0.0;
   OUT[23] = -1.0;
-  OUT[24] = 0.0;
   OUT[25] = 1.0;
   const double t1 = -0.5*c0*p[3];
   OUT[26] = t1;
-  OUT[27] = 0.0;
-  OUT[28] = 0.0;
-  OUT[29] = 0.0;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
-  OUT[33] = 0.0;
-  OUT[34] = 0.0;
   OUT[35] = -1.0;
-  OUT[36] = 0.0;
   OUT[37] = t0;
   OUT[38] = 1.0;
-  OUT[39] = 0.0;
   OUT[40] = -0.5*s1*p[6];
-  OUT[41] = 0.0;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
-  OUT[44] = 0.0;
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
   OUT[47] = -1.0;
   OUT[48] = t1;
-  OUT[49] = 0.0;
   OUT[50] = 1.0;
   OUT[51] = 0.5*c1*p[6];
-  OUT[52] = 0.0;
-  OUT[53] = 0.0;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
   OUT[60] = 1.0;
-  OUT[61] = 0.0;
   OUT[62] = 0.5*s1*p[6];
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
-  OUT[65] = 0.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
-  OUT[70] = 0.0;
-  OUT[71] = 0.0;
   OUT[72] = 1.0;
   OUT[73] = -0.5*c1*p[6];
-  OUT[74] = 0.0;
-  OUT[75] = 0.0;
-  OUT[76] = 0.0;
-  OUT[77] = 0.0;
-  OUT[78] = 0.0;
-  OUT[79] = 0.0;
-  OUT[80] = 0.0;
-  OUT[81] = 0.0;
-  OUT[82] = 0.0;
-  OUT[83] = 0.0;
-  OUT[84] = 0.0;
   OUT[85] = 1.0;
-  OUT[86] = 0.0;
-  OUT[87] = 0.0;
-  OUT[88] = 0.0;
-  OUT[89] = 0.0;
-  OUT[90] = 0.0;
-  OUT[91] = 0.0;
-  OUT[92] = 0.0;
-  OUT[93] = 0.0;
-  OUT[94] = 0.0;
-  OUT[95] = 0.0;
-  OUT[96] = 0.0;
   OUT[97] = 1.0;
-  OUT[98] = 0.0;
-  OUT[99] = 0.0;
-  OUT[100] = 0.0;
-  OUT[101] = 0.0;
-  OUT[102] = 0.0;
-  OUT[103] = 0.0;
   OUT[104] = s1;
   OUT[105] = -c1;
   OUT[106] = -0.5*s1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + 0.5*s1*s1*p[6] - 0.5*c1*(2.0*x[8] - 2.0*x[5] + c1*p[6] + 2.0*p[9]*c2) + 0.5*c1*c1*p[6];
@@ -661,6 +539,46 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   OUT[108] = c1;
   OUT[109] = p[9]*s2*s1 + p[9]*c1*c2;
   if (!all_finite(OUT, 110)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[4]);
+  const double c0 = std::cos(x[4]);
+  const double s1 = std::sin(x[7]);
+  const double c1 = std::cos(x[7]);
+  const double s2 = std::sin(x[10]);
+  const double c2 = std::cos(x[10]);
+  OUT[0] = 0.001;
+  OUT[1] = -1.0;
+  OUT[2] = 1.0;
+  const double t0 = 0.5*p[3]*s0;
+  OUT[3] = t0;
+  OUT[4] = -1.0;
+  OUT[5] = 1.0;
+  const double t1 = -0.5*c0*p[3];
+  OUT[6] = t1;
+  OUT[7] = -1.0;
+  OUT[8] = t0;
+  OUT[9] = 1.0;
+  OUT[10] = -0.5*s1*p[6];
+  OUT[11] = -1.0;
+  OUT[12] = t1;
+  OUT[13] = 1.0;
+  OUT[14] = 0.5*c1*p[6];
+  OUT[15] = 1.0;
+  OUT[16] = 0.5*s1*p[6];
+  OUT[17] = 1.0;
+  OUT[18] = -0.5*c1*p[6];
+  OUT[19] = 1.0;
+  OUT[20] = 1.0;
+  OUT[21] = s1;
+  OUT[22] = -c1;
+  OUT[23] = -0.5*s1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + 0.5*s1*s1*p[6] - 0.5*c1*(2.0*x[8] - 2.0*x[5] + c1*p[6] + 2.0*p[9]*c2) + 0.5*c1*c1*p[6];
+  OUT[24] = -s1;
+  OUT[25] = c1;
+  OUT[26] = p[9]*s2*s1 + p[9]*c1*c2;
+  if (!all_finite(OUT, 27)) return 2;
   return 0;
 }
 
@@ -809,8 +727,16 @@ extern "C" int mbsc_whitworth_constraint_jacobian(double t, const double* x, con
   return mbsc_gen::whitworth::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_whitworth_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::whitworth::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_whitworth_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::whitworth::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_whitworth_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::whitworth::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_whitworth_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 21 adds, 27 muls, 0 divs, 6 calls, 0 solve flops, total 54
 //   velocity_constraints: 27 adds, 46 muls, 0 divs, 6 calls, 0 solve flops, total 79
 //   constraint_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
+//   constraint_jacobian_values: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
 //   position_jacobian: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
+//   position_jacobian_values: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52
 //   energy: 10 adds, 33 muls, 0 divs, 0 calls, 0 solve flops, total 43
 //   outputs: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 11;
 inline constexpr int kNuFull = 11;
 inline constexpr int kNxFull = 22;
+inline constexpr int kConstraintJacobianNnz = 27;
+inline constexpr int kPositionJacobianNnz = 27;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
 
@@ -153,6 +157,16 @@ inline constexpr double kParamDefaults[] = {
     0.0006666666666666666,
     0.1414213562373095};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 1, 4, 7, 11, 15, 17, 19, 20, 21, 27};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    1, 0, 2, 4, 1, 3, 4, 2, 4, 5, 7, 3, 4, 6, 7, 5, 7, 6, 7, 8, 9, 5, 6, 7, 8, 9, 10};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 4, 7, 11, 15, 17, 19, 20, 21, 27};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    1, 0, 2, 4, 1, 3, 4, 2, 4, 5, 7, 3, 4, 6, 7, 5, 7, 6, 7, 8, 9, 5, 6, 7, 8, 9, 10};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 64 adds, 171 muls, 0 divs, 6 calls, 12 solve flops, total 253.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -204,12 +218,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 10 adds, 36 muls, 0 divs, 6 calls, 0 solve flops, total 52.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 10 adds, 33 muls, 0 divs, 0 calls, 0 solve flops, total 43.
@@ -263,7 +293,9 @@ int mbsc_whitworth_inverse_dynamics(double t, const double* x, const double* zdo
 int mbsc_whitworth_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_whitworth_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_whitworth_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_whitworth_full_state(double t, const double* x, const double* u, const double* p, double* OUT);

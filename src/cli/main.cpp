@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
                 "only these functions (comma-separated): rhs mass_matrix forcing inverse_dynamics position_constraints "
-                "velocity_constraints constraint_jacobian position_jacobian energy outputs full_state multipliers "
+                "velocity_constraints constraint_jacobian position_jacobian constraint_jacobian_values position_jacobian_values "
+                "energy outputs full_state multipliers "
                 "reaction_forces");
   std::string formulation = "complement";
   g->add_option("--formulation", formulation,

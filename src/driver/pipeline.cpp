@@ -30,6 +30,8 @@ const std::vector<std::string>& all_function_names() {
                                                  "velocity_constraints",
                                                  "constraint_jacobian",
                                                  "position_jacobian",
+                                                 "constraint_jacobian_values",
+                                                 "position_jacobian_values",
                                                  "energy",
                                                  "outputs",
                                                  "full_state",
@@ -428,7 +430,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   }
   // The Jacobians are over every speed / every coordinate (the full layout, kFullStateNames):
   // with --state minimal they are evaluated at the rebuilt full state.
-  if (wanted("constraint_jacobian")) {
+  if (wanted("constraint_jacobian") || wanted("constraint_jacobian_values")) {  // the values: add_sparse_jacobians
     preparing("constraint_jacobian");
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull",
                        "A", "kNc*kNuFull", rebuild_for(!vel.empty()), {}};
@@ -436,7 +438,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
     specs.push_back(f);
   }
-  if (wanted("position_jacobian")) {
+  if (wanted("position_jacobian") || wanted("position_jacobian_values")) {
     preparing("position_jacobian");
     ir::FunctionSpec f{"position_jacobian",
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
@@ -506,6 +508,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     if (!diags.has_errors()) specs = function_specs(m, eom, opt, diags, ms);
   }
   if (diags.has_errors()) return std::nullopt;
+  const std::vector<SparseJacobian> sparse = add_sparse_jacobians(m, opt, specs);
 
   // Conditioning of the solved blocks, and the partitions the run time can switch
   // between (docs/formulation.md "Re-selecting the independent set").
@@ -599,6 +602,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   g.int_constants.push_back({"kNuFull", nu_full});
   g.int_constants.push_back({"kNxFull", nq_full + nu_full});
   g.name_lists.push_back({"kFullStateNames", full_state});
+  // The CSR patterns of the Jacobians (constraint_jacobian_values, position_jacobian_values).
+  for (const SparseJacobian& sj : sparse) {
+    g.int_constants.push_back({sj.prefix + "Nnz", static_cast<long>(sj.col_idx.size())});
+    g.int_lists.push_back({sj.prefix + "RowPtr", sj.row_ptr});
+    g.int_lists.push_back({sj.prefix + "ColIdx", sj.col_idx});
+  }
   if (partitions) {
     g.int_constants.push_back({"kNpartitions", npart});
     g.int_constants.push_back({"kNblocks", static_cast<long>(partitions->block_labels.size())});

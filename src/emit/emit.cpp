@@ -128,6 +128,29 @@ std::string array_constant(const std::string& type, const std::string& name, con
   return head + "\n    " + join(items, ",\n    ") + "};";
 }
 
+// `inline constexpr int name[] = {..};` with as many numbers per line as fit (index
+// tables such as a CSR pattern can hold thousands).
+std::string int_array_constant(const std::string& name, const std::vector<long>& values) {
+  std::vector<std::string> items;
+  for (long v : values) {
+    if (v < INT_MIN || v > INT_MAX) throw std::runtime_error("value list " + name + " does not fit an int");
+    items.push_back(std::to_string(v));
+  }
+  const std::string one_line = "inline constexpr int " + name + "[] = {" + join(items, ", ") + "};";
+  if (items.empty() || one_line.size() <= kMaxLineWidth) return array_constant("int", name, items, "0");
+  std::string out = "inline constexpr int " + name + "[] = {";
+  std::string line = "    ";
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string item = items[i] + (i + 1 < items.size() ? "," : "};");
+    if (line.size() > 4 && line.size() + 1 + item.size() > kMaxLineWidth) {
+      out += "\n" + line;
+      line = "    ";
+    }
+    line += (line.size() > 4 ? " " : "") + item;
+  }
+  return out + "\n" + line;
+}
+
 std::string constants(const GeneratedModel& m, bool& need_limits) {
   std::vector<std::string> blocks;
   std::vector<std::string> ints;
@@ -148,6 +171,10 @@ std::string constants(const GeneratedModel& m, bool& need_limits) {
     std::vector<std::string> items;
     for (double v : values) items.push_back(double_text(v, need_limits));
     blocks.push_back(array_constant("double", name, items, "0.0"));
+  }
+  for (const auto& [name, values] : m.int_lists) {
+    check_name("index list", name);
+    blocks.push_back(int_array_constant(name, values));
   }
   return join(blocks, "\n\n");
 }
@@ -291,6 +318,7 @@ void check_model(const GeneratedModel& m) {
   for (const auto& c : m.int_constants) claim("constant", c.first);
   for (const auto& c : m.name_lists) claim("name list", c.first);
   for (const auto& c : m.double_lists) claim("value list", c.first);
+  for (const auto& c : m.int_lists) claim("index list", c.first);
   for (const auto& f : m.functions) claim("function", f.name);
   if (m.partitions)
     for (const char* f : {"rhs_partition", "conditioning_partition"}) claim("function", f);

@@ -72,6 +72,11 @@ std::string constants(const GeneratedModel& m) {
     for (double v : values) items.push_back(python_float(v));
     lines.push_back(name + " = " + tuple(items));
   }
+  for (const auto& [name, values] : m.int_lists) {
+    std::vector<std::string> items;
+    for (long v : values) items.push_back(std::to_string(v));
+    lines.push_back(name + " = " + tuple(items));
+  }
   return join(lines, "\n");
 }
 

@@ -49,10 +49,21 @@ class Printer {
     }
   }
 
-  // Statements, then the finiteness check and the status.
+  // Statements, then the finiteness check and the status. When most outputs are the
+  // literal 0 (a Jacobian, a sparse mass matrix), OUT is zeroed by one loop just before
+  // the first output and only the other entries are written.
   std::string body() {
     std::vector<std::string> lines;
+    const int zeros = zero_outputs();
+    const bool fill = 2 * zeros > prog_.nout;
+    bool filled = false;
     for (const Statement& st : prog_.statements) {
+      if (fill && st.kind == Statement::Kind::Output && !filled) {
+        lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) + "; ++i) OUT[i] = 0.0;  // " +
+                        std::to_string(zeros) + " of the " + std::to_string(prog_.nout) + " entries are zero");
+        filled = true;
+      }
+      if (fill && st.kind == Statement::Kind::Output && literal_zero(st.node)) continue;
       switch (st.kind) {
         case Statement::Kind::Temp:
           lines.push_back("  const double " + name(st.node) + " = " + expr(st.node).s + ";");
@@ -74,6 +85,18 @@ class Printer {
   }
 
  private:
+  // An output that is the number +0 (what a structurally zero entry lowers to).
+  bool literal_zero(NodeId id) const {
+    const Node& n = dag_.node(id);
+    return n.kind == NodeKind::Number && n.value == 0.0 && !std::signbit(n.value);
+  }
+
+  int zero_outputs() const {
+    int count = 0;
+    for (const Statement& st : prog_.statements) count += st.kind == Statement::Kind::Output && literal_zero(st.node) ? 1 : 0;
+    return count;
+  }
+
   const std::string& name(NodeId id) const { return prog_.names[static_cast<std::size_t>(id)]; }
   bool inline_node(NodeId id) const { return name(id).empty(); }
   static std::string wrap(const Text& t, int min_prec) { return t.prec < min_prec ? "(" + t.s + ")" : t.s; }

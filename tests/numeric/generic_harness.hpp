@@ -40,6 +40,15 @@
     static constexpr mbsc_test::Function velocity_constraints = mbsc_gen::NS::velocity_constraints;   \
     static constexpr mbsc_test::Function constraint_jacobian = mbsc_gen::NS::constraint_jacobian;     \
     static constexpr mbsc_test::Function position_jacobian = mbsc_gen::NS::position_jacobian;         \
+    static constexpr mbsc_test::Function constraint_jacobian_values =                                 \
+        mbsc_gen::NS::constraint_jacobian_values;                                                     \
+    static constexpr mbsc_test::Function position_jacobian_values = mbsc_gen::NS::position_jacobian_values; \
+    static constexpr int kConstraintJacobianNnz = mbsc_gen::NS::kConstraintJacobianNnz;               \
+    static constexpr const int* kConstraintJacobianRowPtr = mbsc_gen::NS::kConstraintJacobianRowPtr;  \
+    static constexpr const int* kConstraintJacobianColIdx = mbsc_gen::NS::kConstraintJacobianColIdx;  \
+    static constexpr int kPositionJacobianNnz = mbsc_gen::NS::kPositionJacobianNnz;                   \
+    static constexpr const int* kPositionJacobianRowPtr = mbsc_gen::NS::kPositionJacobianRowPtr;      \
+    static constexpr const int* kPositionJacobianColIdx = mbsc_gen::NS::kPositionJacobianColIdx;      \
     static constexpr mbsc_test::Function energy = mbsc_gen::NS::energy;                               \
     static constexpr mbsc_test::Function outputs = mbsc_gen::NS::outputs;                             \
     static constexpr mbsc_test::Function full_state = mbsc_gen::NS::full_state;                       \

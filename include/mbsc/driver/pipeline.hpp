@@ -114,6 +114,22 @@ struct PartitionSpecs {
 std::optional<PartitionSpecs> partition_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              int npart, const ir::FunctionSpec& rhs0, Diagnostics& diags);
 
+/// A dense Jacobian in compressed-row form (src/driver/sparse_jacobians.cpp): the
+/// function writing its entries that are not identically zero, row by row, and the
+/// pattern (row_ptr: rows + 1 offsets; col_idx: the column of each value).
+struct SparseJacobian {
+  ir::FunctionSpec values;  // <dense name>_values, out_shape <prefix>Nnz
+  std::string prefix;       // "kConstraintJacobian": constants <prefix>Nnz, <prefix>RowPtr, <prefix>ColIdx
+  std::vector<long> row_ptr, col_idx;
+};
+/// The CSR twin of `dense` (rows x cols outputs, row-major).
+SparseJacobian sparse_jacobian(const ir::FunctionSpec& dense, long rows, long cols, const std::string& prefix);
+/// For constraint_jacobian and position_jacobian among `specs`: their patterns, and the
+/// _values functions the options ask for inserted after them (a dense Jacobian that was
+/// built only for its twin is replaced by it).
+std::vector<SparseJacobian> add_sparse_jacobians(const model::Model& m, const GenerateOptions& opt,
+                                                 std::vector<ir::FunctionSpec>& specs);
+
 /// Model + Eom -> everything the emitter prints.
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags);

@@ -25,6 +25,7 @@ struct GeneratedModel {
   std::vector<std::pair<std::string, long>> int_constants;                        // {"kNq", 3}
   std::vector<std::pair<std::string, std::vector<std::string>>> name_lists;       // {"kStateNames", {...}}
   std::vector<std::pair<std::string, std::vector<double>>> double_lists;          // {"kParamDefaults", {...}}
+  std::vector<std::pair<std::string, std::vector<long>>> int_lists;              // {"kConstraintJacobianRowPtr", {...}}
   std::vector<ir::LoweredFunction> functions;
   std::optional<PartitionTable> partitions;  // emitted with rhs and conditioning
 };

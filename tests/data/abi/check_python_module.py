@@ -24,11 +24,13 @@ def fail(text):
     failures.append(text)
 
 
-tables, inputs, calls = {}, {}, {}
+tables, indices, inputs, calls = {}, {}, {}, {}
 for line in open(reference):
     words = line.split()
     if words[0] == "names":
         tables[words[1]] = tuple(words[3:3 + int(words[2])])
+    elif words[0] == "index":
+        indices[words[1]] = tuple(int(v) for v in words[3:3 + int(words[2])])
     elif words[0] == "input":
         inputs[words[1]] = np.array([float(v) for v in words[3:]], dtype=np.float64)
     elif words[0] == "call":
@@ -38,6 +40,9 @@ for line in open(reference):
 for table, names in tables.items():
     if tuple(getattr(mod, table)) != names:
         fail("%s: module has %s, C++ has %s" % (table, getattr(mod, table), names))
+for table, values in indices.items():
+    if tuple(getattr(mod, table)) != values:
+        fail("%s: module has %s, C++ has %s" % (table, getattr(mod, table), values))
 for size, table in (("kNx", "kStateNames"), ("kNxFull", "kFullStateNames"), ("kNdof", "kDofNames"),
                     ("kNin", "kInputNames"), ("kNp", "kParamNames"), ("kNc", "kConstraintNames"), ("kNy", "kOutputNames")):
     if getattr(mod, size) != len(tables[table]):
@@ -83,6 +88,19 @@ for function, (status, expected) in calls.items():
     else:
         got = getattr(model, function)(t, x, u, p)
     compare(function, got, status, expected)
+
+# The compressed rows of each Jacobian, expanded by the module's pattern, are its dense form.
+for dense, prefix in (("constraint_jacobian", "kConstraintJacobian"), ("position_jacobian", "kPositionJacobian")):
+    values = getattr(model, dense + "_values")(t, x, u, p)
+    row_ptr, col_idx = getattr(mod, prefix + "RowPtr"), getattr(mod, prefix + "ColIdx")
+    full = getattr(model, dense)(t, x, u, p)
+    expanded = np.zeros(full.shape)
+    for i in range(full.shape[0]):
+        for k in range(row_ptr[i], row_ptr[i + 1]):
+            expanded[i, col_idx[k]] = values[k]
+    checked += full.size
+    if len(values) != getattr(mod, prefix + "Nnz") or not np.array_equal(expanded, full):
+        fail("%s: the compressed rows do not expand to the dense matrix" % dense)
 
 # Defaults: p omitted means kParamDefaults; u omitted is allowed only without inputs.
 if mod.kNin == 0:

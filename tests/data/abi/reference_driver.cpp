@@ -21,6 +21,12 @@ void names(const char* table, const char* const* list, int n) {
   std::printf("\n");
 }
 
+void indices(const char* table, const int* list, int n) {
+  std::printf("index %s %d", table, n);
+  for (int i = 0; i < n; ++i) std::printf(" %d", list[i]);
+  std::printf("\n");
+}
+
 void values(const char* head, const char* what, int status, const double* v, int n) {
   std::printf("%s %s", head, what);
   if (status >= 0) std::printf(" %d", status);
@@ -47,6 +53,10 @@ int main(int argc, char** argv) {
   names("kParamNames", m::kParamNames, m::kNp);
   names("kConstraintNames", m::kConstraintNames, m::kNc);
   names("kOutputNames", m::kOutputNames, m::kNy);
+  indices("kConstraintJacobianRowPtr", m::kConstraintJacobianRowPtr, m::kNc + 1);
+  indices("kConstraintJacobianColIdx", m::kConstraintJacobianColIdx, m::kConstraintJacobianNnz);
+  indices("kPositionJacobianRowPtr", m::kPositionJacobianRowPtr, m::kNposc + 1);
+  indices("kPositionJacobianColIdx", m::kPositionJacobianColIdx, m::kPositionJacobianNnz);
   values("input", "t", -1, &t, 1);
   values("input", "x", -1, x.data(), m::kNx);
   values("input", "u", -1, u.data(), m::kNin);
@@ -62,6 +72,8 @@ int main(int argc, char** argv) {
                    {"velocity_constraints", m::velocity_constraints, m::kNc},
                    {"constraint_jacobian", m::constraint_jacobian, m::kNc * m::kNuFull},
                    {"position_jacobian", m::position_jacobian, m::kNposc * m::kNqFull},
+                   {"constraint_jacobian_values", m::constraint_jacobian_values, m::kConstraintJacobianNnz},
+                   {"position_jacobian_values", m::position_jacobian_values, m::kPositionJacobianNnz},
                    {"energy", m::energy, 3},
                    {"outputs", m::outputs, m::kNy},
                    {"full_state", m::full_state, m::kNxFull},

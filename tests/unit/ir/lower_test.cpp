@@ -280,3 +280,31 @@ TEST_CASE("lower: a named Define is a variable its readers refer to", "[ir]") {
   g.steps.push_back(Define{unused, s.q2 * s.q2, true});
   CHECK_FALSE(has(lower(g, s.bindings()).body, "unused"));
 }
+
+TEST_CASE("lower: mostly-zero outputs are one zero fill, then only the nonzero entries", "[ir]") {
+  Syms s;
+  // A 3x3 "Jacobian" with two nonzeros: the fill comes before the first output.
+  const LoweredFunction f = lower(spec_of({0, 0, s.q0 * s.m, 0, 0, 0, 0, sin(s.q1), 0}), s.bindings());
+  CHECK(count(f.body, "for (int i = 0; i < 9; ++i) OUT[i] = 0.0;") == 1);
+  CHECK(count(f.body, "OUT[") == 3);  // the fill and the two entries
+  CHECK(has(f.body, "OUT[2] = "));
+  CHECK(has(f.body, "OUT[7] = "));
+  CHECK(f.body.find("OUT[i] = 0.0") < f.body.find("OUT[2] = "));
+  CHECK(has(f.body, "if (!all_finite(OUT, 9)) return 2;"));
+  CHECK(f.nout == 9);
+}
+
+TEST_CASE("lower: a few zero outputs are still written one by one", "[ir]") {
+  Syms s;
+  // Half the outputs zero is not more than half: no fill.
+  const LoweredFunction f = lower(spec_of({s.q0, 0, s.q1, 0}), s.bindings());
+  CHECK_FALSE(has(f.body, "for (int i"));
+  CHECK(has(f.body, "OUT[1] = 0.0;"));
+  CHECK(has(f.body, "OUT[3] = 0.0;"));
+  // A nonzero constant is an entry like any other, under the fill.
+  const LoweredFunction g = lower(spec_of({0, 0, 0, -1, 2.5}), s.bindings());
+  CHECK(has(g.body, "for (int i = 0; i < 5; ++i) OUT[i] = 0.0;"));
+  CHECK(has(g.body, "OUT[3] = -1.0;"));
+  CHECK(has(g.body, "OUT[4] = 2.5;"));
+  CHECK_FALSE(has(g.body, "OUT[0] ="));
+}
