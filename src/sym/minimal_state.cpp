@@ -57,11 +57,15 @@ class MinimalStateBuilder {
       if (c.level != model::Constraint::Level::Position) continue;
       int pick = -1;
       GiNaC::ex pick_value;
-      for (int pass = 0; pass < 2 && pick < 0; ++pass) {
+      // Pass -1: the coordinate the row is written for (a joint with a coordinate places
+      // its second body), so a tree of such joints keeps exactly the joint coordinates
+      // whatever the order of its rows; then dependent rates first, then any.
+      for (int pass = c.explicit_coordinate >= 0 ? -1 : 0; pass < 2 && pick < 0; ++pass) {
         for (std::size_t q = 0; q < nq && pick < 0; ++q) {
           const GiNaC::symbol& sym = m_.coords[q].sym;
           if (direct.count(static_cast<int>(q)) || !c.residual.has(sym)) continue;
-          if (pass == 0 && !rate_is_dependent(q)) continue;
+          if (pass == -1 && static_cast<int>(q) != c.explicit_coordinate) continue;
+          if (pass <= 0 && !rate_is_dependent(q)) continue;
           const GiNaC::ex a = c.residual.diff(sym);
           if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
           const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
