@@ -5,20 +5,28 @@
 //    states the minimal build rebuilds the bodies' poses and speeds, and the bodies'
 //    accelerations of the absolute twin at that state equal the joint model's (full and
 //    minimal state), the joint accelerations mapped through theta_k = q_1 + ... + q_k;
+//  - a four-bar whose loop is closed by a joint without a coordinate keeps the three joint
+//    angles and one rate, and agrees with the four-bar of library joints;
+//  - the multipliers form of the joint-coordinate arm agrees with the complement form;
 //  - the minimal state is exactly (joint coordinates, joint rates) and the independent
 //    speeds are the joint rates;
 //  - the textbook two-link arm: mass_matrix and forcing are the closed-form M(q) and
 //    h = tau - C(q, q') q' - G(q) of robotics texts.
 #include <catch2/catch.hpp>
+#include <Eigen/Dense>
 #include <cmath>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "arm_joint_min/arm_joint_min.hpp"
+#include "arm_joint_mult/arm_joint_mult.hpp"
 #include "chain5_absolute/chain5_absolute.hpp"
 #include "chain5_joint/chain5_joint.hpp"
 #include "chain5_joint_min/chain5_joint_min.hpp"
+#include "four_bar_angles_min/four_bar_angles_min.hpp"
+#include "four_bar_joint_angles/four_bar_joint_angles.hpp"
+#include "four_bar_joints/four_bar_joints.hpp"
 #include "polar_arm_absolute/polar_arm_absolute.hpp"
 #include "polar_arm_joint/polar_arm_joint.hpp"
 #include "polar_arm_joint_min/polar_arm_joint_min.hpp"
@@ -207,6 +215,70 @@ TEST_CASE("joint coordinates: an R-P arm (revolute and prismatic) agrees with it
     CHECK(std::abs(cx - rail_x - s * (2 * std::cos(q) - std::sin(q)) / n) < 1e-12);
     CHECK(std::abs(cy - rail_y - s * (2 * std::sin(q) + std::cos(q)) / n) < 1e-12);
     (void)r;
+  }
+}
+
+TEST_CASE("joint coordinates: the multipliers form of the joint-angle arm agrees with the complement form",
+          "[numeric][relative]") {
+  namespace M = mbsc_gen::arm_joint_min;
+  namespace J = mbsc_gen::three_r_arm_joint;
+  namespace L = mbsc_gen::arm_joint_mult;
+  REQUIRE(L::kNx == J::kNx);
+  std::mt19937 rng(99);
+  for (int k = 0; k < 20; ++k) {
+    const auto x = random_state(rng, M::kStateNames, M::kNx, M::kNq);
+    std::vector<double> xf(M::kNxFull), xj(J::kNx), dj(J::kNx), dl(L::kNx);
+    REQUIRE(M::full_state(0.0, x.data(), nullptr, M::kParamDefaults, xf.data()) == 0);
+    for (int i = 0; i < M::kNxFull; ++i)
+      xj[static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, M::kFullStateNames[i]))] = xf[static_cast<std::size_t>(i)];
+    REQUIRE(J::rhs(0.0, xj.data(), nullptr, J::kParamDefaults, dj.data()) == 0);
+    REQUIRE(L::rhs(0.0, xj.data(), nullptr, L::kParamDefaults, dl.data()) == 0);  // same layout, same names
+    for (int i = 0; i < J::kNx; ++i) {
+      INFO(J::kStateNames[i]);
+      CHECK(std::string(J::kStateNames[i]) == L::kStateNames[i]);
+      CHECK(std::abs(dj[static_cast<std::size_t>(i)] - dl[static_cast<std::size_t>(i)]) < 1e-9 * std::max(1.0, inf_norm(dj)));
+    }
+  }
+}
+
+TEST_CASE("joint coordinates: a four-bar in joint angles closed by a plain joint agrees with the four-bar of joints",
+          "[numeric][relative]") {
+  namespace M = mbsc_gen::four_bar_angles_min;
+  namespace J = mbsc_gen::four_bar_joint_angles;
+  namespace A = mbsc_gen::four_bar_joints;
+  // The loop closure is no explicit row: the three joint angles stay, with one rate.
+  REQUIRE(M::kNx == 4);
+  CHECK(std::string("q1") == M::kStateNames[0]);
+  CHECK(std::string("q2") == M::kStateNames[1]);
+  CHECK(std::string("q3") == M::kStateNames[2]);
+  CHECK(std::string("q1_dot") == M::kStateNames[3]);
+  const Twins t{MBSC_VIEW(M), MBSC_VIEW(J), MBSC_VIEW(A), M::full_state, M::kFullStateNames, M::kNxFull};
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> crank(0.0, 6.28), rate(-3.0, 3.0);
+  std::vector<double> x = {1.2, 0.4 - 1.2, 1.9, 0.0}, r(M::kNposc), rp(M::kNposc), rm(M::kNposc);
+  for (int k = 0; k < 20; ++k) {
+    // Close the loop over q2, q3 for a crank angle near the last one (Newton, differences).
+    x[0] += 0.3 * (crank(rng) - 3.14) / 3.14;
+    for (int it = 0; it < 50; ++it) {
+      REQUIRE(M::position_constraints(0.0, x.data(), nullptr, M::kParamDefaults, r.data()) == 0);
+      if (inf_norm(r) < 1e-14) break;
+      Eigen::MatrixXd Jq(M::kNposc, 2);
+      for (int c = 0; c < 2; ++c) {
+        std::vector<double> xp = x, xm = x;
+        xp[static_cast<std::size_t>(c + 1)] += 1e-7;
+        xm[static_cast<std::size_t>(c + 1)] -= 1e-7;
+        M::position_constraints(0.0, xp.data(), nullptr, M::kParamDefaults, rp.data());
+        M::position_constraints(0.0, xm.data(), nullptr, M::kParamDefaults, rm.data());
+        for (int i = 0; i < M::kNposc; ++i)
+          Jq(i, c) = (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / 2e-7;
+      }
+      const Eigen::VectorXd dx = Jq.colPivHouseholderQr().solve(-Eigen::Map<Eigen::VectorXd>(r.data(), M::kNposc));
+      x[1] += dx(0);
+      x[2] += dx(1);
+    }
+    REQUIRE(inf_norm(r) < 1e-13);
+    x[3] = rate(rng);
+    compare_at(t, x);
   }
 }
 
