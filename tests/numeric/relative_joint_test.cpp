@@ -255,6 +255,24 @@ TEST_CASE("joint coordinates: a four-bar in joint angles closed by a plain joint
   const Twins t{MBSC_VIEW(M), MBSC_VIEW(J), MBSC_VIEW(A), M::full_state, M::kFullStateNames, M::kNxFull};
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> crank(0.0, 6.28), rate(-3.0, 3.0);
+  // Off the loop's closure, the joints' own rows hold exactly (they are what places the
+  // bodies) and only the closing joint's rows do not, though it is written first.
+  for (int k = 0; k < 10; ++k) {
+    const std::vector<double> x = {crank(rng), crank(rng), crank(rng), rate(rng)};
+    std::vector<double> xf(M::kNxFull), xj(J::kNx), g(J::kNposc);
+    REQUIRE(M::full_state(0.0, x.data(), nullptr, M::kParamDefaults, xf.data()) == 0);
+    for (int i = 0; i < M::kNxFull; ++i)
+      xj[static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, M::kFullStateNames[i]))] = xf[static_cast<std::size_t>(i)];
+    REQUIRE(J::position_constraints(0.0, xj.data(), nullptr, J::kParamDefaults, g.data()) == 0);
+    double closure = 0.0;
+    for (int i = 0; i < J::kNposc; ++i) {
+      const std::string row = J::kPositionConstraintNames[i];
+      INFO(row);
+      if (row.rfind("rockerpin.", 0) == 0) closure = std::max(closure, std::abs(g[static_cast<std::size_t>(i)]));
+      else CHECK(std::abs(g[static_cast<std::size_t>(i)]) < 1e-14);
+    }
+    CHECK(closure > 1e-6);
+  }
   std::vector<double> x = {1.2, 0.4 - 1.2, 1.9, 0.0}, r(M::kNposc), rp(M::kNposc), rm(M::kNposc);
   for (int k = 0; k < 20; ++k) {
     // Close the loop over q2, q3 for a crank angle near the last one (Newton, differences).
