@@ -176,11 +176,20 @@ std::string latex_symbol(const std::string& name) {
     if (c == '.') segments.emplace_back();
     else segments.back() += c;
   }
-  Symbol base = identifier_symbol(segments.back());
+  // q1_dot (the default name of a joint coordinate's rate) is the rate of q1: one more dot.
+  int dots = primes;
+  std::string last = segments.back();
+  const std::string suffix = "_dot";
+  if (last.size() > suffix.size() && last.compare(last.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+      is_alpha(last[0])) {
+    last.resize(last.size() - suffix.size());
+    ++dots;
+  }
+  Symbol base = identifier_symbol(last);
   std::vector<std::string> sub;
   for (std::size_t i = 0; i + 1 < segments.size(); ++i) sub.push_back(qualifier_text(segments[i]));
   sub.insert(sub.end(), base.sub.begin(), base.sub.end());
-  base.stem = dotted(base.stem, primes);
+  base.stem = dotted(base.stem, dots);
   base.sub = sub;
   return text_of(base);
 }

@@ -471,8 +471,24 @@ class Builder {
       if (s->kind == Kind::Coordinate) add_variable(id, join(prefix, s->name), s->name_pos, true);
       if (s->kind == Kind::Speed) add_variable(id, join(prefix, s->name), s->name_pos, false);
       if (s->kind == Kind::Let) declare_let(id, join(prefix, s->name), *s);
+      if (s->kind == Kind::Joint && !s->joint_coordinate.text.empty()) declare_joint_coordinate(id, prefix, *s);
     }
     return id;
+  }
+
+  /// `joint ... coordinate q [speed s]`: the joint's relative coordinate q and its rate s
+  /// (default q_dot, s = q') become variables of the node the joint is written at.
+  void declare_joint_coordinate(int id, const std::string& prefix, const Statement& s) {
+    const std::string speed = s.joint_speed.text.empty() ? s.joint_coordinate.text + "_dot" : s.joint_speed.text;
+    const SourcePos speed_pos = s.joint_speed.text.empty() ? s.joint_coordinate.pos : s.joint_speed.pos;
+    const int q = add_variable(id, join(prefix, s.joint_coordinate.text), s.joint_coordinate.pos, /*coordinate=*/true);
+    const int u = add_variable(id, join(prefix, speed), speed_pos, /*coordinate=*/false);
+    if (q < 0 || u < 0) return;  // reported: a name declared twice
+    const std::string joint = s.name.empty() ? std::string("joint") : fmt::format("joint '{}'", s.name);
+    table_[join(prefix, s.joint_coordinate.text)].what = "the coordinate of " + joint;
+    table_[join(prefix, speed)].what = "the speed of " + joint;
+    builtin_rates_[q] = m_.speeds[static_cast<std::size_t>(u)].sym;
+    joint_variables_[{id, &s}] = {q, u};
   }
 
   /// "unknown kind", with the close name if any, the leaf kinds and the components.
@@ -912,6 +928,12 @@ class Builder {
           }
           e.option = s.kind == Kind::Joint ? s.level : "";
           e.option_pos = s.path.pos;
+          if (!s.joint_coordinate.text.empty()) {
+            const auto jv = joint_variables_.find({id, &s});
+            if (jv == joint_variables_.end()) break;  // its declaration failed (reported)
+            e.coordinate = jv->second.first;
+            e.coordinate_pos = s.joint_coordinate.pos;
+          }
           // Actuator values may read the state and inputs; spring and damper data are constants.
           const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio" && s.level != "radius" &&
                                 s.level != "ring";
@@ -1316,6 +1338,7 @@ class Builder {
   std::vector<GiNaC::symbol> coord_dot_;
   std::size_t declared_nodes_ = 0;                // subsystems declared so far (limits::kMaxNodes)
   std::map<int, GiNaC::ex> builtin_rates_;
+  std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;
   std::set<int> has_mass_;

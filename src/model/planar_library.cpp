@@ -340,8 +340,9 @@ void PlanarLibrary::apply_torque(int node, const GiNaC::ex& tau, const SourcePos
 }
 
 void PlanarLibrary::add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
-                                   Constraint::Level level) {
+                                   Constraint::Level level, int explicit_coordinate) {
   Constraint c;
+  c.explicit_coordinate = explicit_coordinate;
   c.name = join(m_.nodes[owner].name, name);
   c.node = owner;
   c.level = level;
@@ -558,6 +559,13 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
                                                                    : e.kind == "rotational_damper" ? "damper"
                                                                                                    : e.kind,
                                        name);
+  const bool relative = e.coordinate >= 0;
+  if (relative && e.kind != "revolute" && e.kind != "prismatic") {
+    diags_.error(e.coordinate_pos, fmt::format("{}: only revolute and prismatic joints take a coordinate (a {} joint has no "
+                                               "angle or slide of its own)",
+                                               what, e.kind));
+    return;
+  }
   if (e.kind == "knife_edge") {
     add_knife_edge(owner, e, name, what);
     return;
@@ -603,11 +611,11 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     diags_.error(e.kind_pos, fmt::format("{} needs two rigid bodies (or a rigid body and the ground)", what));
     return;
   }
-  if (e.kind == "revolute" || e.kind == "weld") {
+  if ((e.kind == "revolute" && !relative) || e.kind == "weld") {
     add_constraint(owner, name + ".x", dx, e.pos);
     add_constraint(owner, name + ".y", dy, e.pos);
   }
-  if (e.kind == "prismatic" || e.kind == "pin_in_slot") {
+  if ((e.kind == "prismatic" && !relative) || e.kind == "pin_in_slot") {
     // The point stays on the line: the normal component of r_Q - r_A vanishes.
     add_constraint(owner, name + ".normal", dir.first * dy - dir.second * dx, e.pos);
   }
@@ -620,7 +628,11 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
     }
     rel = *e.value;
   }
-  if (locks_angle) add_constraint(owner, name + ".angle", angle_residual(p1->node, p2->node, rel), e.pos);
+  if (relative) {
+    if (!add_relative_rows(owner, e, name, what, *p1, *p2, rel)) return;
+  } else if (locks_angle) {
+    add_constraint(owner, name + ".angle", angle_residual(p1->node, p2->node, rel), e.pos);
+  }
 
   // Actuators: a torque across a revolute joint, a force along a prismatic one.
   if (e.option == "torque") {

@@ -56,6 +56,8 @@ class PlanarLibrary {
     std::string option2;              // joints: a second option (rolling_inside: ring) or ""
     SourcePos option2_pos;
     std::optional<GiNaC::ex> value2;
+    int coordinate = -1;  // revolute, prismatic: `coordinate q`, the joint's own coordinate (index), or -1
+    SourcePos coordinate_pos;
   };
   void add_element(int owner, const Element& e);
   /// A rigid2d_nodal body, once its points, mass centre, mass and inertia are known: its
@@ -115,7 +117,19 @@ class PlanarLibrary {
                    const SourcePos& pos);
   void apply_torque(int node, const GiNaC::ex& tau, const SourcePos& pos);
   void add_constraint(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
-                      Constraint::Level level = Constraint::Level::Position);
+                      Constraint::Level level = Constraint::Level::Position, int explicit_coordinate = -1);
+  /// A revolute or prismatic joint with a coordinate of its own (relative_joint.cpp): the
+  /// rows that place the second body from the first and the joint coordinate, each
+  /// explicit in one of that body's coordinates. False when the ends do not allow it
+  /// (reported).
+  bool add_relative_rows(int owner, const Element& e, const std::string& name, const std::string& what, const Located& p1,
+                         const Located& p2, const GiNaC::ex& rel);
+  struct Placement {  // a body placed by a joint with a coordinate
+    int parent;
+    std::string joint;
+    SourcePos pos;
+  };
+  std::map<int, Placement> placed_;  // child body -> what places it
   void add_rotational(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling(int owner, const Element& e, const std::string& name, const std::string& what);
   void add_rolling_inside(int owner, const Element& e, const std::string& name, const std::string& what);

@@ -581,6 +581,7 @@ class Parser {
     if (st.kind_name == "knife_edge") return parse_knife_edge(out, std::move(st), what);
     st.paths.push_back(parse_path("first point or axis of " + what));
     st.paths.push_back(parse_path("second point of " + what));
+    parse_joint_coordinate(st, what);
     // An option word ("force" is also a statement keyword, so test it before the end).
     const Token& opt = peek();
     if (opt.kind == TK::Ident || (opt.kind == TK::Keyword && opt.text == "force")) {
@@ -594,8 +595,23 @@ class Parser {
         st.exprs.push_back(parse_expr());
       }
     }
+    parse_joint_coordinate(st, what);
     end_statement(what);
     push(out, std::move(st));
+  }
+
+  // ['coordinate' IDENT ['speed' IDENT]]: the joint's relative coordinate and its rate,
+  // before or after the actuator option.
+  void parse_joint_coordinate(Statement& st, const std::string& what) {
+    if (!at_keyword("coordinate")) return;
+    const Token word = take();
+    if (!st.joint_coordinate.text.empty()) fail(word.pos, what + ": 'coordinate' given twice");
+    const Token name = expect_name("name of the joint's coordinate after 'coordinate'");
+    st.joint_coordinate = ast::Path{name.text, name.pos};
+    if (!at_keyword("speed")) return;
+    take();
+    const Token speed = expect_name("name of the joint's speed after 'speed'");
+    st.joint_speed = ast::Path{speed.text, speed.pos};
   }
 
   // ... 'knife_edge' PATH ['point' IDENT] ['axis' IDENT]   (the blade's body, point and direction)

@@ -53,30 +53,40 @@ class MinimalStateBuilder {
     };
     std::map<int, GiNaC::ex> direct;  // coordinate -> value as solved (may read eliminated ones)
     GiNaC::exmap full;                // coordinate symbol -> value in kept coordinates only
-    for (const auto& c : m_.constraints) {
-      if (c.level != model::Constraint::Level::Position) continue;
-      int pick = -1;
-      GiNaC::ex pick_value;
-      for (int pass = 0; pass < 2 && pick < 0; ++pass) {
-        for (std::size_t q = 0; q < nq && pick < 0; ++q) {
-          const GiNaC::symbol& sym = m_.coords[q].sym;
-          if (direct.count(static_cast<int>(q)) || !c.residual.has(sym)) continue;
-          if (pass == 0 && !rate_is_dependent(q)) continue;
-          const GiNaC::ex a = c.residual.diff(sym);
-          if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
-          const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
-          if (value.subs(full).has(sym)) continue;  // would be circular
-          pick = static_cast<int>(q);
-          pick_value = value;
+    // Sweep 0: the rows written for one coordinate (a joint with a coordinate places its
+    // second body), so a tree of such joints keeps exactly the joint coordinates whatever
+    // the order of its rows and of the other rows that read its bodies (a loop closure).
+    // Sweep 1: the other rows in model order, dependent rates first, then any.
+    std::vector<bool> used(m_.constraints.size(), false);
+    for (int sweep = 0; sweep < 2; ++sweep)
+      for (std::size_t ci = 0; ci < m_.constraints.size(); ++ci) {
+        const auto& c = m_.constraints[ci];
+        if (c.level != model::Constraint::Level::Position || used[ci]) continue;
+        if (sweep == 0 && c.explicit_coordinate < 0) continue;
+        int pick = -1;
+        GiNaC::ex pick_value;
+        for (int pass = sweep == 0 ? -1 : 0; pass < (sweep == 0 ? 0 : 2) && pick < 0; ++pass) {
+          for (std::size_t q = 0; q < nq && pick < 0; ++q) {
+            const GiNaC::symbol& sym = m_.coords[q].sym;
+            if (direct.count(static_cast<int>(q)) || !c.residual.has(sym)) continue;
+            if (pass == -1 && static_cast<int>(q) != c.explicit_coordinate) continue;
+            if (pass <= 0 && !rate_is_dependent(q)) continue;
+            const GiNaC::ex a = c.residual.diff(sym);
+            if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
+            const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
+            if (value.subs(full).has(sym)) continue;  // would be circular
+            pick = static_cast<int>(q);
+            pick_value = value;
+          }
         }
+        if (pick < 0) continue;
+        used[ci] = true;
+        const GiNaC::symbol& sym = m_.coords[static_cast<std::size_t>(pick)].sym;
+        const GiNaC::ex value_full = pick_value.subs(full);
+        for (auto& [k, v] : full) v = v.subs(sym == value_full);
+        full[sym] = value_full;
+        direct[pick] = pick_value;
       }
-      if (pick < 0) continue;
-      const GiNaC::symbol& sym = m_.coords[static_cast<std::size_t>(pick)].sym;
-      const GiNaC::ex value_full = pick_value.subs(full);
-      for (auto& [k, v] : full) v = v.subs(sym == value_full);
-      full[sym] = value_full;
-      direct[pick] = pick_value;
-    }
     // Evaluation order: each after the eliminated coordinates it reads (depth first).
     std::set<int> done;
     std::function<void(int)> visit = [&](int q) {

@@ -60,6 +60,9 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
        "coordinate 'b.x' is already declared as a coordinate of the particle2d body at 3:6"},
       {"check " + bad + "point_declared_twice.mbs", "axis 'b.A' is declared twice (as a point at 5:9)"},
       {"check " + bad + "duplicate_output.mbs", "output 'o' is already declared at 3:8"},
+      {"check " + bad + "joint_coordinate_placed_twice.mbs",
+       "joint 'again': body 'b' is already placed by joint 'elbow' (at 5:1); a body is the second end of at most one "
+       "joint with a coordinate (close a loop with a joint without one)"},
   };
   for (const auto& q : quotes) {
     INFO("mbsc " << q.arguments);

@@ -37,6 +37,7 @@
 #include "spherical_pendulum_extra_speed/spherical_pendulum_extra_speed.hpp"
 #include "stiff_spring_damper/stiff_spring_damper.hpp"
 #include "three_r_arm/three_r_arm.hpp"
+#include "three_r_arm_joint/three_r_arm_joint.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "whitworth/whitworth.hpp"
 
@@ -61,6 +62,7 @@ MBSC_GENERIC_MODEL(spherical_pendulum_cartesian);
 MBSC_GENERIC_MODEL(spherical_pendulum_extra_speed);
 MBSC_GENERIC_MODEL(stiff_spring_damper);
 MBSC_GENERIC_MODEL(three_r_arm);
+MBSC_GENERIC_MODEL(three_r_arm_joint);
 MBSC_GENERIC_MODEL(three_rrr);
 MBSC_GENERIC_MODEL(whitworth);
 
@@ -297,7 +299,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 17);
+  REQUIRE(shipped == 18);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -315,6 +317,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<spherical_pendulum_extra_speed_abi>(rng);
     check_model<stiff_spring_damper_abi>(rng);
     check_model<three_r_arm_abi>(rng);
+    check_model<three_r_arm_joint_abi>(rng);
     check_model<three_rrr_abi>(rng);
     check_model<whitworth_abi>(rng);
   }

@@ -57,6 +57,8 @@
 #include "test_support.hpp"
 #include "three_r_arm/three_r_arm.hpp"
 #include "three_r_arm_mult/three_r_arm_mult.hpp"
+#include "three_r_arm_joint/three_r_arm_joint.hpp"
+#include "three_r_arm_joint_mult/three_r_arm_joint_mult.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "three_rrr_mult/three_rrr_mult.hpp"
 #include "whitworth/whitworth.hpp"
@@ -434,6 +436,14 @@ std::vector<Case> shipped_models() {
                    {{"link1.w", 1.0, 1.0}, {"link2.w", -0.5, 1.0}, {"link3.w", 0.5, 1.0}},
                    {},
                    {}});
+  // The same arm in joint angles: the joint angles given, the rods follow.
+  cases.push_back({PAIR(three_r_arm_joint),
+                   {{"link1.x", 0.22}, {"link1.y", 0.12}, {"link1.theta", 0.5}, {"link2.x", 0.6}, {"link2.y", 0.28},
+                    {"link2.theta", 0.2}, {"link3.x", 0.9}, {"link3.y", 0.28}, {"link3.theta", -0.3}},
+                   {{"q1", 0.5, 0.3}, {"q2", -0.3, 0.3}, {"q3", -0.5, 0.3}},
+                   {{"q1_dot", 1.0, 1.0}, {"q2_dot", -0.5, 1.0}, {"q3_dot", 0.5, 1.0}},
+                   {},
+                   {}});
   // Whitworth quick-return: the thesis's configuration at crank = pi/4 (guesses from
   // tests/numeric/shipped_planar_test.cpp).
   cases.push_back({PAIR(whitworth),
@@ -490,7 +500,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 17);
+  REQUIRE(shipped.size() == 18);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -45,6 +45,9 @@ struct Constraint {
   bool nonlinear = false;
   GiNaC::ex residual;
   SourcePos pos;
+  /// A coordinate this position row gives explicitly (a joint with a coordinate places
+  /// its second body: x_c, y_c, theta_c), taken first by --state minimal; -1 for none.
+  int explicit_coordinate = -1;
 };
 
 /// A generalized effective force along a quasi-velocity. May contain the acceleration

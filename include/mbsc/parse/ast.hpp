@@ -82,9 +82,10 @@ struct Statement {
     Com,          // com (ex, ey)                       exprs = {ex, ey}
     Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy}
     Ground,       // ground { point/axis ... }          body
-    Joint,        // joint [NAME :] KIND PATH PATH [OPTION expr [OPTION2 expr2]]
+    Joint,        // joint [NAME :] KIND PATH PATH [coordinate Q [speed S]] [OPTION expr [OPTION2 expr2]]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,
-                  //                                    path.pos = OPTION's position, value; option2, exprs = {expr2}
+                  //                                    path.pos = OPTION's position, value; option2, exprs = {expr2};
+                  //                                    joint_coordinate / joint_speed (text empty when absent)
                   // joint [NAME :] knife_edge BODY [point P] [axis A]
                   //                                    paths = {BODY, P, A} (text empty when not given)
     Spring,       // spring NAME [rotational] PATH PATH stiffness expr [length|angle expr]
@@ -112,6 +113,8 @@ struct Statement {
   std::vector<Equation> equations; // Constraint rows
   Path path;                       // Force target
   Path option2;                    // Joint: the second option word (text empty when absent)
+  Path joint_coordinate;           // Joint: 'coordinate Q', the joint's own (relative) coordinate, or empty
+  Path joint_speed;                // Joint: 'speed S', the name of its rate (empty: Q_rate)
   std::vector<Path> paths;         // Independent list; Joint / Spring / Damper ends
   std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
   bool has_body = false;

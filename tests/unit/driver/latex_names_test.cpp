@@ -63,6 +63,15 @@ TEST_CASE("latex symbols: letters, Greek names and subscripts", "[latex]") {
   }
 }
 
+TEST_CASE("latex symbols: NAME_dot is the rate of NAME (a joint coordinate's default speed)", "[latex]") {
+  CHECK(latex_symbol("q1_dot") == "\\dot{q}_{1}");
+  CHECK(latex_symbol("th_dot") == "\\dot{\\theta}");
+  CHECK(latex_symbol("arm.q2_dot") == "\\dot{q}_{\\mathrm{arm},2}");
+  CHECK(latex_symbol("q1_dot'") == "\\ddot{q}_{1}");
+  // Not a suffix of a name: kept as written.
+  CHECK(latex_symbol("_dot") == "\\mathrm{\\_dot}");
+}
+
 TEST_CASE("latex symbols: qualified names put their bodies in the subscript", "[latex]") {
   CHECK(latex_symbol("b.x") == "x_{b}");
   CHECK(latex_symbol("crank.theta") == "\\theta_{\\mathrm{crank}}");
