@@ -8,7 +8,9 @@
 //   position_constraints: 19 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 37
 //   velocity_constraints: 19 adds, 18 muls, 0 divs, 6 calls, 0 solve flops, total 43
 //   constraint_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
+//   constraint_jacobian_values: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
 //   position_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
+//   position_jacobian_values: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 2 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -436,119 +438,83 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   const double c1 = std::cos(x[5]);
   const double s2 = std::sin(x[8]);
   const double c2 = std::cos(x[8]);
+  for (int i = 0; i < 108; ++i) OUT[i] = 0.0;  // 80 of the 108 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[3];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
-  OUT[10] = 0.0;
-  OUT[11] = 0.0;
-  OUT[12] = 0.0;
   OUT[13] = 1.0;
   const double t1 = -0.5*p[3]*c0;
   OUT[14] = t1;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
-  OUT[18] = 0.0;
-  OUT[19] = 0.0;
-  OUT[20] = 0.0;
-  OUT[21] = 0.0;
-  OUT[22] = 0.0;
-  OUT[23] = 0.0;
-  OUT[24] = 0.0;
-  OUT[25] = 0.0;
   OUT[26] = 1.0;
-  OUT[27] = 0.0;
-  OUT[28] = 0.0;
-  OUT[29] = 0.0;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
   OUT[33] = -1.0;
-  OUT[34] = 0.0;
-  OUT[35] = 0.0;
   OUT[36] = -1.0;
-  OUT[37] = 0.0;
   OUT[38] = t0;
   OUT[39] = 1.0;
-  OUT[40] = 0.0;
   const double t2 = 0.5*p[4]*s1;
   OUT[41] = t2;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
-  OUT[44] = 0.0;
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
-  OUT[47] = 0.0;
-  OUT[48] = 0.0;
   OUT[49] = -1.0;
   OUT[50] = t1;
-  OUT[51] = 0.0;
   OUT[52] = 1.0;
   const double t3 = -0.5*c1*p[4];
   OUT[53] = t3;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
-  OUT[60] = 0.0;
-  OUT[61] = 0.0;
   OUT[62] = -1.0;
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
   OUT[65] = 1.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
   OUT[70] = -1.0;
-  OUT[71] = 0.0;
-  OUT[72] = 0.0;
-  OUT[73] = 0.0;
-  OUT[74] = 0.0;
   OUT[75] = -1.0;
-  OUT[76] = 0.0;
   OUT[77] = t2;
   OUT[78] = 1.0;
-  OUT[79] = 0.0;
   OUT[80] = 0.5*s2*p[5];
-  OUT[81] = 0.0;
-  OUT[82] = 0.0;
-  OUT[83] = 0.0;
-  OUT[84] = 0.0;
-  OUT[85] = 0.0;
-  OUT[86] = 0.0;
-  OUT[87] = 0.0;
   OUT[88] = -1.0;
   OUT[89] = t3;
-  OUT[90] = 0.0;
   OUT[91] = 1.0;
   OUT[92] = -0.5*c2*p[5];
-  OUT[93] = 0.0;
-  OUT[94] = 0.0;
-  OUT[95] = 0.0;
-  OUT[96] = 0.0;
-  OUT[97] = 0.0;
-  OUT[98] = 0.0;
-  OUT[99] = 0.0;
-  OUT[100] = 0.0;
   OUT[101] = -1.0;
-  OUT[102] = 0.0;
-  OUT[103] = 0.0;
   OUT[104] = 1.0;
-  OUT[105] = 0.0;
-  OUT[106] = 0.0;
   OUT[107] = -1.0;
   if (!all_finite(OUT, 108)) return 2;
+  return 0;
+}
+
+int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  const double s2 = std::sin(x[8]);
+  const double c2 = std::cos(x[8]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[3];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[3]*c0;
+  OUT[3] = t1;
+  OUT[4] = 1.0;
+  OUT[5] = -1.0;
+  OUT[6] = -1.0;
+  OUT[7] = t0;
+  OUT[8] = 1.0;
+  const double t2 = 0.5*p[4]*s1;
+  OUT[9] = t2;
+  OUT[10] = -1.0;
+  OUT[11] = t1;
+  OUT[12] = 1.0;
+  const double t3 = -0.5*c1*p[4];
+  OUT[13] = t3;
+  OUT[14] = -1.0;
+  OUT[15] = 1.0;
+  OUT[16] = -1.0;
+  OUT[17] = -1.0;
+  OUT[18] = t2;
+  OUT[19] = 1.0;
+  OUT[20] = 0.5*s2*p[5];
+  OUT[21] = -1.0;
+  OUT[22] = t3;
+  OUT[23] = 1.0;
+  OUT[24] = -0.5*c2*p[5];
+  OUT[25] = -1.0;
+  OUT[26] = 1.0;
+  OUT[27] = -1.0;
+  if (!all_finite(OUT, 28)) return 2;
   return 0;
 }
 
@@ -559,119 +525,83 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   const double c1 = std::cos(x[5]);
   const double s2 = std::sin(x[8]);
   const double c2 = std::cos(x[8]);
+  for (int i = 0; i < 108; ++i) OUT[i] = 0.0;  // 80 of the 108 entries are zero
   OUT[0] = 1.0;
-  OUT[1] = 0.0;
   const double t0 = 0.5*s0*p[3];
   OUT[2] = t0;
-  OUT[3] = 0.0;
-  OUT[4] = 0.0;
-  OUT[5] = 0.0;
-  OUT[6] = 0.0;
-  OUT[7] = 0.0;
-  OUT[8] = 0.0;
-  OUT[9] = 0.0;
-  OUT[10] = 0.0;
-  OUT[11] = 0.0;
-  OUT[12] = 0.0;
   OUT[13] = 1.0;
   const double t1 = -0.5*p[3]*c0;
   OUT[14] = t1;
-  OUT[15] = 0.0;
-  OUT[16] = 0.0;
-  OUT[17] = 0.0;
-  OUT[18] = 0.0;
-  OUT[19] = 0.0;
-  OUT[20] = 0.0;
-  OUT[21] = 0.0;
-  OUT[22] = 0.0;
-  OUT[23] = 0.0;
-  OUT[24] = 0.0;
-  OUT[25] = 0.0;
   OUT[26] = 1.0;
-  OUT[27] = 0.0;
-  OUT[28] = 0.0;
-  OUT[29] = 0.0;
-  OUT[30] = 0.0;
-  OUT[31] = 0.0;
-  OUT[32] = 0.0;
   OUT[33] = -1.0;
-  OUT[34] = 0.0;
-  OUT[35] = 0.0;
   OUT[36] = -1.0;
-  OUT[37] = 0.0;
   OUT[38] = t0;
   OUT[39] = 1.0;
-  OUT[40] = 0.0;
   const double t2 = 0.5*p[4]*s1;
   OUT[41] = t2;
-  OUT[42] = 0.0;
-  OUT[43] = 0.0;
-  OUT[44] = 0.0;
-  OUT[45] = 0.0;
-  OUT[46] = 0.0;
-  OUT[47] = 0.0;
-  OUT[48] = 0.0;
   OUT[49] = -1.0;
   OUT[50] = t1;
-  OUT[51] = 0.0;
   OUT[52] = 1.0;
   const double t3 = -0.5*c1*p[4];
   OUT[53] = t3;
-  OUT[54] = 0.0;
-  OUT[55] = 0.0;
-  OUT[56] = 0.0;
-  OUT[57] = 0.0;
-  OUT[58] = 0.0;
-  OUT[59] = 0.0;
-  OUT[60] = 0.0;
-  OUT[61] = 0.0;
   OUT[62] = -1.0;
-  OUT[63] = 0.0;
-  OUT[64] = 0.0;
   OUT[65] = 1.0;
-  OUT[66] = 0.0;
-  OUT[67] = 0.0;
-  OUT[68] = 0.0;
-  OUT[69] = 0.0;
   OUT[70] = -1.0;
-  OUT[71] = 0.0;
-  OUT[72] = 0.0;
-  OUT[73] = 0.0;
-  OUT[74] = 0.0;
   OUT[75] = -1.0;
-  OUT[76] = 0.0;
   OUT[77] = t2;
   OUT[78] = 1.0;
-  OUT[79] = 0.0;
   OUT[80] = 0.5*s2*p[5];
-  OUT[81] = 0.0;
-  OUT[82] = 0.0;
-  OUT[83] = 0.0;
-  OUT[84] = 0.0;
-  OUT[85] = 0.0;
-  OUT[86] = 0.0;
-  OUT[87] = 0.0;
   OUT[88] = -1.0;
   OUT[89] = t3;
-  OUT[90] = 0.0;
   OUT[91] = 1.0;
   OUT[92] = -0.5*c2*p[5];
-  OUT[93] = 0.0;
-  OUT[94] = 0.0;
-  OUT[95] = 0.0;
-  OUT[96] = 0.0;
-  OUT[97] = 0.0;
-  OUT[98] = 0.0;
-  OUT[99] = 0.0;
-  OUT[100] = 0.0;
   OUT[101] = -1.0;
-  OUT[102] = 0.0;
-  OUT[103] = 0.0;
   OUT[104] = 1.0;
-  OUT[105] = 0.0;
-  OUT[106] = 0.0;
   OUT[107] = -1.0;
   if (!all_finite(OUT, 108)) return 2;
+  return 0;
+}
+
+int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const double s0 = std::sin(x[2]);
+  const double c0 = std::cos(x[2]);
+  const double s1 = std::sin(x[5]);
+  const double c1 = std::cos(x[5]);
+  const double s2 = std::sin(x[8]);
+  const double c2 = std::cos(x[8]);
+  OUT[0] = 1.0;
+  const double t0 = 0.5*s0*p[3];
+  OUT[1] = t0;
+  OUT[2] = 1.0;
+  const double t1 = -0.5*p[3]*c0;
+  OUT[3] = t1;
+  OUT[4] = 1.0;
+  OUT[5] = -1.0;
+  OUT[6] = -1.0;
+  OUT[7] = t0;
+  OUT[8] = 1.0;
+  const double t2 = 0.5*p[4]*s1;
+  OUT[9] = t2;
+  OUT[10] = -1.0;
+  OUT[11] = t1;
+  OUT[12] = 1.0;
+  const double t3 = -0.5*c1*p[4];
+  OUT[13] = t3;
+  OUT[14] = -1.0;
+  OUT[15] = 1.0;
+  OUT[16] = -1.0;
+  OUT[17] = -1.0;
+  OUT[18] = t2;
+  OUT[19] = 1.0;
+  OUT[20] = 0.5*s2*p[5];
+  OUT[21] = -1.0;
+  OUT[22] = t3;
+  OUT[23] = 1.0;
+  OUT[24] = -0.5*c2*p[5];
+  OUT[25] = -1.0;
+  OUT[26] = 1.0;
+  OUT[27] = -1.0;
+  if (!all_finite(OUT, 28)) return 2;
   return 0;
 }
 
@@ -820,8 +750,16 @@ extern "C" int mbsc_three_r_arm_joint_constraint_jacobian(double t, const double
   return mbsc_gen::three_r_arm_joint::constraint_jacobian(t, x, u, p, OUT);
 }
 
+extern "C" int mbsc_three_r_arm_joint_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::three_r_arm_joint::constraint_jacobian_values(t, x, u, p, OUT);
+}
+
 extern "C" int mbsc_three_r_arm_joint_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::three_r_arm_joint::position_jacobian(t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_three_r_arm_joint_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT) {
+  return mbsc_gen::three_r_arm_joint::position_jacobian_values(t, x, u, p, OUT);
 }
 
 extern "C" int mbsc_three_r_arm_joint_energy(double t, const double* x, const double* u, const double* p, double* OUT) {

@@ -8,7 +8,9 @@
 //   position_constraints: 19 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 37
 //   velocity_constraints: 19 adds, 18 muls, 0 divs, 6 calls, 0 solve flops, total 43
 //   constraint_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
+//   constraint_jacobian_values: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
 //   position_jacobian: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
+//   position_jacobian_values: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18
 //   energy: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64
 //   outputs: 2 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 8
 //   full_state: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
@@ -42,6 +44,8 @@ inline constexpr int kNy = 2;
 inline constexpr int kNqFull = 12;
 inline constexpr int kNuFull = 12;
 inline constexpr int kNxFull = 24;
+inline constexpr int kConstraintJacobianNnz = 28;
+inline constexpr int kPositionJacobianNnz = 28;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
 
@@ -145,6 +149,16 @@ inline constexpr const char* kBlockNames[] = {"reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {1.0, 0.8, 0.5, 0.5, 0.4, 0.3, 9.81, 0.0, 0.0, 0.0};
 
+inline constexpr int kConstraintJacobianRowPtr[] = {0, 2, 4, 6, 10, 14, 17, 21, 25, 28};
+
+inline constexpr int kConstraintJacobianColIdx[] = {
+    0, 2, 1, 2, 2, 9, 0, 2, 3, 5, 1, 2, 4, 5, 2, 5, 10, 3, 5, 6, 8, 4, 5, 7, 8, 5, 8, 11};
+
+inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 6, 10, 14, 17, 21, 25, 28};
+
+inline constexpr int kPositionJacobianColIdx[] = {
+    0, 2, 1, 2, 2, 9, 0, 2, 3, 5, 1, 2, 4, 5, 2, 5, 10, 3, 5, 6, 8, 4, 5, 7, 8, 5, 8, 11};
+
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 81 adds, 170 muls, 0 divs, 6 calls, 14 solve flops, total 271.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
@@ -196,12 +210,28 @@ int velocity_constraints(double t, const double* x, const double* u, const doubl
 /// u: not read (kNin = 0); may be null.
 int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
+/// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
+/// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
+/// OUT: values, kPositionJacobianNnz values (row-major). Cost: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18.
+/// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
+/// (a NaN or infinite input).
+/// u: not read (kNin = 0); may be null.
+int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64.
@@ -255,7 +285,9 @@ int mbsc_three_r_arm_joint_inverse_dynamics(double t, const double* x, const dou
 int mbsc_three_r_arm_joint_position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_r_arm_joint_constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_r_arm_joint_position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_energy(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_joint_full_state(double t, const double* x, const double* u, const double* p, double* OUT);
