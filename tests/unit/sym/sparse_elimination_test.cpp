@@ -159,7 +159,7 @@ std::optional<mbsc::ir::FunctionSpec> rhs_spec(const Loaded& d, Solver solver, V
 std::pair<double, double> errors(const Loaded& d, const mbsc::ir::FunctionSpec& dense, const mbsc::ir::FunctionSpec& sparse,
                                  const mbsc::driver::BaumgarteGains& gains) {
   std::pair<double, double> worst{0.0, 0.0};
-  for (unsigned seed : {11u, 12u, 13u}) {
+  for (unsigned seed : {11u, 12u}) {
     mbsc::sym::Probe pa(*d.m, d.eom->param_values, seed), pb(*d.m, d.eom->param_values, seed);
     for (auto* p : {&pa, &pb}) {
       p->bind(gains.alpha, 7.0);
@@ -257,7 +257,7 @@ TEST_CASE("sparse elimination agrees with the dense rhs on random trees of 1 to 
   const mbsc::driver::BaumgarteGains gains;
   std::mt19937 rng(20261202);
   const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_tree.mbs").string();
-  for (int n : {1, 2, 3, 5, 8, 13, 21, 40}) {
+  for (int n : {1, 2, 4, 9, 20, 40}) {
     const std::string text = random_tree(n, rng);
     {
       std::ofstream f(path);
