@@ -18,6 +18,7 @@
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -438,8 +439,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("constraint_jacobian");
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull",
                        "A", "kNc*kNuFull", rebuild_for(!vel.empty()), {}};
-    for (const auto& v : vel)
-      for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
+    for (const auto& v : vel) {
+      const sym::SymbolSet in_v(v);  // most entries are zero: no diff for those
+      for (const auto& s : m.speeds) f.outputs.push_back(in_v.diff(v, s.sym));
+    }
     specs.push_back(f);
   }
   if (wanted("position_jacobian")) {
@@ -447,8 +450,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::FunctionSpec f{"position_jacobian",
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
-    for (const auto& g : pos)
-      for (const auto& q : m.coords) f.outputs.push_back(g.diff(q.sym));
+    for (const auto& g : pos) {
+      const sym::SymbolSet in_g(g);
+      for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
+    }
     specs.push_back(f);
   }
   if (wanted("energy") && eom.has_energy) {

@@ -18,6 +18,7 @@
 #include "mbsc/sym/massless_check.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::sym {
@@ -156,8 +157,9 @@ class Deriver {
       if (c.level == model::Constraint::Level::Position) g = time_derivative(m_, g);
       g = time_derivative(m_, g);
       GiNaC::exmap sub;
+      const SymbolSet in_g(g);
       for (size_t j = 0; j < m_.speeds.size(); ++j) {
-        if (!g.has(m_.speed_dots[j])) continue;
+        if (!in_g.contains(m_.speed_dots[j])) continue;
         if (!in_subtree(static_cast<int>(j), n)) {
           diags_.error(c.pos, fmt::format("constraint '{}' of subsystem '{}' involves '{}', which is outside that subsystem; "
                                           "declare it in a common parent",
@@ -200,7 +202,8 @@ class Deriver {
     GiNaC::exmap zero;
     for (int j = 0; j < ny; ++j) zero[m_.speed_dots[r.y[j]]] = 0;
     for (int i = 0; i < nr; ++i) {
-      for (int j = 0; j < ny; ++j) r.B(i, j) = rows[i].diff(m_.speed_dots[r.y[j]]);
+      const SymbolSet in_row(rows[i]);
+      for (int j = 0; j < ny; ++j) r.B(i, j) = in_row.diff(rows[i], m_.speed_dots[r.y[j]]);
       r.b(i, 0) = rows[i].subs(zero);
     }
     ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
@@ -223,8 +226,10 @@ class Deriver {
     const int nd = static_cast<int>(r.independent.size());
     r.C = GiNaC::matrix(ny, nd);
     for (int j = 0; j < nd; ++j) r.C(col[r.independent[j]], j) = 1;
-    for (int s : r.dependent)
-      for (int j = 0; j < nd; ++j) r.C(col[s], j) = sol[s].diff(m_.speed_dots[r.independent[j]]);
+    for (int s : r.dependent) {
+      const SymbolSet in_sol(sol[s]);
+      for (int j = 0; j < nd; ++j) r.C(col[s], j) = in_sol.diff(sol[s], m_.speed_dots[r.independent[j]]);
+    }
     // e: the dependent rates when every independent rate is zero.
     r.e = GiNaC::matrix(ny, 1);
     GiNaC::exmap zero_indep;
