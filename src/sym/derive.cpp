@@ -18,6 +18,7 @@
 #include "mbsc/sym/massless_check.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/linear_gradient.hpp"
 #include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
@@ -226,9 +227,11 @@ class Deriver {
     const int nd = static_cast<int>(r.independent.size());
     r.C = GiNaC::matrix(ny, nd);
     for (int j = 0; j < nd; ++j) r.C(col[r.independent[j]], j) = 1;
+    std::vector<GiNaC::symbol> independent_dots;
+    for (int s : r.independent) independent_dots.push_back(m_.speed_dots[s]);
     for (int s : r.dependent) {
-      const SymbolSet in_sol(sol[s]);
-      for (int j = 0; j < nd; ++j) r.C(col[s], j) = in_sol.diff(sol[s], m_.speed_dots[r.independent[j]]);
+      const std::vector<GiNaC::ex> row = linear_gradient(sol[s], independent_dots);
+      for (int j = 0; j < nd; ++j) r.C(col[s], j) = row[static_cast<std::size_t>(j)];
     }
     // e: the dependent rates when every independent rate is zero.
     r.e = GiNaC::matrix(ny, 1);
