@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Time and memory of check/generate on the big or hostile inputs of the robustness issue
 # (docs/robustness.md), with the Release build: the figures in docs/benchmarks.md,
-# "Front end: big and hostile inputs". Writes bench/results/front_end.txt.
+# "Front end: big and hostile inputs". Writes bench/results/front_end.txt. The growth
+# with model size (and its fitted exponents) is bench/run_front_end_scaling.sh's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -33,6 +34,8 @@ out="bench/results/front_end.txt"
   run "check 300 free particles" check "$tmp/free300.mbs"
   run "check 1000 free particles" check "$tmp/free1000.mbs"
   run "generate 1000 free particles" generate "$tmp/free1000.mbs" -o "$tmp/out"
-  run "generate parallelogram chain N=150, --budget 10 (stops)" generate models/parallelogram_chain.mbs \
-    --freeze N=150 --budget 10 -o "$tmp/out"
+  run "generate parallelogram chain N=150, --budget 10" generate models/parallelogram_chain.mbs \
+    --freeze N=150 --budget 10 -o "$tmp/out2"
+  run "check parallelogram chain N=1000, --budget 10 (stops)" check models/parallelogram_chain.mbs \
+    --freeze N=1000 --budget 10
 } | tee "$out"

@@ -10,6 +10,7 @@
 #include <functional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
@@ -17,6 +18,7 @@
 #include "mbsc/model/build.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -84,24 +86,57 @@ bool check_model_name(const model::Model& m, const std::string& generated_name, 
   return false;
 }
 
+namespace {
+
+/// The substitutions finalize applies (formals by their values, frozen parameters by
+/// theirs), built once per model and options rather than once per expression: finalize
+/// runs on every entry of every output, and rebuilding them each time made the whole
+/// pass quadratic in the number of parameters times the number of entries.
+struct FinalSubstitutions {
+  GiNaC::ex time;  // a fresh symbol per model: tells models apart
+  std::string key;
+  GiNaC::exmap formals, frozen;
+};
+
+std::string substitution_key(const model::Model& m, const sym::Eom& eom) {
+  std::string key = fmt::format("{}/{}/{}", static_cast<const void*>(&m), m.params.size(), m.formals.size());
+  for (const auto& [name, f] : m.formals) key += fmt::format("/{}", f.sym.gethash());
+  for (const auto& p : m.params) key += fmt::format("/{}", p.sym.gethash());
+  for (const auto& [name, v] : eom.options.frozen) key += fmt::format("/{}={}", name, v);
+  return key;
+}
+
+const FinalSubstitutions& final_substitutions(const model::Model& m, const sym::Eom& eom) {
+  thread_local FinalSubstitutions cache;
+  std::string key = substitution_key(m, eom);
+  if (cache.time.is_equal(m.time) && cache.key == key) return cache;
+  cache.time = m.time;
+  cache.key = std::move(key);
+  cache.formals.clear();
+  cache.frozen.clear();
+  for (const auto& [name, f] : m.formals) cache.formals[f.sym] = f.value;
+  for (const auto& p : m.params) {
+    auto it = eom.options.frozen.find(p.name);
+    if (it != eom.options.frozen.end()) cache.frozen[p.sym] = model::exact_decimal(it->second);
+  }
+  return cache;
+}
+
+}  // namespace
+
 GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return e;  // most entries of big matrices: 0
+  const FinalSubstitutions& subs = final_substitutions(m, eom);
   GiNaC::ex out = e;
-  if (!m.formals.empty()) {
-    GiNaC::exmap formals;
-    for (const auto& [name, f] : m.formals) formals[f.sym] = f.value;
+  if (!subs.formals.empty()) {
     // Formals of nested instances may refer to outer formals: substitute to a fixed point.
     for (int pass = 0; pass < 16; ++pass) {
-      GiNaC::ex next = out.subs(formals);
+      GiNaC::ex next = out.subs(subs.formals);
       if (next.is_equal(out)) break;
       out = next;
     }
   }
-  GiNaC::exmap frozen;
-  for (const auto& p : m.params) {
-    auto it = eom.options.frozen.find(p.name);
-    if (it != eom.options.frozen.end()) frozen[p.sym] = model::exact_decimal(it->second);
-  }
-  return frozen.empty() ? out : out.subs(frozen);
+  return subs.frozen.empty() ? out : out.subs(subs.frozen);
 }
 
 std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal) {
@@ -434,8 +469,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("constraint_jacobian");
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull",
                        "A", "kNc*kNuFull", rebuild_for(!vel.empty()), {}};
-    for (const auto& v : vel)
-      for (const auto& s : m.speeds) f.outputs.push_back(v.diff(s.sym));
+    for (const auto& v : vel) {
+      const sym::SymbolSet in_v(v);  // most entries are zero: no diff for those
+      for (const auto& s : m.speeds) f.outputs.push_back(in_v.diff(v, s.sym));
+    }
     specs.push_back(f);
   }
   if (wanted("position_jacobian") || wanted("position_jacobian_values")) {
@@ -443,8 +480,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::FunctionSpec f{"position_jacobian",
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
-    for (const auto& g : pos)
-      for (const auto& q : m.coords) f.outputs.push_back(g.diff(q.sym));
+    for (const auto& g : pos) {
+      const sym::SymbolSet in_g(g);
+      for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
+    }
     specs.push_back(f);
   }
   if (wanted("energy") && eom.has_energy) {

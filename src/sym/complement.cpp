@@ -33,35 +33,51 @@ std::vector<std::pair<int, int>> singleton_elimination(const ComplementInput& in
                                                       const std::vector<int>& allowed, bool prefer_children) {
   const auto& B = *in.B;
   const int nr = static_cast<int>(B.rows());
-  std::vector<bool> row_left(nr, true), col_left(B.cols(), false);
+  const int ny = static_cast<int>(B.cols());
+  std::vector<bool> row_left(nr, true), col_left(ny, false);
   for (int j : allowed) col_left[j] = true;
+  // Each column's nonzero rows, and how many of them are left: one pass over B, then
+  // every pick updates the columns of its row, instead of rescanning B per pick.
+  std::vector<std::vector<int>> col_rows(ny), row_cols(nr);
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < ny; ++j)
+      if (!B(i, j).is_zero()) {
+        col_rows[j].push_back(i);
+        row_cols[i].push_back(j);
+      }
+  std::vector<int> left_in_col(ny);
+  for (int j = 0; j < ny; ++j) left_in_col[j] = static_cast<int>(col_rows[j].size());
+  // Whether B(row, j) can be a pivot, decided once per (column, its last row).
+  std::vector<int> judged_row(ny, -1);
+  std::vector<char> usable(ny, 0);
   std::vector<std::pair<int, int>> picks;
   for (;;) {
     int best_row = -1, best_col = -1, best_score = -1;
-    for (size_t j = 0; j < B.cols(); ++j) {
-      if (!col_left[j]) continue;
-      int row = -1, count = 0;
-      for (int i = 0; i < nr; ++i)
-        if (row_left[i] && !B(i, j).is_zero()) {
-          row = i;
-          ++count;
-        }
-      if (count != 1) continue;
+    for (int j = 0; j < ny; ++j) {
+      if (!col_left[j] || left_in_col[j] != 1) continue;
+      int row = -1;
+      for (int i : col_rows[j])
+        if (row_left[i]) row = i;
       const GiNaC::ex& pivot = B(row, j);
-      if (!is_state_free(pivot, *in.model) || std::abs(Bn(row, j)) < 1e-12) continue;
+      if (judged_row[j] != row) {
+        judged_row[j] = row;
+        usable[j] = is_state_free(pivot, *in.model) && !(std::abs(Bn(row, j)) < 1e-12);
+      }
+      if (!usable[j]) continue;
       // Prefer numeric pivots, then children's speeds over the node's own extra speeds.
       int score = (GiNaC::is_a<GiNaC::numeric>(pivot) ? 4 : 0) +
                   (prefer_children && in.model->speeds[in.y[j]].node != in.node ? 2 : 0);
       if (score > best_score) {
         best_score = score;
         best_row = row;
-        best_col = static_cast<int>(j);
+        best_col = j;
       }
     }
     if (best_col < 0) break;
     picks.push_back({best_row, best_col});
     row_left[best_row] = false;
     col_left[best_col] = false;
+    for (int j : row_cols[best_row]) --left_in_col[j];
   }
   std::reverse(picks.begin(), picks.end());
   return picks;
@@ -155,9 +171,15 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
         return std::nullopt;
       }
     }
-  // Rank, row by row: a row that does not raise the rank is redundant.
+  // Rank, row by row: a row that does not raise the rank is redundant. When the whole
+  // B has full row rank (the usual case) so has every prefix of it, and only zero rows
+  // are looked for: one factorization instead of one per row (quartic in the rows).
+  const bool full_rank = numeric_rank(Bn) == nr;
   int rank = 0;
   for (int i = 0; i < nr; ++i) {
+    if (full_rank) {
+      if (Bn.row(i).norm() != 0.0) continue;
+    }
     int r = numeric_rank(Bn.topRows(i + 1));
     const auto& c = m.constraints[in.rows[i]];
     if (Bn.row(i).norm() == 0.0) {

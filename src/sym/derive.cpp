@@ -7,7 +7,10 @@
 #include "mbsc/model/expr_convert.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <set>
+#include <utility>
+#include <vector>
 
 #include "mbsc/sym/complement.hpp"
 #include "mbsc/sym/pivot_elimination.hpp"
@@ -15,6 +18,8 @@
 #include "mbsc/sym/massless_check.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/linear_gradient.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::sym {
@@ -153,8 +158,9 @@ class Deriver {
       if (c.level == model::Constraint::Level::Position) g = time_derivative(m_, g);
       g = time_derivative(m_, g);
       GiNaC::exmap sub;
+      const SymbolSet in_g(g);
       for (size_t j = 0; j < m_.speeds.size(); ++j) {
-        if (!g.has(m_.speed_dots[j])) continue;
+        if (!in_g.contains(m_.speed_dots[j])) continue;
         if (!in_subtree(static_cast<int>(j), n)) {
           diags_.error(c.pos, fmt::format("constraint '{}' of subsystem '{}' involves '{}', which is outside that subsystem; "
                                           "declare it in a common parent",
@@ -197,7 +203,8 @@ class Deriver {
     GiNaC::exmap zero;
     for (int j = 0; j < ny; ++j) zero[m_.speed_dots[r.y[j]]] = 0;
     for (int i = 0; i < nr; ++i) {
-      for (int j = 0; j < ny; ++j) r.B(i, j) = rows[i].diff(m_.speed_dots[r.y[j]]);
+      const SymbolSet in_row(rows[i]);
+      for (int j = 0; j < ny; ++j) r.B(i, j) = in_row.diff(rows[i], m_.speed_dots[r.y[j]]);
       r.b(i, 0) = rows[i].subs(zero);
     }
     ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
@@ -220,8 +227,12 @@ class Deriver {
     const int nd = static_cast<int>(r.independent.size());
     r.C = GiNaC::matrix(ny, nd);
     for (int j = 0; j < nd; ++j) r.C(col[r.independent[j]], j) = 1;
-    for (int s : r.dependent)
-      for (int j = 0; j < nd; ++j) r.C(col[s], j) = sol[s].diff(m_.speed_dots[r.independent[j]]);
+    std::vector<GiNaC::symbol> independent_dots;
+    for (int s : r.independent) independent_dots.push_back(m_.speed_dots[s]);
+    for (int s : r.dependent) {
+      const std::vector<GiNaC::ex> row = linear_gradient(sol[s], independent_dots);
+      for (int j = 0; j < nd; ++j) r.C(col[s], j) = row[static_cast<std::size_t>(j)];
+    }
     // e: the dependent rates when every independent rate is zero.
     r.e = GiNaC::matrix(ny, 1);
     GiNaC::exmap zero_indep;
@@ -269,26 +280,61 @@ class Deriver {
   /// Triangular nodes form h by the transposed rate steps instead (see transpose_steps).
   void reduce_forces(NodeResult& r) {
     const unsigned ny = r.C.rows(), nd = r.C.cols();
-    GiNaC::matrix MyC(ny, nd), rest(ny, 1);
+    // M = C^T My C and h = C^T (hy - My e) over the nonzeros only: My and C are mostly
+    // zero (block diagonal, one or a few entries per row), and the dense triple loops
+    // were cubic in the number of speeds. Every entry still sums its terms in the same
+    // order as the dense product (ascending inner index), so the expressions are the same.
+    using Sparse = std::vector<std::vector<std::pair<unsigned, GiNaC::ex>>>;
+    Sparse my_rows(ny), c_rows(ny), c_cols(nd);
+    for (unsigned i = 0; i < ny; ++i) {
+      for (unsigned k = 0; k < ny; ++k)
+        if (!r.My(i, k).is_zero()) my_rows[i].emplace_back(k, r.My(i, k));
+      for (unsigned j = 0; j < nd; ++j)
+        if (!r.C(i, j).is_zero()) {
+          c_rows[i].emplace_back(j, r.C(i, j));
+          c_cols[j].emplace_back(i, r.C(i, j));
+        }
+    }
+    // Row i of My C, and rest = hy - My e.
+    Sparse myc_rows(ny);
+    GiNaC::matrix rest(ny, 1);
+    std::vector<GiNaC::ex> row_acc(nd);
+    std::vector<unsigned> touched;
     for (unsigned i = 0; i < ny; ++i) {
       GiNaC::ex acc_rest = r.hy(i, 0);
-      for (unsigned k = 0; k < ny; ++k) {
-        if (r.My(i, k).is_zero()) continue;
-        for (unsigned j = 0; j < nd; ++j)
-          if (!r.C(k, j).is_zero()) MyC(i, j) += r.My(i, k) * r.C(k, j);
-        if (!r.e(k, 0).is_zero()) acc_rest -= r.My(i, k) * r.e(k, 0);
+      touched.clear();
+      for (const auto& [k, myik] : my_rows[i]) {
+        for (const auto& [j, ckj] : c_rows[k]) {
+          if (row_acc[j].is_zero()) touched.push_back(j);
+          row_acc[j] += myik * ckj;
+        }
+        if (!r.e(k, 0).is_zero()) acc_rest -= myik * r.e(k, 0);
       }
       rest(i, 0) = acc_rest;
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      for (unsigned j : touched) {
+        if (!row_acc[j].is_zero()) myc_rows[i].emplace_back(j, row_acc[j]);
+        row_acc[j] = 0;
+      }
     }
     r.M = GiNaC::matrix(nd, nd);
     r.h = GiNaC::matrix(nd, 1);
+    std::vector<GiNaC::ex> m_acc(nd);
     for (unsigned a = 0; a < nd; ++a) {
-      for (unsigned b = a; b < nd; ++b) {
-        GiNaC::ex acc = 0;
-        for (unsigned i = 0; i < ny; ++i)
-          if (!r.C(i, a).is_zero() && !MyC(i, b).is_zero()) acc += r.C(i, a) * MyC(i, b);
-        r.M(a, b) = acc;
-        r.M(b, a) = acc;
+      touched.clear();
+      for (const auto& [i, cia] : c_cols[a])
+        for (const auto& [b, mycib] : myc_rows[i]) {
+          if (b < a) continue;
+          if (m_acc[b].is_zero()) touched.push_back(b);
+          m_acc[b] += cia * mycib;
+        }
+      std::sort(touched.begin(), touched.end());
+      touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+      for (unsigned b : touched) {
+        r.M(a, b) = m_acc[b];
+        r.M(b, a) = m_acc[b];
+        m_acc[b] = 0;
       }
     }
     if (!r.rate_steps.empty()) {
@@ -297,8 +343,8 @@ class Deriver {
     }
     for (unsigned a = 0; a < nd; ++a) {
       GiNaC::ex acc = 0;
-      for (unsigned i = 0; i < ny; ++i)
-        if (!r.C(i, a).is_zero() && !rest(i, 0).is_zero()) acc += r.C(i, a) * rest(i, 0);
+      for (const auto& [i, cia] : c_cols[a])
+        if (!rest(i, 0).is_zero()) acc += cia * rest(i, 0);
       r.h(a, 0) = acc;
     }
   }
@@ -607,6 +653,40 @@ class Deriver {
     return out;
   }
 
+  /// Cholesky of the symmetric part of Mn, one diagonal block (connected set of speeds
+  /// coupled by nonzero entries) at a time: the same pivots as the whole matrix's, as
+  /// the entries between blocks are zero, but linear in the number of blocks for a
+  /// model of many separate bodies instead of cubic in its degrees of freedom.
+  static bool positive_definite_by_blocks(const Eigen::MatrixXd& Mn) {
+    const int nd = static_cast<int>(Mn.rows());
+    std::vector<std::vector<int>> coupled(static_cast<std::size_t>(nd));
+    for (int j = 0; j < nd; ++j)
+      for (int i = 0; i < nd; ++i)
+        if (i != j && (Mn(i, j) != 0.0 || Mn(j, i) != 0.0)) coupled[static_cast<std::size_t>(j)].push_back(i);
+    std::vector<int> block(static_cast<std::size_t>(nd), -1);
+    for (int start = 0; start < nd; ++start) {
+      if (block[static_cast<std::size_t>(start)] >= 0) continue;
+      std::vector<int> members{start};
+      block[static_cast<std::size_t>(start)] = start;
+      for (std::size_t k = 0; k < members.size(); ++k)
+        for (int i : coupled[static_cast<std::size_t>(members[k])])
+          if (block[static_cast<std::size_t>(i)] < 0) {
+            block[static_cast<std::size_t>(i)] = start;
+            members.push_back(i);
+          }
+      std::sort(members.begin(), members.end());
+      const auto nb = static_cast<Eigen::Index>(members.size());
+      Eigen::MatrixXd sub(nb, nb);
+      for (Eigen::Index a = 0; a < nb; ++a)
+        for (Eigen::Index b = 0; b < nb; ++b) {
+          const int i = members[static_cast<std::size_t>(a)], j = members[static_cast<std::size_t>(b)];
+          sub(a, b) = 0.5 * (Mn(i, j) + Mn(j, i));
+        }
+      if (Eigen::LLT<Eigen::MatrixXd>(sub).info() != Eigen::Success) return false;
+    }
+    return true;
+  }
+
   // ---- root: fbar = -M z' + h, and the top-down dependent rates ----
   bool assemble_root() {
     const NodeResult& root = eom_.nodes[m_.root()];
@@ -626,11 +706,11 @@ class Deriver {
     }
     // Sanity: M must be symmetric positive definite at the probe point.
     if (nd > 0) {
-      Eigen::MatrixXd Mn(nd, nd);
+      Eigen::MatrixXd Mn = Eigen::MatrixXd::Zero(nd, nd);
       for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j) Mn(i, j) = probe_.eval(eom_.M(i, j));
-      Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (Mn + Mn.transpose()));
-      eom_.mass_matrix_spd = Mn.allFinite() && llt.info() == Eigen::Success;
+        for (int j = 0; j < nd; ++j)
+          if (!eom_.M(i, j).is_zero()) Mn(i, j) = probe_.eval(eom_.M(i, j));
+      eom_.mass_matrix_spd = Mn.allFinite() && positive_definite_by_blocks(Mn);
       // Massless bodies are allowed while M stays positive definite; when they leave it
       // singular, the error is theirs (at their mass or inertia).
       if (!eom_.mass_matrix_spd && report_massless_directions(m_, eom_, probe_, Mn, diags_)) return false;

@@ -4,6 +4,7 @@
 #include "mbsc/model/exact_guard.hpp"
 
 #include <cmath>
+#include <vector>
 
 namespace mbsc::sym {
 
@@ -11,6 +12,24 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
   const std::size_t n_rows = rows.size();
   const std::size_t n_vars = n_rows == 0 ? 0 : rows.front().c.size();
   std::vector<bool> row_done(n_rows, false), var_done(n_vars, false);
+  // Sparse bookkeeping: each live row's nonzero live columns (ascending) and each
+  // column's count of live nonzero rows, updated only for the rows a pivot touches; and
+  // whether an entry can be a pivot, decided once per value of the entry. Rescanning
+  // the whole matrix per pivot made this quartic in the size of a big loop-closing node.
+  std::vector<std::vector<std::size_t>> cols_of(n_rows);
+  std::vector<long> col_count(n_vars, 0);
+  std::vector<std::vector<signed char>> usable(n_rows);
+  auto scan_row = [&](std::size_t i) {
+    for (std::size_t j : cols_of[i]) --col_count[j];
+    cols_of[i].clear();
+    for (std::size_t j = 0; j < n_vars; ++j)
+      if (!var_done[j] && !rows[i].c[j].is_zero()) {
+        cols_of[i].push_back(j);
+        ++col_count[j];
+      }
+    usable[i].assign(n_vars, -1);
+  };
+  for (std::size_t i = 0; i < n_rows; ++i) scan_row(i);
   Elimination out;
   for (;;) {
     // Markowitz: (row count - 1) (column count - 1) among the live entries, numbers first.
@@ -18,14 +37,13 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
     long best_score = 0;
     for (std::size_t i = 0; i < n_rows; ++i) {
       if (row_done[i]) continue;
-      long row_count = 0;
-      for (std::size_t j = 0; j < n_vars; ++j) row_count += !var_done[j] && !rows[i].c[j].is_zero();
-      for (std::size_t j = 0; j < n_vars; ++j) {
+      const long row_count = static_cast<long>(cols_of[i].size());
+      for (std::size_t j : cols_of[i]) {
         const GiNaC::ex& p = rows[i].c[j];
-        if (var_done[j] || p.is_zero() || !is_state_free(p, model) || !(std::abs(probe.eval(p)) > 1e-12)) continue;
-        long col_count = 0;
-        for (std::size_t k = 0; k < n_rows; ++k) col_count += !row_done[k] && !rows[k].c[j].is_zero();
-        const long score = (row_count - 1) * (col_count - 1) * 2 + (GiNaC::is_a<GiNaC::numeric>(p) ? 0 : 1);
+        signed char& ok = usable[i][j];
+        if (ok < 0) ok = is_state_free(p, model) && std::abs(probe.eval(p)) > 1e-12;
+        if (!ok) continue;
+        const long score = (row_count - 1) * (col_count[j] - 1) * 2 + (GiNaC::is_a<GiNaC::numeric>(p) ? 0 : 1);
         if (best_i == n_rows || score < best_score) {
           best_i = i;
           best_j = j;
@@ -35,18 +53,22 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
     }
     if (best_i == n_rows) break;
     const LinearRow pivot_row = rows[best_i];
+    const std::vector<std::size_t> pivot_cols = cols_of[best_i];
     const GiNaC::ex& p = pivot_row.c[best_j];
+    row_done[best_i] = true;
+    for (std::size_t j : cols_of[best_i]) --col_count[j];
+    cols_of[best_i].clear();
+    var_done[best_j] = true;
     for (std::size_t k = 0; k < n_rows; ++k) {
       LinearRow& row = rows[k];
       if (k == best_i || row_done[k] || row.c[best_j].is_zero()) continue;
       const GiNaC::ex f = row.c[best_j] / p;
-      for (std::size_t l = 0; l < n_vars; ++l)
-        if (!var_done[l] && l != best_j && !pivot_row.c[l].is_zero()) row.c[l] = model::expand_if_small(row.c[l] - f * pivot_row.c[l]);
+      for (std::size_t l : pivot_cols)
+        if (l != best_j) row.c[l] = model::expand_if_small(row.c[l] - f * pivot_row.c[l]);
       row.c[best_j] = 0;
       row.rest = row.rest - f * pivot_row.rest;
+      scan_row(k);
     }
-    row_done[best_i] = true;
-    var_done[best_j] = true;
     out.pivots.push_back({static_cast<int>(best_j), pivot_row});
   }
   for (std::size_t i = 0; i < n_rows; ++i)

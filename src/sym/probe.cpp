@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <unordered_set>
 
 namespace mbsc::sym {
 
@@ -41,6 +42,10 @@ void Probe::bind_parameters(const model::Model& model, const std::map<std::strin
 }
 
 double Probe::eval(const GiNaC::ex& e) const {
+  if (GiNaC::is_a<GiNaC::numeric>(e)) {  // most entries of big matrices: 0
+    const auto& n = GiNaC::ex_to<GiNaC::numeric>(e);
+    if (n.is_zero()) return 0.0;
+  }
   try {
     // Only the symbols e holds (model::subs_present): linear in the model's size.
     GiNaC::ex v = GiNaC::evalf(model::subs_present(e, values_));
@@ -54,27 +59,50 @@ double Probe::eval(const GiNaC::ex& e) const {
 }
 
 namespace {
-bool has_any(const GiNaC::ex& e, const std::vector<model::Variable>& vars) {
-  for (const auto& v : vars)
-    if (e.has(v.sym)) return true;
-  return false;
+
+/// The parameters' and formals' symbols of one model, for membership tests in O(1).
+/// Rebuilt only when the model differs from the last one asked about (its time symbol,
+/// created fresh with every model, and a fingerprint of its parameters and formals):
+/// is_state_free is called once per matrix entry, and an index per call would make
+/// that quadratic in the model's size.
+struct ExHash {
+  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
+};
+
+struct ConstantSymbols {
+  GiNaC::ex time;
+  std::size_t fingerprint = 0;
+  std::unordered_set<GiNaC::ex, ExHash, GiNaC::ex_is_equal> symbols;
+};
+
+std::size_t fingerprint_of(const model::Model& model) {
+  std::size_t h = model.params.size() * 1000003u + model.formals.size();
+  for (const auto& p : model.params) h = h * 31u + p.sym.gethash();
+  for (const auto& [name, f] : model.formals) h = h * 31u + f.sym.gethash();
+  return h;
 }
+
+const ConstantSymbols& constant_symbols(const model::Model& model) {
+  thread_local ConstantSymbols cache;
+  const std::size_t fp = fingerprint_of(model);
+  if (cache.fingerprint == fp && cache.time.is_equal(model.time)) return cache;
+  cache.time = model.time;
+  cache.fingerprint = fp;
+  cache.symbols.clear();
+  for (const auto& p : model.params) cache.symbols.insert(p.sym);
+  for (const auto& [name, f] : model.formals) cache.symbols.insert(f.sym);
+  return cache;
+}
+
 }  // namespace
 
 bool is_state_free(const GiNaC::ex& e, const model::Model& model) {
-  if (e.has(model.time) || has_any(e, model.coords) || has_any(e, model.speeds) || has_any(e, model.inputs)) return false;
-  for (const auto& s : model.speed_dots)
-    if (e.has(s)) return false;
-  // Any other symbol must be a parameter or a formal.
-  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-    const std::string& name = GiNaC::ex_to<GiNaC::symbol>(*it).get_name();
-    bool known = false;
-    const auto f = model.formals.find(name);
-    known = f != model.formals.end() && it->is_equal(f->second.sym);
-    for (std::size_t i = 0; !known && i < model.params.size(); ++i) known = it->is_equal(model.params[i].sym);
-    if (!known) return false;
-  }
+  if (GiNaC::is_a<GiNaC::numeric>(e)) return true;
+  // One traversal: every symbol must be a parameter or a formal (t, coordinates, speeds,
+  // their derivatives, inputs and opaque symbols are none of these).
+  const auto& known = constant_symbols(model).symbols;
+  for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it)
+    if (GiNaC::is_a<GiNaC::symbol>(*it) && !known.count(*it)) return false;
   return true;
 }
 

@@ -55,6 +55,7 @@ GiNaC::ex pythagoras(const GiNaC::ex& e) {
 }
 
 GiNaC::ex tidy(const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;  // nothing to tidy
   // GiNaC's common-factor collection is superlinear in the size of a sum: large
   // expressions are left to the back end's CSE.
   if (!small(e, 400)) return e;

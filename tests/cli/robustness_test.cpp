@@ -357,8 +357,9 @@ TEST_CASE("--name must make a usable C++ namespace, and rescues a model name tha
 TEST_CASE("the symbolic-work budget stops a model that is too big, naming what it was doing", "[cli][robust][budget]") {
   const fs::path out = fresh_dir("budget");
   const std::string chain = quote(std::string(MBSC_SOURCE_DIR) + "/models/parallelogram_chain.mbs");
-  // N = 150 windows takes minutes; one second of budget ends it within the grace period.
-  auto r = run(kMbsc + " generate " + chain + " --freeze N=150 --budget 1 --quiet -o " + quote(out.string()));
+  // N = 1000 windows takes minutes (N = 150 did before the front end became near-linear,
+  // tests/cli/front_end_scale_test.cpp); one second of budget ends it within the grace period.
+  auto r = run(kMbsc + " generate " + chain + " --freeze N=1000 --budget 1 --quiet -o " + quote(out.string()));
   INFO(r.output);
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("parallelogram_chain.mbs:") != std::string::npos);
@@ -366,7 +367,7 @@ TEST_CASE("the symbolic-work budget stops a model that is too big, naming what i
   CHECK(r.output.find("--budget SECONDS") != std::string::npos);
   CHECK(fs::is_empty(out));
   // --progress shows the stage and the count of elements.
-  r = run(kMbsc + " check " + chain + " --freeze N=150 --budget 2.5 --progress");
+  r = run(kMbsc + " check " + chain + " --freeze N=1000 --budget 2.5 --progress");
   INFO(r.output);
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("mbsc: ") != std::string::npos);
@@ -375,12 +376,12 @@ TEST_CASE("the symbolic-work budget stops a model that is too big, naming what i
   CHECK(std::regex_search(r.output, std::regex(R"(mbsc: +[0-9.]+ s [a-z][a-z '-]* \[[#.]+\] [0-9]+/[0-9]+)")));
   // On a terminal (script(1) gives the command one) the line is redrawn in place, and
   // cleared before the error is printed.
-  r = run("script -qec \"" + kMbsc + " check " + chain + " --freeze N=150 --budget 2.5\" /dev/null");
+  r = run("script -qec \"" + kMbsc + " check " + chain + " --freeze N=1000 --budget 2.5\" /dev/null");
   INFO(r.output);
   CHECK(r.output.find("\r\x1b[K" "mbsc: ") != std::string::npos);
   CHECK(r.output.find("\r\x1b[K" + std::string(MBSC_SOURCE_DIR) + "/models/parallelogram_chain.mbs") != std::string::npos);
   // --quiet wins over --progress; nothing on a pipe by default.
-  r = run(kMbsc + " check " + chain + " --freeze N=150 --budget 1.5 --progress --quiet");
+  r = run(kMbsc + " check " + chain + " --freeze N=1000 --budget 1.5 --progress --quiet");
   CHECK(r.output.find("mbsc: ") == std::string::npos);
   fs::remove_all(out);
 }

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The derivatives of one expression by many symbols in one pass, for expressions that
+/// are sums of terms linear in them (the dependent rates of a chain: q1dot_k is a sum of
+/// a_kj q1dot_j over every joint j before it). Differentiating such a sum by each of its
+/// n symbols costs n traversals of n terms; here each term is visited once. Each result
+/// is the expression e.diff(symbol) would give (terms of another shape fall back to it).
+#include <ginac/ginac.h>
+
+#include <vector>
+
+namespace mbsc::sym {
+
+std::vector<GiNaC::ex> linear_gradient(const GiNaC::ex& e, const std::vector<GiNaC::symbol>& by);
+
+}  // namespace mbsc::sym
