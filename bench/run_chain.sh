@@ -105,7 +105,7 @@ mkdir -p "$WORK" "$RES"
   echo "mbsc: $($MBSC --version 2>&1 | head -1), sources hash $(find src include templates cmake CMakeLists.txt -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16) (sha256 of the sha256s of src/ include/ templates/ cmake/ CMakeLists.txt when built; others may edit them)"
   echo "sympy: $($PY -c 'import sympy; print(sympy.__version__)') (python $($PY -c 'import platform; print(platform.python_version())'))"
   if [ -n "$SDFAST" ]; then
-    echo "sdfast: $(git -C "$SDFAST_SRC" log -1 --format='commit %H (%cs)' 2>/dev/null || echo 'not a git checkout'), run as: sdfast -n -g dl (Order(N) formulation, C)"
+    echo "sdfast: $(git -C "$SDFAST_SRC" log -1 --format='commit %H (%cs)' 2>/dev/null || echo 'not a git checkout'), run as: sdfast -n -l c -g dl (Order(N) formulation, C)"
     echo "gcc: $(gcc --version | head -1), flags $CFLAGS_SDFAST -c (SD/FAST's generated C and its sdlib.c)"
   fi
   echo "valgrind: $(valgrind --version 2>/dev/null || echo none) (callgrind, instructions of 100 rhs calls after 100 warm-up calls)"
