@@ -9,7 +9,8 @@
 # when
 #   rhs instructions per call grow faster than N^RHS_MAX   (default 1.1), or
 #   generation CPU time grows faster than N^GEN_MAX        (default 1.3).
-# Not a ctest entry: minutes at N = 128 (the compile of today's dense rhs most of it).
+# Not a ctest entry: about 40 minutes on 2 cores today, nearly all of it g++ on the
+# N = 128 file of the dense rhs (the O(N) rhs is meant to bring that under a minute).
 #
 #   bash bench/check_scaling.sh                          (from the repository root)
 #   MBSC_GEN_FLAGS="--solver sparse" bash bench/check_scaling.sh

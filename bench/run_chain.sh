@@ -6,7 +6,7 @@
 # single entry point:
 #
 #   SDFAST_SRC=/path/to/sdfast bash bench/run_chain.sh   (from the repository root;
-#   ~30 min on 2 cores with NS="2 4 8 16 32 64 128", the mbsc compile at N = 128 most of it)
+#   ~55 min on 2 loaded cores with NS="2 4 8 16 32 64 128", g++ on mbsc's N = 128 file most of it)
 #
 # Environment: NS="2 4 8" to run other sizes; STATE=minimal (default: mbsc's state is
 # (angles, rates) like sympy's) or STATE=full (all 6N coordinates and speeds); SYMPY_TIMEOUT (default 300 s);
