@@ -1,20 +1,31 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Benchmark driver for the planar N-link pendulum chain: mbsc's generated rhs against
 // sympy's generated mass matrix and forcing (KanesMethod) + the Cholesky solve and the
-// finiteness status check mbsc emits.
+// finiteness status check mbsc emits, and against SD/FAST's generated code
+// (sdstate + sdderiv, in joint coordinates) + the same status check.
 //
 // Built per N by bench/run_chain.sh:
 //   g++ -std=c++17 -O2 -march=x86-64 -DCHAIN_N=8 -DMBSC_HEADER='"chain8.hpp"' -I GEN/chain8
-//       bench/chain_driver.cpp chain8.o sympy_chain8.o      (add -DNO_SYMPY without sympy's code)
+//       bench/chain_driver.cpp chain8.o sympy_chain8.o [sdfast_chain8_dyn.o sdlib.o]
+//   (add -DNO_SYMPY without sympy's code, -DWITH_SDFAST with SD/FAST's)
 //
-// It prints key=value lines:
+// `driver` prints key=value lines:
 //   states, max_rel_diff       agreement of the angle accelerations at 100 random consistent
 //                              states: per state max_k |a_k - b_k| / max_k |b_k| (a = mbsc,
 //                              b = sympy), the largest over the states
-//   mbsc_ns, sympy_ns          ns per rhs call, median of 5 repeats of a loop that takes
-//                              >= 0.5 s (the two tools' repeats alternate); also
+//   sdfast_rel_diff            the same with b = SD/FAST's accelerations (its joint
+//                              accelerations summed along the chain into absolute ones)
+//   mbsc_ref_diff,             the same with a = the tool's accelerations and b = the
+//   sympy_ref_diff,            closed-form reference below (Lagrange's equations of the
+//   sdfast_ref_diff            chain, solved in long double)
+//   mbsc_ns, sympy_ns,         ns per rhs call, median of 5 repeats of a loop that takes
+//   sdfast_ns                  >= 0.5 s (the tools' repeats alternate); also
 //                              *_ns_min, *_ns_max, *_calls
-// Both rhs are called through the same kind of function pointer, cycling over the same
+// `driver count TOOL` (TOOL = mbsc, sympy or sdfast) calls that tool's rhs once at each
+// state (warm-up: lazy symbol binding, first-call set-up), then once more at each state
+// through count_calls(), the function bench/run_chain.sh gives to callgrind's
+// --toggle-collect: instructions per rhs call = callgrind's total / the printed calls.
+// All rhs are called through the same kind of function pointer, cycling over the same
 // 100 states (in each tool's layout), from object files compiled with the same flags.
 #include <algorithm>
 #include <chrono>
@@ -45,6 +56,19 @@ constexpr bool kMinimal = gen::kNx == 2 * N;
 
 #ifndef NO_SYMPY
 extern "C" void SYMPY_MASS_FORCING(const double* q, const double* u, const double* p, double* M, double* F);
+#endif
+
+#ifdef WITH_SDFAST
+// SD/FAST's generated C (prefix sd): parameters, set-up, state, derivatives, errors.
+extern "C" {
+void sdmass(int body, double massin);
+void sdbtj(int joint, double btjin[3]);
+void sdgrav(double gravin[3]);
+void sdinit(void);
+void sdstate(double timein, double qin[], double uin[]);
+void sdderiv(double oqdot[], double oudot[]);
+void sderror(int* routine, int* errnum);
+}
 #endif
 
 namespace {
@@ -113,6 +137,20 @@ void mbsc_state(const Layout& L, const double* th, const double* w, double* x) {
 
 int rhs_mbsc(const double* x, double* xdot) { return gen::rhs(0.0, x, nullptr, g_pm, xdot); }
 
+#if !defined(NO_SYMPY) || defined(WITH_SDFAST)
+// The status check mbsc's generated functions end with (status 2 instead of a silent
+// inf or NaN), copied so that every rhs meets the same contract.
+bool all_finite(const double* v, int n) {
+  bool special = false;
+  for (int i = 0; i < n; ++i) {
+    std::uint64_t bits;
+    std::memcpy(&bits, v + i, sizeof bits);
+    special |= (~bits & 0x7ff0000000000000u) == 0;
+  }
+  return !special;
+}
+#endif
+
 #ifndef NO_SYMPY
 // Solve A x = b in place for the symmetric positive definite mass matrix: the same
 // Cholesky algorithm mbsc emits for its reduced mass matrix (so both tools pay for the
@@ -146,18 +184,6 @@ int chol_solve(double* A, double* b) {
   return 0;
 }
 
-// The status check mbsc's generated functions end with (status 2 instead of a silent
-// inf or NaN), copied so that both rhs meet the same contract.
-bool all_finite(const double* v, int n) {
-  bool special = false;
-  for (int i = 0; i < n; ++i) {
-    std::uint64_t bits;
-    std::memcpy(&bits, v + i, sizeof bits);
-    special |= (~bits & 0x7ff0000000000000u) == 0;
-  }
-  return !special;
-}
-
 // sympy's rhs: x = (q, u), xdot = (u, M^-1 F), with mbsc's solver and status check.
 int rhs_sympy(const double* x, double* xdot) {
   double M[N * N];
@@ -169,7 +195,100 @@ int rhs_sympy(const double* x, double* xdot) {
 }
 #endif
 
+#ifdef WITH_SDFAST
+// SD/FAST's rhs in its own state: x = (q, u) joint angles and rates, xdot = (qdot, udot).
+// sdstate skips its kinematics when t and q equal the previous call's; consecutive
+// calls here always differ in q. Status 1 when SD/FAST flagged an error.
+int rhs_sdfast(const double* x, double* xdot) {
+  sdstate(0.0, const_cast<double*>(x), const_cast<double*>(x + N));
+  sdderiv(xdot, xdot + N);
+  int routine = 0, err = 0;
+  sderror(&routine, &err);
+  if (err != 0) return 1;
+  return all_finite(xdot, 2 * N) ? 0 : 2;
+}
+
+// Joint coordinates of the absolute angles th and rates w: q_k = th_k - th_(k-1).
+void sdfast_state(const double* th, const double* w, double* x) {
+  for (int k = 0; k < N; ++k) {
+    x[k] = th[k] - (k > 0 ? th[k - 1] : 0.0);
+    x[N + k] = w[k] - (k > 0 ? w[k - 1] : 0.0);
+  }
+}
+
+void sdfast_setup() {
+  for (int k = 0; k < N; ++k) {
+    sdmass(k, g_ps[0]);
+    double btj[3] = {0.0, g_ps[1], 0.0};
+    sdbtj(k, btj);
+  }
+  double grav[3] = {0.0, -g_ps[2], 0.0};
+  sdgrav(grav);
+  sdinit();
+  int routine = 0, err = 0;
+  sderror(&routine, &err);
+  if (err != 0) die("SD/FAST set-up failed: routine " + std::to_string(routine) + ", error " + std::to_string(err));
+}
+#endif
+
+// The reference: the chain's equations of motion in closed form (Lagrange, absolute
+// angles th, rates w, 0-based k; c_ij = N - max(i, j) bobs hang below both rods i, j):
+//   sum_j c_ij cos(th_i - th_j) th_j'' = -sum_j c_ij sin(th_i - th_j) w_j^2 - (g/l) c_ii sin th_i
+// (m l^2 divided out), solved by Gaussian elimination with partial pivoting, all in
+// long double: a formulation independent of the three tools.
+void reference_accel(const double* th, const double* w, double* thdd) {
+  const long double gl = static_cast<long double>(g_ps[2]) / static_cast<long double>(g_ps[1]);
+  std::vector<long double> A(static_cast<std::size_t>(N * N)), b(N);
+  for (int i = 0; i < N; ++i) {
+    long double r = -gl * static_cast<long double>(N - i) * std::sin(static_cast<long double>(th[i]));
+    for (int j = 0; j < N; ++j) {
+      const long double c = static_cast<long double>(N - std::max(i, j));
+      const long double d = static_cast<long double>(th[i]) - static_cast<long double>(th[j]);
+      A[static_cast<std::size_t>(i * N + j)] = c * std::cos(d);
+      r -= c * std::sin(d) * static_cast<long double>(w[j]) * static_cast<long double>(w[j]);
+    }
+    b[static_cast<std::size_t>(i)] = r;
+  }
+  auto a = [&](int i, int j) -> long double& { return A[static_cast<std::size_t>(i * N + j)]; };
+  for (int k = 0; k < N; ++k) {
+    int piv = k;
+    for (int i = k + 1; i < N; ++i)
+      if (std::fabs(a(i, k)) > std::fabs(a(piv, k))) piv = i;
+    if (piv != k) {
+      for (int j = 0; j < N; ++j) std::swap(a(k, j), a(piv, j));
+      std::swap(b[static_cast<std::size_t>(k)], b[static_cast<std::size_t>(piv)]);
+    }
+    for (int i = k + 1; i < N; ++i) {
+      const long double f = a(i, k) / a(k, k);
+      for (int j = k; j < N; ++j) a(i, j) -= f * a(k, j);
+      b[static_cast<std::size_t>(i)] -= f * b[static_cast<std::size_t>(k)];
+    }
+  }
+  for (int i = N - 1; i >= 0; --i) {
+    long double r = b[static_cast<std::size_t>(i)];
+    for (int j = i + 1; j < N; ++j) r -= a(i, j) * static_cast<long double>(thdd[j]);
+    thdd[i] = static_cast<double>(r / a(i, i));
+  }
+}
+
+// max_k |a_k - b_k| / max_k |b_k|
+double rel_diff(const double* a, const double* b) {
+  double num = 0.0, den = 0.0;
+  for (int k = 0; k < N; ++k) {
+    num = std::max(num, std::fabs(a[k] - b[k]));
+    den = std::max(den, std::fabs(b[k]));
+  }
+  return num / den;
+}
+
 using Rhs = int (*)(const double*, double*);
+
+// The one function callgrind counts (--toggle-collect): a real call, not a tail jump.
+__attribute__((noinline, optimize("no-optimize-sibling-calls"))) int count_calls(Rhs f, const double* x, double* out) {
+  const int rc = f(x, out);
+  asm volatile("" ::: "memory");
+  return rc;
+}
 
 // ns per call over `calls` calls cycling through the states; the checksum keeps the
 // calls alive.
@@ -226,7 +345,7 @@ void report(Timed& b) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const Layout L = layout();
   for (int i = 0; i < gen::kNp; ++i) g_pm[i] = gen::kParamDefaults[i];
   g_ps[0] = g_pm[param_index("m")];
@@ -237,11 +356,13 @@ int main() {
   std::mt19937_64 rng(20240607u + N);
   std::uniform_real_distribution<double> ang(-M_PI, M_PI), rate(-2.0, 2.0);
   constexpr int kStates = 100;
-  std::vector<std::vector<double>> xm, xsym;
+  std::vector<std::vector<double>> xm, xsym, xsd, ths, ws;
   for (int s = 0; s < kStates; ++s) {
     double th[N], w[N];
     for (int k = 0; k < N; ++k) th[k] = ang(rng);
     for (int k = 0; k < N; ++k) w[k] = rate(rng);
+    ths.emplace_back(th, th + N);
+    ws.emplace_back(w, w + N);
     std::vector<double> x(static_cast<std::size_t>(gen::kNx));
     mbsc_state(L, th, w, x.data());
     xm.push_back(x);
@@ -251,27 +372,84 @@ int main() {
       y[static_cast<std::size_t>(N + k)] = w[k];
     }
     xsym.push_back(y);
+#ifdef WITH_SDFAST
+    std::vector<double> z(2 * N);
+    sdfast_state(th, w, z.data());
+    xsd.push_back(z);
+#endif
   }
+#ifdef WITH_SDFAST
+  sdfast_setup();
+#endif
+
+  if (argc == 3 && std::string(argv[1]) == "count") {
+    const std::string tool = argv[2];
+    Rhs f = nullptr;
+    const std::vector<std::vector<double>>* xs = nullptr;
+    int nout = 0;
+    if (tool == "mbsc") f = rhs_mbsc, xs = &xm, nout = gen::kNx;
+#ifndef NO_SYMPY
+    if (tool == "sympy") f = rhs_sympy, xs = &xsym, nout = 2 * N;
+#endif
+#ifdef WITH_SDFAST
+    if (tool == "sdfast") f = rhs_sdfast, xs = &xsd, nout = 2 * N;
+#endif
+    if (f == nullptr) die("count: no tool " + tool + " in this build");
+    std::vector<double> out(static_cast<std::size_t>(nout));
+    for (const auto& x : *xs)
+      if (f(x.data(), out.data()) != 0) die("count: " + tool + " rhs failed (warm-up)");
+    for (const auto& x : *xs)
+      if (count_calls(f, x.data(), out.data()) != 0) die("count: " + tool + " rhs failed");
+    std::printf("count_tool=%s\ncount_calls=%zu\n", tool.c_str(), xs->size());
+    return 0;
+  }
+  if (argc != 1) die("usage: driver [count mbsc|sympy|sdfast]");
 
   std::printf("n=%d\nstates=%d\n", N, kStates);
   double sink = 0.0;
-#ifndef NO_SYMPY
-  double worst = 0.0;
+  // Absolute angle accelerations of each tool at each state, then the comparisons.
+  std::vector<std::vector<double>> ref(kStates, std::vector<double>(N)), am = ref, as = ref, asd = ref;
   for (int s = 0; s < kStates; ++s) {
+    const auto si = static_cast<std::size_t>(s);
+    reference_accel(ths[si].data(), ws[si].data(), ref[si].data());
     std::vector<double> a(static_cast<std::size_t>(gen::kNx)), b(2 * N);
-    if (rhs_mbsc(xm[static_cast<std::size_t>(s)].data(), a.data()) != 0) die("mbsc rhs failed");
-    if (rhs_sympy(xsym[static_cast<std::size_t>(s)].data(), b.data()) != 0) die("sympy rhs failed");
-    double num = 0.0, den = 0.0;
+    if (rhs_mbsc(xm[si].data(), a.data()) != 0) die("mbsc rhs failed");
     for (int k = 0; k < N; ++k) {
-      const double am = a[static_cast<std::size_t>(L.w[k])], bs = b[static_cast<std::size_t>(N + k)];
-      num = std::max(num, std::fabs(am - bs));
-      den = std::max(den, std::fabs(bs));
-      // the angle rates must be the speeds in both
-      if (a[static_cast<std::size_t>(L.th[k])] != b[static_cast<std::size_t>(k)]) die("angle rates differ");
+      am[si][static_cast<std::size_t>(k)] = a[static_cast<std::size_t>(L.w[k])];
+      if (a[static_cast<std::size_t>(L.th[k])] != ws[si][static_cast<std::size_t>(k)]) die("mbsc angle rates differ");
     }
-    worst = std::max(worst, num / den);
+#ifndef NO_SYMPY
+    if (rhs_sympy(xsym[si].data(), b.data()) != 0) die("sympy rhs failed");
+    for (int k = 0; k < N; ++k) {
+      as[si][static_cast<std::size_t>(k)] = b[static_cast<std::size_t>(N + k)];
+      if (b[static_cast<std::size_t>(k)] != ws[si][static_cast<std::size_t>(k)]) die("sympy angle rates differ");
+    }
+#endif
+#ifdef WITH_SDFAST
+    if (rhs_sdfast(xsd[si].data(), b.data()) != 0) die("SD/FAST rhs failed");
+    double thdd = 0.0;
+    for (int k = 0; k < N; ++k) {
+      thdd += b[static_cast<std::size_t>(N + k)];  // absolute acceleration = sum of the joint ones
+      asd[si][static_cast<std::size_t>(k)] = thdd;
+      // the joint angle rates must be the joint speeds
+      if (b[static_cast<std::size_t>(k)] != xsd[si][static_cast<std::size_t>(N + k)]) die("SD/FAST angle rates differ");
+    }
+#endif
   }
-  std::printf("max_rel_diff=%.3e\n", worst);
+  auto worst = [&](const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
+    double w = 0.0;
+    for (int s = 0; s < kStates; ++s)
+      w = std::max(w, rel_diff(a[static_cast<std::size_t>(s)].data(), b[static_cast<std::size_t>(s)].data()));
+    return w;
+  };
+  std::printf("mbsc_ref_diff=%.3e\n", worst(am, ref));
+#ifndef NO_SYMPY
+  std::printf("max_rel_diff=%.3e\n", worst(am, as));
+  std::printf("sympy_ref_diff=%.3e\n", worst(as, ref));
+#endif
+#ifdef WITH_SDFAST
+  std::printf("sdfast_rel_diff=%.3e\n", worst(asd, am));
+  std::printf("sdfast_ref_diff=%.3e\n", worst(asd, ref));
 #endif
   std::fflush(stdout);
   // The tools' repeats alternate (mbsc, sympy, mbsc, ...) so that a load change on the
@@ -280,6 +458,9 @@ int main() {
   runs.push_back(Timed{"mbsc", rhs_mbsc, &xm, gen::kNx, 1, {}});
 #ifndef NO_SYMPY
   runs.push_back(Timed{"sympy", rhs_sympy, &xsym, 2 * N, 1, {}});
+#endif
+#ifdef WITH_SDFAST
+  runs.push_back(Timed{"sdfast", rhs_sdfast, &xsd, 2 * N, 1, {}});
 #endif
   for (Timed& b : runs) calibrate(b, sink);
   for (int r = 0; r < 5; ++r)
