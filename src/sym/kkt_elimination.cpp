@@ -75,10 +75,15 @@ class Eliminator {
       why = "the inertia of " + asymmetric_ + " is not symmetric";
       return std::nullopt;
     }
-    out.forest = is_forest();
-    report_pivots_ = !out.forest;
+    const bool acyclic = is_forest();
+    original_.resize(groups_.size());
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      for (const auto& [h, b] : off_[g]) original_[g].push_back(h);
+    joined_.assign(groups_.size(), -1);
+    for (std::size_t g = 0; g < groups_.size(); ++g) joined_[g] = static_cast<int>(g);
     const int G = static_cast<int>(groups_.size());
     key_.assign(static_cast<std::size_t>(G), {-1, 0, 0});
+    eliminated_.assign(static_cast<std::size_t>(G), 0);
     for (int g = 0; g < G; ++g) refresh(g);
     std::vector<Eliminated> order;
     order.reserve(static_cast<std::size_t>(G));
@@ -91,6 +96,11 @@ class Eliminator {
       order.push_back(eliminate(p, out));
     }
     back_substitute(order);
+    // A tree's joints are each reached from one side; a pivot that joins two parts
+    // eliminated apart closes a loop (or links two free bodies: counted too, safely).
+    out.forest = acyclic && !joins_;
+    for (auto& step : steps_)
+      if (auto* solve = std::get_if<ir::Solve>(&step)) solve->reported = !out.forest;
     out.steps = std::move(steps_);
     return out;
   }
@@ -208,11 +218,10 @@ class Eliminator {
     b.v[b.at(i, j)] = probe_.eval(e);
   }
 
-  // No closed loop: the block graph is a forest (union-find: no edge inside a component),
-  // and each tree is tied to the ground (or fixed in space) by at most one constraint
-  // block. A block whose rows touch a single speed block is such a tie (a ground joint, a
-  // rod to a fixed point, a blade on the ground): two of them in one tree close a loop
-  // through the ground (a four-bar's crank and rocker pivots), invisible in the graph.
+  // The block graph has no cycle (union-find: no edge inside a component). Loops that
+  // close through the ground (two ground pivots, or rows tying a body to a fixed point
+  // through an angle coordinate) are not cycles of this graph: the elimination finds them
+  // (a constraint pivot that joins parts eliminated apart, `joins_`).
   bool is_forest() {
     const int G = static_cast<int>(groups_.size());
     std::vector<int> parent(static_cast<std::size_t>(G));
@@ -224,11 +233,6 @@ class Eliminator {
         if (a == z) return false;
         parent[static_cast<std::size_t>(a)] = z;
       }
-    std::map<int, int> ties;
-    for (int g = 0; g < G; ++g)
-      if (!groups_[static_cast<std::size_t>(g)].speed && off_[static_cast<std::size_t>(g)].size() == 1 &&
-          ++ties[find(parent, g)] > 1)
-        return false;
     return true;
   }
 
@@ -272,7 +276,7 @@ class Eliminator {
     auto& k = key_[static_cast<std::size_t>(g)];
     if (std::get<0>(k) >= 0) ready_.erase(k);
     std::get<0>(k) = -1;
-    if (eliminated_.count(g) || !definite(g)) return;
+    if (eliminated_[static_cast<std::size_t>(g)] || !definite(g)) return;
     k = {cost(g), size(g), g};
     ready_.insert(k);
   }
@@ -290,7 +294,7 @@ class Eliminator {
 
   std::string stuck_message() const {
     for (std::size_t g = 0; g < groups_.size(); ++g)
-      if (!eliminated_.count(static_cast<int>(g)))
+      if (!eliminated_[g])
         return fmt::format("no definite pivot left (first remaining block: {} {})",
                            groups_[g].speed ? "speeds" : "constraints", name_of(static_cast<int>(g)));
     return "no definite pivot left";
@@ -307,6 +311,17 @@ class Eliminator {
     const double sign = speed ? 1.0 : -1.0;
     Eliminated rec;
     rec.p = p;
+    // The parts already eliminated that p touches in the original graph: a constraint
+    // block that meets two of them closes a loop; p then joins them into one.
+    {
+      std::vector<int> parts;
+      for (int h : original_[static_cast<std::size_t>(p)])
+        if (eliminated_[static_cast<std::size_t>(h)]) parts.push_back(find(joined_, h));
+      std::sort(parts.begin(), parts.end());
+      parts.erase(std::unique(parts.begin(), parts.end()), parts.end());
+      if (!speed && parts.size() > 1) joins_ = true;
+      for (int part : parts) joined_[static_cast<std::size_t>(part)] = p;
+    }
     for (const auto& [h, b] : off_[static_cast<std::size_t>(p)]) rec.neighbours.push_back(h);
     ++out.blocks;
     out.largest = std::max(out.largest, s);
@@ -364,7 +379,7 @@ class Eliminator {
         solve.label = label;
         solve.n = 1;
         solve.spd = true;
-        solve.reported = report_pivots_;
+        solve.reported = false;
         solve.A = {sign * P.e[P.at(i, i)]};
         const double pv = P.v[P.at(i, i)];
         for (const auto& c : cols) {
@@ -383,7 +398,7 @@ class Eliminator {
       solve.n = s;
       solve.k = static_cast<int>(cols.size());
       solve.spd = true;
-      solve.reported = report_pivots_;
+      solve.reported = false;
       Eigen::MatrixXd Pv(s, s), Bv(s, std::max<int>(1, solve.k));
       Bv.setZero();
       for (int i = 0; i < s; ++i)
@@ -463,7 +478,7 @@ class Eliminator {
       }
     }
     // p leaves the graph; its neighbours' pivots and degrees changed.
-    eliminated_.insert(p);
+    eliminated_[static_cast<std::size_t>(p)] = 1;
     const auto& ready_key = key_[static_cast<std::size_t>(p)];
     if (std::get<0>(ready_key) >= 0) ready_.erase(ready_key);
     std::get<0>(key_[static_cast<std::size_t>(p)]) = -1;
@@ -507,12 +522,14 @@ class Eliminator {
   std::vector<Block> diag_;
   std::vector<std::map<int, Block>> off_;
   std::vector<std::vector<GiNaC::ex>> rhs_;
-  std::set<int> eliminated_;
+  std::vector<char> eliminated_;            // per group
+  std::vector<std::vector<int>> original_;  // per group: its neighbours before any elimination
+  std::vector<int> joined_;                 // union-find over eliminated groups (parts eliminated together)
+  bool joins_ = false;                      // a constraint pivot joined two such parts
   std::vector<std::tuple<long, int, int>> key_;
   std::set<std::tuple<long, int, int>> ready_;
   std::vector<ir::Step> steps_;
   long counter_ = 0;
-  bool report_pivots_ = false;  // `conditioning` watches the pivots unless the graph is a forest
   std::string asymmetric_;      // a speed whose My row is not its column (a custom leaf's force)
 };
 

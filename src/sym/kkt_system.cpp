@@ -61,7 +61,7 @@ KktSystem kkt_system(const model::Model& m) {
       const GiNaC::ex e = -f.diff(m.speed_dots[static_cast<std::size_t>(j)]);
       if (!e.is_zero()) out.My[i].push_back({j, e});
     }
-    out.hy[i] = f.subs(no_rates);
+    out.hy[i] = f.subs(no_rates, GiNaC::subs_options::no_pattern);
   }
   out.A.resize(nc);
   out.velocity.resize(nc);
@@ -76,7 +76,7 @@ KktSystem kkt_system(const model::Model& m) {
       const GiNaC::ex e = order1.diff(m.speeds[static_cast<std::size_t>(j)].sym);
       if (!e.is_zero()) out.A[r].push_back({j, e});
     }
-    out.b[r] = sparse_time_derivative(m, coord_index, speed_index, order1).subs(no_rates);
+    out.b[r] = sparse_time_derivative(m, coord_index, speed_index, order1).subs(no_rates, GiNaC::subs_options::no_pattern);
     out.g[r] = position ? c.residual : GiNaC::ex(0);
   }
   return out;

@@ -6,13 +6,13 @@
 ///   [ -A   0   ] [ lambda ] = [ -c ]      (A q1' = c at order 2)
 ///
 /// solved by block Gaussian elimination in an order fixed at generation time, emitted
-/// as straight-line steps: small dense pivot solves and named Schur-complement updates.
+/// as straight-line steps: small dense pivot solves and Schur-complement updates.
 /// Unknowns are grouped into blocks (a leaf's speeds and the speeds its inertia couples;
 /// the constraint rows that touch the same speed blocks) and a block is eliminated when
 /// its current pivot is definite at the probe point (speeds: positive, constraints:
 /// negative), cheapest first (fewest scalar neighbours). For a tree of bodies this is the
 /// articulated-body order of the literature (Baraff 1996, "Linear-time dynamics using
-/// Lagrange multipliers"): leaves first, no fill-in, O(N) operations, every pivot an
+/// Lagrange multipliers"): leaves first, bounded fill, O(N) operations, every pivot an
 /// articulated inertia or its constraint's counterpart. Closed loops add fill where the
 /// loops are (docs/formulation.md, "O(N) right-hand side").
 #include <functional>
@@ -31,10 +31,10 @@ struct KktElimination {
   /// Pivot solves and definitions; after them every m.speed_dots[j] and lambda[r] is
   /// defined (named Defines).
   std::vector<ir::Step> steps;
-  /// No closed loop: the block graph is a forest and no tree is tied to the ground twice
-  /// (a tree of bodies). Then every pivot is an articulated inertia or a joint's
-  /// counterpart, regular wherever the joint itself is; in a loop an intermediate pivot
-  /// can vanish where the loop's open chain folds (a toggle of that chain).
+  /// No closed loop: the block graph is a forest and no constraint pivot joined two parts
+  /// eliminated apart (a tree of bodies). Then every pivot is an articulated inertia or a
+  /// joint's counterpart, regular wherever the joint itself is; in a loop such a pivot
+  /// can vanish where the loop's open parts fold. Pivots are `reported` unless forest.
   bool forest = false;
   int blocks = 0;       // pivot blocks eliminated
   int largest = 0;      // size of the largest pivot block
