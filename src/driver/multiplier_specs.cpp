@@ -12,7 +12,8 @@ namespace mbsc::driver {
 
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                                const BaumgarteGains& gains, Diagnostics& diags) {
-  const sym::MultiplierForm form = sym::multiplier_form(m);
+  const sym::KktSystem sys = sym::kkt_system(m);  // the dense matrices and the sparse solve share it
+  const sym::MultiplierForm form = sym::multiplier_form(m, sys);
   const unsigned nu = form.My.rows(), nc = form.A.rows();
   auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
   std::vector<GiNaC::symbol> lambda;
@@ -56,7 +57,9 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       const GiNaC::ex e = fin(form.My(i, j));
       diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) && at_defaults.eval(e) != 0.0 : e.is_zero();
     }
-  auto dense_steps = [&]() {
+  std::optional<std::vector<ir::Step>> dense_built;  // built once: auto may count it, then keep it
+  auto dense_steps = [&]() -> std::vector<ir::Step> {
+    if (dense_built) return *dense_built;
     std::vector<ir::Step> steps;
     if (diagonal && nc > 0) {
       ir::Solve s;
@@ -87,6 +90,7 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     } else {
       steps.push_back(kkt());
     }
+    dense_built = steps;
     return steps;
   };
   std::vector<ir::Step> steps;  // every function below starts with them
@@ -97,7 +101,6 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
   // The sparse elimination of the same system in a tree order (O(N), docs/formulation.md).
   std::optional<sym::KktElimination> sparse;
   if (opt.solver != Solver::Dense && nu > 0) {
-    const sym::KktSystem sys = sym::kkt_system(m);
     std::vector<GiNaC::ex> c;
     for (unsigned r = 0; r < nc; ++r)
       c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));

@@ -382,7 +382,9 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       for (const auto& s : m.speed_dots) outputs.push_back(s);
     }
     // The reduced equations M z' = h solved by Cholesky (dense, the modular method's own form).
-    auto dense = [&]() {
+    std::optional<ir::FunctionSpec> dense_built;  // built once: auto may count it, then keep it
+    auto dense = [&]() -> ir::FunctionSpec {
+      if (dense_built) return *dense_built;
       ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(solve_steps(m, eom)), outputs};
       ir::Solve final_solve;
       final_solve.label = "reduced mass matrix M z' = h";
@@ -400,6 +402,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
       if (nd > 0) f.steps.push_back(final_solve);
       if (!minimal)
         for (const auto& d : eom.top_down) f.steps.push_back(ir::Define{d.sym, fin(d.value)});
+      dense_built = f;
       return f;
     };
     // Or the same accelerations from the system over all speeds, A q1' = -b, eliminated

@@ -12,6 +12,7 @@
 #include <ginac/ginac.h>
 
 #include "mbsc/model/model.hpp"
+#include "mbsc/sym/kkt_system.hpp"
 
 namespace mbsc::sym {
 
@@ -25,5 +26,7 @@ struct MultiplierForm {
 };
 
 MultiplierForm multiplier_form(const model::Model& m);
+/// The same from an already built sparse system (its entries spread into the matrices).
+MultiplierForm multiplier_form(const model::Model& m, const KktSystem& sys);
 
 }  // namespace mbsc::sym
