@@ -366,7 +366,7 @@ std::vector<std::vector<GiNaC::ex>> display_rows(const model::Model& m, const sy
 PrintedEquations equations_of(const model::Model& m, const sym::Eom& eom, int n, bool expand, const Intermediates& inter) {
   const auto& r = eom.nodes[n];
   PrintedEquations p;
-  p.M = display_rows(m, eom, r.M, expand, inter);
+  p.M = display_rows(m, eom, n == m.root() ? eom.M.get() : r.M, expand, inter);  // the root's is formed on demand
   p.h = display_rows(m, eom, r.h, expand, inter);
   std::vector<std::vector<GiNaC::ex>> both = p.M;
   both.insert(both.end(), p.h.begin(), p.h.end());
@@ -489,7 +489,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       // f = -My y' + hy over y; fbar = -M z' + h over the independent speeds.
       const bool full = w == "f";
       const auto& vars = full ? r.y : r.independent;
-      const GiNaC::matrix& Mx = full ? r.My : r.M;
+      const GiNaC::matrix& Mx = full ? r.My : (n == m.root() ? eom.M.get() : r.M);
       const GiNaC::matrix& hx = full ? r.hy : r.h;
       std::vector<std::vector<GiNaC::ex>> v;
       for (size_t i = 0; i < vars.size(); ++i) {

@@ -7,6 +7,8 @@
 #include "mbsc/model/expr_convert.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <map>
 #include <algorithm>
 #include <set>
 #include <utility>
@@ -98,7 +100,7 @@ class Deriver {
     GiNaC::exmap sub;
     for (int t : r.y)
       if (!avail.count(t) && e.has(m_.speed_dots[t])) sub[m_.speed_dots[t]] = express(t, avail, memo);
-    if (!sub.empty()) e = e.subs(sub);
+    if (!sub.empty()) e = e.subs(sub, GiNaC::subs_options::no_pattern);
     memo[s] = e;
     return e;
   }
@@ -125,7 +127,7 @@ class Deriver {
       for (int s : node.speeds) zero_own[m_.speed_dots[s]] = 0;
       for (int i = 0; i < no; ++i) {
         for (int j = 0; j < no; ++j) r.My(i, j) = -f_own[i].diff(m_.speed_dots[node.speeds[j]]);
-        r.hy(i, 0) = f_own[i].subs(zero_own);
+        r.hy(i, 0) = f_own[i].subs(zero_own, GiNaC::subs_options::no_pattern);
       }
       int off = no;
       for (int c : node.children) {
@@ -169,7 +171,7 @@ class Deriver {
         }
         if (!avail.count(static_cast<int>(j))) sub[m_.speed_dots[j]] = express(static_cast<int>(j), avail, memo);
       }
-      rows.push_back(sub.empty() ? g : g.subs(sub));
+      rows.push_back(sub.empty() ? g : g.subs(sub, GiNaC::subs_options::no_pattern));
       r.rows.push_back(ci);
     }
     const int nr = static_cast<int>(rows.size());
@@ -194,7 +196,7 @@ class Deriver {
       for (int j = 0; j < ny; ++j)
         r.C(static_cast<int>(std::find(r.y.begin(), r.y.end(), r.independent[j]) - r.y.begin()), j) = 1;
       r.e = GiNaC::matrix(ny, 1);
-      reduce_forces(r);
+      reduce_forces(r, n != m_.root());
       return true;
     }
     // B = d rows / d y, b = rows at y = 0.
@@ -205,7 +207,7 @@ class Deriver {
     for (int i = 0; i < nr; ++i) {
       const SymbolSet in_row(rows[i]);
       for (int j = 0; j < ny; ++j) r.B(i, j) = in_row.diff(rows[i], m_.speed_dots[r.y[j]]);
-      r.b(i, 0) = rows[i].subs(zero);
+      r.b(i, 0) = rows[i].subs(zero, GiNaC::subs_options::no_pattern);
     }
     ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
     auto choice = choose_partition(in, diags_);
@@ -243,7 +245,7 @@ class Deriver {
       // stays linear in size instead of repeating ever longer sums.
       GiNaC::exmap earlier;
       for (const auto& [s, local] : r.rate_steps) {
-        const GiNaC::ex value = local.subs(zero_indep).subs(earlier);
+        const GiNaC::ex value = local.subs(zero_indep, GiNaC::subs_options::no_pattern).subs(earlier, GiNaC::subs_options::no_pattern);
         if (GiNaC::is_a<GiNaC::numeric>(value)) {  // 0 for a rate without velocity products
           earlier[m_.speed_dots[s]] = value;
           r.e(col[s], 0) = value;
@@ -257,9 +259,9 @@ class Deriver {
       }
       for (const auto& d : r.named_defines) eom_.pre_steps.push_back(d);
     } else {
-      for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep);
+      for (int s : r.dependent) r.e(col[s], 0) = sol[s].subs(zero_indep, GiNaC::subs_options::no_pattern);
     }
-    reduce_forces(r);
+    reduce_forces(r, n != m_.root());
     // A subsystem's reduced M and h enter its parent as blocks: tidy them here, while
     // they are small, so sin^2 + cos^2 and common factors do not reach the root unmerged.
     if (n != m_.root()) {
@@ -278,39 +280,59 @@ class Deriver {
   ///   M = C^T My C,  h = C^T (hy - My e),  fbar = -M z' + h.
   /// Only products with nonzero factors are formed; M is symmetric by construction.
   /// Triangular nodes form h by the transposed rate steps instead (see transpose_steps).
-  void reduce_forces(NodeResult& r) {
+  /// The root leaves M to assemble_root, which defers it (DeferredMatrix).
+  void reduce_forces(NodeResult& r, bool form_M = true) {
     const unsigned ny = r.C.rows(), nd = r.C.cols();
-    // M = C^T My C and h = C^T (hy - My e) over the nonzeros only: My and C are mostly
-    // zero (block diagonal, one or a few entries per row), and the dense triple loops
-    // were cubic in the number of speeds. Every entry still sums its terms in the same
-    // order as the dense product (ascending inner index), so the expressions are the same.
+    if (form_M) r.M = reduced_mass(r.C, r.My);
+    // rest = hy - My e, over My's nonzeros.
+    GiNaC::matrix rest(ny, 1);
+    for (unsigned i = 0; i < ny; ++i) {
+      GiNaC::ex acc_rest = r.hy(i, 0);
+      for (unsigned k = 0; k < ny; ++k)
+        if (!r.e(k, 0).is_zero() && !r.My(i, k).is_zero()) acc_rest -= r.My(i, k) * r.e(k, 0);
+      rest(i, 0) = acc_rest;
+    }
+    r.h = GiNaC::matrix(nd, 1);
+    if (!r.rate_steps.empty()) {
+      transpose_steps(r, rest);
+      return;
+    }
+    for (unsigned a = 0; a < nd; ++a) {
+      GiNaC::ex acc = 0;
+      for (unsigned i = 0; i < ny; ++i)
+        if (!r.C(i, a).is_zero() && !rest(i, 0).is_zero()) acc += r.C(i, a) * rest(i, 0);
+      r.h(a, 0) = acc;
+    }
+  }
+
+  /// M = C^T My C over the nonzeros only: My and C are mostly zero (block diagonal, one
+  /// or a few entries per row), and the dense triple loops were cubic in the number of
+  /// speeds. Every entry still sums its terms in the same order as the dense product
+  /// (ascending inner index), so the expressions are the same.
+  static GiNaC::matrix reduced_mass(const GiNaC::matrix& C, const GiNaC::matrix& My) {
+    const unsigned ny = C.rows(), nd = C.cols();
     using Sparse = std::vector<std::vector<std::pair<unsigned, GiNaC::ex>>>;
     Sparse my_rows(ny), c_rows(ny), c_cols(nd);
     for (unsigned i = 0; i < ny; ++i) {
       for (unsigned k = 0; k < ny; ++k)
-        if (!r.My(i, k).is_zero()) my_rows[i].emplace_back(k, r.My(i, k));
+        if (!My(i, k).is_zero()) my_rows[i].emplace_back(k, My(i, k));
       for (unsigned j = 0; j < nd; ++j)
-        if (!r.C(i, j).is_zero()) {
-          c_rows[i].emplace_back(j, r.C(i, j));
-          c_cols[j].emplace_back(i, r.C(i, j));
+        if (!C(i, j).is_zero()) {
+          c_rows[i].emplace_back(j, C(i, j));
+          c_cols[j].emplace_back(i, C(i, j));
         }
     }
-    // Row i of My C, and rest = hy - My e.
+    // Row i of My C.
     Sparse myc_rows(ny);
-    GiNaC::matrix rest(ny, 1);
     std::vector<GiNaC::ex> row_acc(nd);
     std::vector<unsigned> touched;
     for (unsigned i = 0; i < ny; ++i) {
-      GiNaC::ex acc_rest = r.hy(i, 0);
       touched.clear();
-      for (const auto& [k, myik] : my_rows[i]) {
+      for (const auto& [k, myik] : my_rows[i])
         for (const auto& [j, ckj] : c_rows[k]) {
           if (row_acc[j].is_zero()) touched.push_back(j);
           row_acc[j] += myik * ckj;
         }
-        if (!r.e(k, 0).is_zero()) acc_rest -= myik * r.e(k, 0);
-      }
-      rest(i, 0) = acc_rest;
       std::sort(touched.begin(), touched.end());
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
       for (unsigned j : touched) {
@@ -318,8 +340,7 @@ class Deriver {
         row_acc[j] = 0;
       }
     }
-    r.M = GiNaC::matrix(nd, nd);
-    r.h = GiNaC::matrix(nd, 1);
+    GiNaC::matrix M(nd, nd);
     std::vector<GiNaC::ex> m_acc(nd);
     for (unsigned a = 0; a < nd; ++a) {
       touched.clear();
@@ -332,21 +353,50 @@ class Deriver {
       std::sort(touched.begin(), touched.end());
       touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
       for (unsigned b : touched) {
-        r.M(a, b) = m_acc[b];
-        r.M(b, a) = m_acc[b];
+        M(a, b) = m_acc[b];
+        M(b, a) = m_acc[b];
         m_acc[b] = 0;
       }
     }
+    return M;
+  }
+
+  /// M = C^T My C at the probe point in floating point: the positive-definiteness check
+  /// without the symbolic M. Triangular nodes get C's rows by running their rate steps
+  /// numerically (each dependent rate is a few earlier ones times coefficients), so a
+  /// chain needs evaluations linear in its size.
+  Eigen::MatrixXd numeric_reduced_mass(const NodeResult& r) {
+    const int ny = static_cast<int>(r.C.rows()), nd = static_cast<int>(r.C.cols());
+    std::map<int, int> col;  // speed -> row of y
+    for (int j = 0; j < ny; ++j) col[r.y[static_cast<std::size_t>(j)]] = j;
+    using Row = Eigen::SparseVector<double>;
+    std::vector<Row> c(static_cast<std::size_t>(ny), Row(nd));
     if (!r.rate_steps.empty()) {
-      transpose_steps(r, rest);
-      return;
+      for (int a = 0; a < nd; ++a) c[static_cast<std::size_t>(col[r.independent[static_cast<std::size_t>(a)]])].insert(a) = 1.0;
+      for (const auto& [s, local] : r.rate_steps) {
+        const SymbolSet in_local(local);
+        Row acc(nd);
+        for (int j : r.y) {
+          if (j == s) continue;
+          const GiNaC::ex a = in_local.diff(local, m_.speed_dots[j]);
+          if (!a.is_zero()) acc += probe_.eval(a) * c[static_cast<std::size_t>(col[j])];
+        }
+        c[static_cast<std::size_t>(col[s])] = acc;
+      }
+    } else {
+      for (int i = 0; i < ny; ++i)
+        for (int j = 0; j < nd; ++j)
+          if (!r.C(i, j).is_zero()) c[static_cast<std::size_t>(i)].insert(j) = probe_.eval(r.C(i, j));
     }
-    for (unsigned a = 0; a < nd; ++a) {
-      GiNaC::ex acc = 0;
-      for (const auto& [i, cia] : c_cols[a])
-        if (!rest(i, 0).is_zero()) acc += cia * rest(i, 0);
-      r.h(a, 0) = acc;
-    }
+    Eigen::MatrixXd Mn = Eigen::MatrixXd::Zero(nd, nd);
+    for (int i = 0; i < ny; ++i)
+      for (int k = 0; k < ny; ++k) {
+        if (r.My(i, k).is_zero()) continue;
+        const double myik = probe_.eval(r.My(i, k));
+        for (Row::InnerIterator a(c[static_cast<std::size_t>(i)]); a; ++a)
+          for (Row::InnerIterator b(c[static_cast<std::size_t>(k)]); b; ++b) Mn(a.index(), b.index()) += a.value() * myik * b.value();
+      }
+    return Mn;
   }
 
   /// h = C^T v by running the rate steps backwards (the transpose of the forward
@@ -370,9 +420,10 @@ class Deriver {
         probe_.bind(R, probe_.eval(vs));
         vs = R;
       }
+      const SymbolSet in_local(local);  // a step reads a few rates: diff only by those
       for (int j : r.y) {
         if (j == s) continue;
-        const GiNaC::ex a = local.diff(m_.speed_dots[j]);
+        const GiNaC::ex a = in_local.diff(local, m_.speed_dots[j]);
         if (!a.is_zero()) adjoint[j] += a * vs;
       }
     }
@@ -622,7 +673,7 @@ class Deriver {
           const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
           for (int j : block.vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
           for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));
-          solve.B.push_back(row.rest.subs(zero_indep));
+          solve.B.push_back(row.rest.subs(zero_indep, GiNaC::subs_options::no_pattern));
         }
         for (int k = 0; k < nb; ++k, ++index) {
           GiNaC::ex acc = 0;
@@ -692,7 +743,7 @@ class Deriver {
     const NodeResult& root = eom_.nodes[m_.root()];
     eom_.independent = root.independent;
     const int nd = static_cast<int>(root.independent.size());
-    eom_.M = root.M;
+    eom_.M = DeferredMatrix([C = root.C, My = root.My] { return reduced_mass(C, My); });
     eom_.h = root.h;
     // Dependent rates, root to leaves (reverse post-order); the massless check below
     // follows them.
@@ -706,10 +757,7 @@ class Deriver {
     }
     // Sanity: M must be symmetric positive definite at the probe point.
     if (nd > 0) {
-      Eigen::MatrixXd Mn = Eigen::MatrixXd::Zero(nd, nd);
-      for (int i = 0; i < nd; ++i)
-        for (int j = 0; j < nd; ++j)
-          if (!eom_.M(i, j).is_zero()) Mn(i, j) = probe_.eval(eom_.M(i, j));
+      const Eigen::MatrixXd Mn = numeric_reduced_mass(root);
       eom_.mass_matrix_spd = Mn.allFinite() && positive_definite_by_blocks(Mn);
       // Massless bodies are allowed while M stays positive definite; when they leave it
       // singular, the error is theirs (at their mass or inertia).

@@ -3,16 +3,22 @@
 
 #include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 
 #include <fmt/format.h>
 
 #include <functional>
 #include <map>
 #include <set>
+#include <unordered_map>
 
 namespace mbsc::sym {
 
 namespace {
+
+struct SymbolHash {
+  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
+};
 
 class MinimalStateBuilder {
  public:
@@ -52,7 +58,28 @@ class MinimalStateBuilder {
       return false;
     };
     std::map<int, GiNaC::ex> direct;  // coordinate -> value as solved (may read eliminated ones)
-    GiNaC::exmap full;                // coordinate symbol -> value in kept coordinates only
+    // Eliminated coordinate -> the coordinates not (yet) eliminated that its value reads,
+    // through the eliminated ones it reads: a new value may not read its own coordinate
+    // that way (circular). Sets, not substituted values: substituting every earlier value
+    // was cubic in a chain's length.
+    std::map<int, std::set<int>> reads;
+    auto coordinate_of = [&](const GiNaC::ex& sym) {
+      const auto it = coord_index_.find(sym);
+      return it == coord_index_.end() ? -1 : it->second;
+    };
+    for (std::size_t q = 0; q < nq; ++q) coord_index_[m_.coords[q].sym] = static_cast<int>(q);
+    auto reads_of = [&](const GiNaC::ex& value) {
+      std::set<int> out;
+      for (GiNaC::const_preorder_iterator it = value.preorder_begin(); it != value.preorder_end(); ++it) {
+        if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+        const int x = coordinate_of(*it);
+        if (x < 0) continue;
+        const auto r = reads.find(x);
+        if (r == reads.end()) out.insert(x);
+        else out.insert(r->second.begin(), r->second.end());
+      }
+      return out;
+    };
     // Sweep 0: the rows written for one coordinate (a joint with a coordinate places its
     // second body), so a tree of such joints keeps exactly the joint coordinates whatever
     // the order of its rows and of the other rows that read its bodies (a loop closure).
@@ -65,26 +92,29 @@ class MinimalStateBuilder {
         if (sweep == 0 && c.explicit_coordinate < 0) continue;
         int pick = -1;
         GiNaC::ex pick_value;
+        std::set<int> pick_reads;
+        const SymbolSet in_residual(c.residual);
         for (int pass = sweep == 0 ? -1 : 0; pass < (sweep == 0 ? 0 : 2) && pick < 0; ++pass) {
           for (std::size_t q = 0; q < nq && pick < 0; ++q) {
             const GiNaC::symbol& sym = m_.coords[q].sym;
-            if (direct.count(static_cast<int>(q)) || !c.residual.has(sym)) continue;
+            if (direct.count(static_cast<int>(q)) || !in_residual.contains(sym)) continue;
             if (pass == -1 && static_cast<int>(q) != c.explicit_coordinate) continue;
             if (pass <= 0 && !rate_is_dependent(q)) continue;
             const GiNaC::ex a = c.residual.diff(sym);
             if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
             const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
-            if (value.subs(full).has(sym)) continue;  // would be circular
+            std::set<int> value_reads = reads_of(value);
+            if (value_reads.count(static_cast<int>(q))) continue;  // would be circular
             pick = static_cast<int>(q);
             pick_value = value;
+            pick_reads = std::move(value_reads);
           }
         }
         if (pick < 0) continue;
         used[ci] = true;
-        const GiNaC::symbol& sym = m_.coords[static_cast<std::size_t>(pick)].sym;
-        const GiNaC::ex value_full = pick_value.subs(full);
-        for (auto& [k, v] : full) v = v.subs(sym == value_full);
-        full[sym] = value_full;
+        for (auto& [k, set] : reads)
+          if (set.erase(pick)) set.insert(pick_reads.begin(), pick_reads.end());
+        reads[pick] = std::move(pick_reads);
         direct[pick] = pick_value;
       }
     // Evaluation order: each after the eliminated coordinates it reads (depth first).
@@ -92,8 +122,9 @@ class MinimalStateBuilder {
     std::function<void(int)> visit = [&](int q) {
       if (done.count(q)) return;
       done.insert(q);
+      const SymbolSet in_value(direct.at(q));
       for (const auto& entry : direct)
-        if (direct.at(q).has(m_.coords[static_cast<std::size_t>(entry.first)].sym)) visit(entry.first);
+        if (in_value.contains(m_.coords[static_cast<std::size_t>(entry.first)].sym)) visit(entry.first);
       out.coords.push_back(ir::Define{m_.coords[static_cast<std::size_t>(q)].sym, direct.at(q), true});
       out.eliminated_coords.push_back(q);
     };
@@ -118,7 +149,7 @@ class MinimalStateBuilder {
     for (int t : r.y)
       if (!avail.count(t) && e.has(m_.speeds[static_cast<std::size_t>(t)].sym))
         sub[m_.speeds[static_cast<std::size_t>(t)].sym] = express(t, avail, memo);
-    if (!sub.empty()) e = e.subs(sub);
+    if (!sub.empty()) e = e.subs(sub, GiNaC::subs_options::no_pattern);
     memo[s] = e;
     return e;
   }
@@ -138,10 +169,11 @@ class MinimalStateBuilder {
       for (int ci : r.rows) {
         GiNaC::ex g = order1_[static_cast<std::size_t>(ci)];
         GiNaC::exmap sub;
+        const SymbolSet in_g(g);
         for (std::size_t j = 0; j < m_.speeds.size(); ++j)
-          if (eliminated_at_[j] >= 0 && !avail.count(static_cast<int>(j)) && g.has(m_.speeds[j].sym))
+          if (eliminated_at_[j] >= 0 && !avail.count(static_cast<int>(j)) && in_g.contains(m_.speeds[j].sym))
             sub[m_.speeds[j].sym] = express(static_cast<int>(j), avail, memo);
-        rows.push_back(sub.empty() ? g : g.subs(sub));
+        rows.push_back(sub.empty() ? g : g.subs(sub, GiNaC::subs_options::no_pattern));
       }
     } catch (const NestedNumeric& e) {
       diags_.error(m_.nodes[static_cast<std::size_t>(n)].pos,
@@ -151,11 +183,15 @@ class MinimalStateBuilder {
       return false;
     }
     // Only rows affine in the dependent speeds can be solved for them (not a `nonlinear` block).
-    for (std::size_t i = 0; i < rows.size(); ++i)
+    // (Symbol sets: a row reads a few speeds, and has() per pair was cubic in a chain.)
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const SymbolSet in_row(rows[i]);
       for (int s : r.dependent) {
+        if (!in_row.contains(m_.speeds[static_cast<std::size_t>(s)].sym)) continue;
         const GiNaC::ex slope = rows[i].diff(m_.speeds[static_cast<std::size_t>(s)].sym);
+        const SymbolSet in_slope(slope);
         bool affine = true;
-        for (int t : r.dependent) affine = affine && !slope.has(m_.speeds[static_cast<std::size_t>(t)].sym);
+        for (int t : r.dependent) affine = affine && !in_slope.contains(m_.speeds[static_cast<std::size_t>(t)].sym);
         if (affine) continue;
         const auto& c = m_.constraints[static_cast<std::size_t>(r.rows[i])];
         diags_.error(c.pos, fmt::format("--state minimal: constraint '{}' is not linear in the speed '{}', so that "
@@ -163,6 +199,7 @@ class MinimalStateBuilder {
                                         c.name, m_.speeds[static_cast<std::size_t>(s)].name));
         return false;
       }
+    }
     if (!r.symbolic_complement) {
       // The state-free pivots symbolically (as for the rates), then X = the core's
       // speeds: A X = -(rows at X = 0), A = d rows / d X; the pivots' speeds follow.
@@ -172,7 +209,7 @@ class MinimalStateBuilder {
       for (const auto& g : rows) {
         LinearRow row;
         for (int s : r.dependent) row.c.push_back(g.diff(m_.speeds[static_cast<std::size_t>(s)].sym));
-        row.rest = g.subs(zero);
+        row.rest = g.subs(zero, GiNaC::subs_options::no_pattern);
         linear.push_back(row);
       }
       const Elimination elim = eliminate_state_free_pivots(std::move(linear), m_, probe_);
@@ -208,7 +245,7 @@ class MinimalStateBuilder {
         const GiNaC::ex& g = rows[static_cast<std::size_t>(r.step_rows[k])];
         const GiNaC::ex value = -g.subs(u == 0) / g.diff(u);
         steps.push_back(ir::Define{u, value, true});
-        const GiNaC::ex in_independent = value.subs(solved);
+        const GiNaC::ex in_independent = value.subs(solved, GiNaC::subs_options::no_pattern);
         relation_[s] = in_independent;
         solved[u] = in_independent;
       }
@@ -242,6 +279,7 @@ class MinimalStateBuilder {
   std::vector<GiNaC::ex> order1_;     // order-1 residual of every constraint, model order
   Probe probe_;                       // decides which pivots are nonzero (parameter defaults)
   std::map<int, GiNaC::ex> relation_;  // dependent speed -> value in its node's y#
+  std::unordered_map<GiNaC::ex, int, SymbolHash, GiNaC::ex_is_equal> coord_index_;  // coordinate symbol -> index
 };
 
 }  // namespace

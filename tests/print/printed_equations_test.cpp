@@ -216,9 +216,10 @@ TEST_CASE("printed M and h of every shipped model evaluate to the pipeline's num
         const exmap ref = reference_values(m, eom, rng);
         const exmap shown = printed_values(m, p, ref);
         const auto& r = eom.nodes[root];
-        for (unsigned i = 0; i < r.M.rows(); ++i) {
-          for (unsigned j = 0; j < r.M.cols(); ++j) {
-            const double want = mbsc_test::eval(mbsc::driver::finalize(m, eom, r.M(i, j)), ref);
+        const GiNaC::matrix& M = eom.M.get();  // the root's M (formed on first use)
+        for (unsigned i = 0; i < M.rows(); ++i) {
+          for (unsigned j = 0; j < M.cols(); ++j) {
+            const double want = mbsc_test::eval(mbsc::driver::finalize(m, eom, M(i, j)), ref);
             check_close(mbsc_test::eval(p.M[i][j], shown), want);
             if (trial == 0) check_close(mbsc_test::eval(read_back(p.M[i][j]), shown), want);
           }

@@ -12,7 +12,9 @@
 /// and their results appear in later expressions as opaque symbols.
 #include <ginac/ginac.h>
 
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,7 +41,7 @@ struct NodeResult {
   GiNaC::matrix C;               // ny x ndof, B*C == 0
   GiNaC::matrix e;               // ny x 1: y' = C z' + e (e is zero on the independent rows)
   GiNaC::matrix My, hy;          // f over y: f = -My y' + hy (My block-diagonal: own block, children's M)
-  GiNaC::matrix M, h;            // fbar = C^T f = -M z' + h over the independent speeds z
+  GiNaC::matrix M, h;            // fbar = C^T f = -M z' + h over the independent speeds z (root: M in Eom::M)
   /// q1dot of each dependent speed in terms of the node's y# (dependent -> expression).
   std::map<int, GiNaC::ex> dependent_rates;
   /// Triangular partitions only: the dependent rates in substitution order, each in terms
@@ -71,13 +73,39 @@ enum class MassAtReference {
   SingularOtherwise,  // singular, but no massless body moves in that motion
 };
 
+/// A matrix formed on first use. The root's reduced mass matrix M = C^T My C is one:
+/// the O(N) rhs never reads it, and for a chain it is dense with entries of O(N) terms
+/// each (cubic work), so a model that asks only for rhs should not pay for it. Copies
+/// share the one result.
+class DeferredMatrix {
+ public:
+  DeferredMatrix() = default;
+  explicit DeferredMatrix(std::function<GiNaC::matrix()> form) : state_(std::make_shared<State>()) {
+    state_->form = std::move(form);
+  }
+  const GiNaC::ex& operator()(unsigned i, unsigned j) const { return get()(i, j); }
+  const GiNaC::matrix& get() const {
+    if (!state_) state_ = std::make_shared<State>();
+    if (!state_->value) state_->value = state_->form ? state_->form() : GiNaC::matrix(0, 0);
+    return *state_->value;
+  }
+  bool formed() const { return state_ && state_->value.has_value(); }
+
+ private:
+  struct State {
+    std::function<GiNaC::matrix()> form;
+    std::optional<GiNaC::matrix> value;
+  };
+  mutable std::shared_ptr<State> state_;
+};
+
 /// Derived equations of a whole model.
 struct Eom {
   const model::Model* model = nullptr;
   Options options;
   std::vector<NodeResult> nodes;   // aligned with model.nodes (post-order)
   std::vector<int> independent;    // root's independent speeds (size ndof)
-  GiNaC::matrix M;                 // ndof x ndof, M(q0, q1, t) with fbar_root = -M z' + h
+  DeferredMatrix M;                // ndof x ndof, M(q0, q1, t) with fbar_root = -M z' + h (formed when read)
   GiNaC::matrix h;                 // ndof x 1
   std::vector<ir::Solve> solves;   // all numeric solves of the tree, leaves to root
   /// Everything h needs before M z' = h, leaves to root and in derivation order: the
