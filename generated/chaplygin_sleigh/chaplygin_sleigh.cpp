@@ -64,6 +64,10 @@ int chol_1x1(int k, const double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[7] = {p[0], p[1], p[2], x[2], x[3], x[4], x[5]};
+    return all_finite(in_, 7);
+  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   // solve A_0 X = B_0 (1x1, 1 column): sparse elimination: speeds sleigh.u, sleigh.v, sleigh.w
@@ -71,38 +75,26 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       p[0]};
   double B_0[1] = {
       s0};
-  if (chol_1x1(1, A_0, B_0) != 0) {
-    const double in_[7] = {p[0], p[1], p[2], x[2], x[3], x[4], x[5]};
-    return all_finite(A_0, 1) && all_finite(in_, 7) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   // solve A_1 X = B_1 (1x1, 1 column): sparse elimination: speeds sleigh.u, sleigh.v, sleigh.w
   double A_1[1] = {
       p[0]};
   double B_1[1] = {
       -c0};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[7] = {p[0], p[1], p[2], x[2], x[3], x[4], x[5]};
-    return all_finite(A_1, 1) && all_finite(in_, 7) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   // solve A_2 X = B_2 (1x1, 1 column): sparse elimination: speeds sleigh.u, sleigh.v, sleigh.w
   double A_2[1] = {
       p[1]};
   double B_2[1] = {
       p[2]};
-  if (chol_1x1(1, A_2, B_2) != 0) {
-    const double in_[7] = {p[0], p[1], p[2], x[2], x[3], x[4], x[5]};
-    return all_finite(A_2, 1) && all_finite(in_, 7) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_2, B_2) != 0) return all_finite(A_2, 1) && inputs_finite_() ? 1 : 2;
   const double ks3 = B_1[0]*c0 - s0*B_0[0] - p[2]*B_2[0];
   // solve A_3 X = B_3 (1x1, 1 column): sparse elimination: constraints runner.lateral
   double A_3[1] = {
       -ks3};
   double B_3[1] = {
       (x[3]*c0 + s0*x[4])*x[5]};
-  if (chol_1x1(1, A_3, B_3) != 0) {
-    const double in_[7] = {p[0], p[1], p[2], x[2], x[3], x[4], x[5]};
-    return all_finite(A_3, 1) && all_finite(in_, 7) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_3, B_3) != 0) return all_finite(A_3, 1) && inputs_finite_() ? 1 : 2;
   const double sleigh_u = -B_3[0]*B_0[0];
   const double sleigh_v = -B_3[0]*B_1[0];
   const double sleigh_w = -B_3[0]*B_2[0];

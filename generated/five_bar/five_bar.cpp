@@ -234,6 +234,10 @@ int chol_solve(double* A, double* B) {
 
 int rhs(double /*t*/, const double* x, const double* u, const double* p, double* OUT) {
   assert(u != nullptr && "u: the model has inputs (kNin > 0)");
+  const auto inputs_finite_ = [&]() {
+    const double in_[47] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14], p[15], p[16], p[17], p[18], u[0], u[1], x[6], x[7], x[14], x[15], x[19], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
+    return all_finite(in_, 47);
+  };
   const double s0 = std::sin(x[6]);
   const double c0 = std::cos(x[6]);
   const double s1 = std::sin(x[7]);
@@ -278,10 +282,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double B_0[6] = {
       t13, p[3]*s3, c2*p[4]*t7 + c3*p[3]*t9 + t14 + t4,
       t15, -c3*p[3], p[3]*s3*t9 + t1 + p[4]*t7*s2 + t16};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
-    const double in_[47] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14], p[15], p[16], p[17], p[18], u[0], u[1], x[6], x[7], x[14], x[15], x[19], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_0, 4) && all_finite(in_, 47) ? 1 : 2;
-  }
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double r_motor_left_w = x[39]*p[11] - p[14]*x[38];
   const double r_motor_right_w = x[41]*p[11] - p[14]*x[40];
   const double t17 = p[2]*p[1]*p[6];
@@ -318,10 +319,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       u[1] - x[41]*p[16] - x[40]*p[12],
       e_linkage_left_upper_u*(0.5*(p[1]*p[5]))*s0 + r_motor_left_w*p[17] + e_linkage_left_lower_u*s0*(p[1]*p[6]) + r_linkage_left_lower_v*c0*p[1] + 0.5*c0*p[1]*r_linkage_left_upper_v - t18*B_0[2]*t19 - 0.16666666666666666*t36*B_0[3] + t24*t37 - p[9]*x[21] - 0.16666666666666666*t38*B_0[0] - t39*t20*p[10],
       p[17]*r_motor_right_w + e_linkage_left_upper_u_i5*(0.5*(p[7]*p[3]))*s3 + 0.5*c3*p[3]*r_linkage_left_upper_v_i5 + c3*r_linkage_left_lower_v_i5*p[3] - 0.16666666666666666*t36*B_0[4] - p[9]*x[29] - t30*(0.5*t31)*B_0[5] + e_linkage_left_lower_u_i5*(p[8]*p[3])*s3 - B_0[1]*c1*p[2]*t37 - 0.16666666666666666*B_0[1]*t38 - t28*t39*B_0[1]*s1};
-  if (chol_solve<4, 1>(A_1, B_1) != 0) {
-    const double in_[47] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14], p[15], p[16], p[17], p[18], u[0], u[1], x[6], x[7], x[14], x[15], x[19], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_1, 16) && all_finite(in_, 47) ? 1 : 2;
-  }
+  if (chol_solve<4, 1>(A_1, B_1) != 0) return all_finite(A_1, 16) && inputs_finite_() ? 1 : 2;
   const double motor_right_w = p[17]*B_1[3];
   const double motor_left_w = p[17]*B_1[2];
   const double t40 = B_0[0]*B_1[2];
@@ -927,6 +925,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[20] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[10], p[13], p[15], p[17], x[6], x[7], x[14], x[15], x[25], x[26], x[33], x[34]};
+    return all_finite(in_, 20);
+  };
   const double s0 = std::sin(x[7]);
   const double c0 = std::cos(x[7]);
   const double s1 = std::sin(x[15]);
@@ -954,10 +956,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t4, t5, c1*p[4]*t6 + c3*p[3]*t7 - c0*t8*p[2] - c2*t9*p[1],
       t10, t11, p[3]*s3*t7 - t9*p[1]*s2 + p[4]*t6*s1 - t8*p[2]*s0};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
-    const double in_[20] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[10], p[13], p[15], p[17], x[6], x[7], x[14], x[15], x[25], x[26], x[33], x[34]};
-    return all_finite(A_0, 4) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'linkage': dependent block B*, core left by 3 state-free pivots
   double A_1[4] = {
       t0, t1,

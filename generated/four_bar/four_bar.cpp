@@ -202,6 +202,10 @@ int lu_solve_2x2(int k, const double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[20] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], p[8], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
+    return all_finite(in_, 20);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -223,10 +227,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[4] = {
       -s2*p[0], t1 + t2*p[2]*c1 + t4,
       p[0]*c2, t5 + t6 + t7};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[20] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], p[8], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t8 = 2.0*p[0]*c2 - c0*p[1]*B_0[0];
   const double t9 = p[0]*p[0]*p[5];
   const double t10 = 0.25*t9;
@@ -241,10 +242,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       0.25*p[6]*t8*t8 + 0.08333333333333333*t9 + t10*s2*s2 + t12*t13 + 0.25*t14*t14*p[6] + t10*c2*c2 + t15*s1*s1*t13 + B_0[0]*B_0[0]*t16 + t15*t13*c1*c1};
   double B_1[1] = {
       -0.25*t8*(2.0*(p[4]*p[6]) + (-(2.0*s2*t0*p[0] - t5 + c0*p[1]*B_0[1])*p[6])) - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] - t2*p[2]*c1) + p[8] - B_0[3]*t12*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t7)*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - s2*t0*t10*c2 - 0.25*t14*(p[1]*B_0[1]*s0 + t4 - 2.0*t0*p[0]*c2)*p[6] - 0.25*(2.0*(p[4]*p[5]) - s2*t0*(p[0]*p[5]))*p[0]*c2 - t16*B_0[1]*B_0[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[20] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], p[8], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_1, 1) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_u = -0.5*(s2*B_1[0] + t0*c2)*p[0];
   const double crank_v = 0.5*(B_1[0]*c2 - s2*t0)*p[0];
   const double coupler_w = -B_1[0]*B_0[0] - B_0[1];
@@ -594,6 +592,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(in_, 12);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -616,10 +618,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       t4, t6*p[2]*c1 - t5*p[0]*c2 - t7*c0*p[1],
       t8, t6*s1*p[2] - t7*p[1]*s0 - s2*t5*p[0]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,

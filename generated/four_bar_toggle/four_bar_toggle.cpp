@@ -206,6 +206,10 @@ int lu_solve_2x2(int k, const double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
+    return all_finite(in_, 19);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -223,10 +227,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[4] = {
       s2*p[0], t0*c0*p[1] + t1*p[0]*c2 + t3,
       -p[0]*c2, s2*t1*p[0] + t0*p[1]*s0 - t2*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t4 = 2.0*p[0]*c2 - c0*p[1]*B_0[0];
   const double t5 = p[0]*p[0]*p[5];
   const double t6 = 0.25*t5;
@@ -241,10 +242,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       0.25*p[6]*t4*t4 + 0.08333333333333333*t5 + t6*s2*s2 + t8*t9 + 0.25*t10*t10*p[6] + t6*c2*c2 + t11*s1*s1*t9 + B_0[0]*B_0[0]*t12 + t11*t9*c1*c1};
   double B_1[1] = {
       -0.25*t4*(2.0*(p[4]*p[6]) + (-(2.0*s2*t1*p[0] + t0*p[1]*s0 + c0*p[1]*B_0[1])*p[6])) - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] + t3) - B_0[3]*t8*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t2*s1*p[2])*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - s2*t1*t6*c2 - -0.25*t10*(t0*c0*p[1] - p[1]*B_0[1]*s0 + 2.0*t1*p[0]*c2)*p[6] - 0.25*(2.0*(p[4]*p[5]) - s2*t1*(p[0]*p[5]))*p[0]*c2 - t12*B_0[1]*B_0[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_1, 1) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_u = -0.5*(s2*B_1[0] + t1*c2)*p[0];
   const double crank_v = 0.5*(B_1[0]*c2 - s2*t1)*p[0];
   const double coupler_w = -B_1[0]*B_0[0] - B_0[1];
@@ -592,6 +590,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(in_, 12);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -614,10 +616,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       t4, t5*c0*p[1] + t6*p[0]*c2 - t7*p[2]*c1,
       t8, s2*t6*p[0] + t5*p[1]*s0 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
@@ -646,6 +645,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
 }
 
 int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
+    return all_finite(in_, 19);
+  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -666,10 +669,7 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
   double B_0[4] = {
       -s2*p[2], t1 + t2*p[0]*c0 + t4,
       p[2]*c2, s0*t2*p[0] + t5 + t6};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t7 = -2.0*s2*p[2] - B_0[2]*p[1]*s1;
   const double t8 = B_0[0]*B_0[0];
   const double t9 = p[0]*p[0]*p[5];
@@ -684,10 +684,7 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
       0.25*t7*t7*p[6] + t8*t10*c0*c0 + t12*c2*c2 + t8*t10*s0*s0 + 0.08333333333333333*t11 + t13*t8 + 0.25*p[6]*t14*t14 + t12*s2*s2 + t15*B_0[2]*B_0[2]};
   double B_1[1] = {
       -0.25*(2.0*(p[4]*p[6]) + p[6]*(t5 - 2.0*t3*s2*p[2] + B_0[3]*c1*p[1]))*t14 - -0.25*t7*(B_0[3]*p[1]*s1 - t1 + 2.0*t3*p[2]*c2)*p[6] - t13*B_0[1]*B_0[0] - t12*t3*s2*c2 - -0.25*p[0]*c0*(-(s0*t2*p[0] + p[0]*c0*B_0[1])*p[5] + 2.0*(p[4]*p[5]))*B_0[0] - (s0*p[0]*B_0[1] - t2*p[0]*c0)*s0*(0.25*(p[0]*p[5]))*B_0[0] - B_0[3]*B_0[2]*t15 + 0.25*(t3*s2*(p[7]*p[2]) - 2.0*(p[7]*p[4]))*p[2]*c2};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_1, 1) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_w = -B_1[0]*B_0[0] - B_0[1];
   const double crank_u = -0.5*(s0*crank_w + t2*c0)*p[0];
   const double crank_v = 0.5*(crank_w*c0 - s0*t2)*p[0];
@@ -719,6 +716,10 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
 }
 
 int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(in_, 12);
+  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -741,10 +742,7 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c1*p[1] + t6*p[0]*c0 - t7*p[2]*c2,
       t8, s0*t6*p[0] + t5*p[1]*s1 - t7*s2*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
@@ -773,6 +771,10 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
 }
 
 int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
+    return all_finite(in_, 19);
+  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[8]);
@@ -792,10 +794,7 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
   double B_0[4] = {
       p[1]*s2, t1 + t2*p[0]*c0 + t4,
       -c2*p[1], s0*t2*p[0] + t5 - t3*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t6 = B_0[0]*B_0[0];
   const double t7 = p[0]*p[0]*p[5];
   const double t8 = 0.25*t7;
@@ -813,10 +812,7 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
       t6*t8*c0*c0 + t6*t8*s0*s0 + t9*t6 + t11*t12 + 0.25*p[6]*t13*t13 + t14*s1*s1*t12 + 0.25*t15*t15*p[6] + 0.08333333333333333*(p[6]*p[1]*p[1]) + t14*t12*c1*c1};
   double B_1[1] = {
       0.25*(t1 + 2.0*t2*p[0]*c0 - 2.0*s0*p[0]*B_0[1])*t13*p[6] - s1*(0.25*(p[7]*p[2]))*B_0[2]*(s1*B_0[3]*p[2] + t4) - 0.25*(2.0*(p[4]*p[6]) - (2.0*p[0]*c0*B_0[1] + 2.0*s0*t2*p[0] + t5)*p[6])*t15 - t9*B_0[1]*B_0[0] - -0.25*p[0]*c0*((t16 - p[0]*c0*B_0[1])*p[5] + 2.0*(p[4]*p[5]))*B_0[0] - B_0[3]*t11*B_0[2] - 0.25*((B_0[3]*p[2]*c1 + t3*s1*p[2])*p[7] - 2.0*(p[7]*p[4]))*B_0[2]*p[2]*c1 - (t17 + s0*p[0]*B_0[1])*s0*(0.25*(p[0]*p[5]))*B_0[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[19] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17]};
-    return all_finite(A_1, 1) && all_finite(in_, 19) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_w = -B_1[0]*B_0[0] - B_0[1];
   const double crank_u = -0.5*(s0*crank_w + t2*c0)*p[0];
   const double crank_v = 0.5*(crank_w*c0 - s0*t2)*p[0];
@@ -848,6 +844,10 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
 }
 
 int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(in_, 12);
+  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[8]);
@@ -870,10 +870,7 @@ int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c2*p[1] + t6*p[0]*c0 - t7*p[2]*c1,
       t8, s0*t6*p[0] + t5*p[1]*s2 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,

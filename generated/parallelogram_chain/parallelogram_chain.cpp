@@ -179,6 +179,10 @@ int chol_1x1(int k, const double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[33] = {p[0], p[1], p[2], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
+    return all_finite(in_, 33);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[14]);
@@ -226,10 +230,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       0.0, t10 + t11 + t12,
       0.0, c4*t13*p[1] + t15 + t16,
       0.0, t13*s4*p[1] + t17 - t14*s5*p[0]};
-  if (lu_solve<6, 2>(A_0, B_0) != 0) {
-    const double in_[33] = {p[0], p[1], p[2], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_0, 36) && all_finite(in_, 33) ? 1 : 2;
-  }
+  if (lu_solve<6, 2>(A_0, B_0) != 0) return all_finite(A_0, 36) && inputs_finite_() ? 1 : 2;
   const double t18 = 0.08333333333333333*(p[4]*p[0]*p[0]);
   const double t19 = p[0]*B_0[6]*s1 - 2.0*s6*p[1];
   const double t20 = 2.0*c6*p[1] - c1*p[0]*B_0[6];
@@ -254,10 +255,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       t18*B_0[10]*B_0[10] + 0.25*p[4]*t19*t19 + 0.25*p[4]*t20*t20 + t22*t23 + 0.25*t24*t24*p[4] + B_0[8]*B_0[8]*t18 + s2*s2*t25*t23 + 0.25*p[4]*t26*t26 + t22 + t25*s6*s6 + s4*s4*t25*t27 + t28*t22 + 0.25*t29*t29*p[4] + t18*B_0[6]*B_0[6] + 0.25*t30*t30*p[4] + t28*c0*c0*t25 + t25*c6*c6 + t27*t22 + t25*t23*c2*c2 + t25*t27*c4*c4 + t28*t25*s0*s0};
   double B_1[1] = {
       0.25*((c1*p[0]*B_0[7] + 2.0*s6*t2*p[1] + t0*p[0]*s1)*p[4] - 2.0*t33)*t20 - (p[1]*B_0[1]*s0 + t6)*t32*s0*B_0[0] - t22*B_0[1]*B_0[0] + 0.25*(2.0*t34 - p[3]*(B_0[3]*c2*p[1] + t11))*B_0[2]*c2*p[1] - 0.25*c4*(t35 - -(t13*s4*p[1] + c4*B_0[5]*p[1])*p[3])*p[1]*B_0[4] - B_0[5]*t22*B_0[4] + (t8 - s2*B_0[3]*p[1])*s2*B_0[2]*t32 - B_0[9]*t18*B_0[8] - B_0[3]*B_0[2]*t22 + 0.25*(t15 - 2.0*c2*p[1]*t7 + 2.0*s2*B_0[3]*p[1] + B_0[11]*s5*p[0])*p[4]*t29 - (B_0[5]*s4*p[1] - c4*t13*p[1])*s4*t32*B_0[4] - 0.25*c0*p[1]*(t35 + (t4 + c0*p[1]*B_0[1])*p[3])*B_0[0] - 0.25*t26*(-(2.0*t1*p[1]*s0 + 2.0*c0*p[1]*B_0[1] + B_0[9]*p[0]*c3 - t12)*p[4] + t36) - 0.25*(t36 - p[4]*(t14*s5*p[0] + B_0[11]*p[0]*c5 + 2.0*B_0[3]*c2*p[1] + 2.0*s2*p[1]*t7))*t24 - B_0[11]*t18*B_0[10] - t18*B_0[6]*B_0[7] - 0.25*p[4]*t30*(2.0*c0*t1*p[1] + p[0]*c3*t9 - B_0[9]*p[0]*s3 - 2.0*p[1]*B_0[1]*s0) + 0.25*(t35 + s6*t2*t31)*c6*p[1] - s6*t2*t25*c6 + 0.25*(2.0*t2*c6*p[1] - p[0]*B_0[7]*s1 + c1*t0*p[0])*p[4]*t19};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[33] = {p[0], p[1], p[2], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_1, 1) && all_finite(in_, 33) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_0_u = -0.5*(s6*B_1[0] + t2*c6)*p[1];
   const double crank_0_v = -0.5*(s6*t2 - B_1[0]*c6)*p[1];
   const double crank_1_w = -B_1[0]*B_0[0] - B_0[1];
@@ -1008,6 +1006,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(in_, 18);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[14]);
@@ -1062,10 +1064,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       0.0, s2*p[1]*t21 - t18*p[1]*s0 - p[0]*s3*t22,
       0.0, c4*t23*p[1] - t24*p[0]*c5 - c2*p[1]*t21,
       0.0, t23*s4*p[1] - s2*p[1]*t21 - t24*s5*p[0]};
-  if (lu_solve<6, 2>(A_0, B_0) != 0) {
-    const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
-    return all_finite(A_0, 36) && all_finite(in_, 18) ? 1 : 2;
-  }
+  if (lu_solve<6, 2>(A_0, B_0) != 0) return all_finite(A_0, 36) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (6x6): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
   double A_1[36] = {
       t0, 0.0, 0.0, t1, 0.0, 0.0,

@@ -219,6 +219,10 @@ int chol_solve(double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[14] = {p[0], p[1], p[2], p[3], p[4], p[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13]};
+    return all_finite(in_, 14);
+  };
   const double s0 = std::sin(p[5]);
   const double c0 = std::cos(p[5]);
   const double t0 = p[5] - x[6];
@@ -231,10 +235,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       c1*p[2]};
   double B_0[3] = {
       t2, -c1*p[3], x[13]*s1*(x[13]*t1 - x[12]*p[3] + x[9]*p[2])};
-  if (solve_1x1(3, A_0, B_0) != 0) {
-    const double in_[14] = {p[0], p[1], p[2], p[3], p[4], p[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13]};
-    return all_finite(A_0, 1) && all_finite(in_, 14) ? 1 : 2;
-  }
+  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   const double t3 = B_0[0]*B_0[0];
   const double t4 = p[2]*p[2];
   const double t5 = p[0]*t4;
@@ -258,10 +259,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_1[2] = {
       t16*p[2]*B_0[0] - t7*t15 - B_0[2]*t5*B_0[0] + t18*s1*p[2]*B_0[0],
       p[2]*t15*B_0[1] - B_0[2]*B_0[1]*t5 + t16*p[2]*B_0[1] - t18*t12};
-  if (chol_solve<2, 1>(A_1, B_1) != 0) {
-    const double in_[14] = {p[0], p[1], p[2], p[3], p[4], p[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13]};
-    return all_finite(A_1, 4) && all_finite(in_, 14) ? 1 : 2;
-  }
+  if (chol_solve<2, 1>(A_1, B_1) != 0) return all_finite(A_1, 4) && inputs_finite_() ? 1 : 2;
   const double R_w = -B_1[0]*B_0[0] - B_0[2] - B_0[1]*B_1[1];
   const double R_u = -R_w*p[2];
   const double D_u = R_u - c1*B_1[0]*t1 - s1*t14*t1;
@@ -464,6 +462,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[9] = {p[0], p[1], p[2], p[3], p[5], x[6], x[9], x[12], x[13]};
+    return all_finite(in_, 9);
+  };
   const double t0 = p[5] - x[6];
   const double s0 = std::sin(t0);
   const double c0 = std::cos(t0);
@@ -476,10 +478,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t1};
   double B_0[3] = {
       t3, t4, x[13]*s0*(x[13]*t2 - x[12]*p[3] + x[9]*p[2])};
-  if (solve_1x1(3, A_0, B_0) != 0) {
-    const double in_[9] = {p[0], p[1], p[2], p[3], p[5], x[6], x[9], x[12], x[13]};
-    return all_finite(A_0, 1) && all_finite(in_, 9) ? 1 : 2;
-  }
+  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
   double A_1[1] = {
       t1};

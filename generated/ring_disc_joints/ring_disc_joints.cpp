@@ -233,6 +233,10 @@ int chol_solve(double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[16] = {p[0], p[1], p[2], p[3], p[4], p[5], x[0], x[1], x[3], x[4], x[6], x[7], x[8], x[9], x[10], x[11]};
+    return all_finite(in_, 16);
+  };
   const double s0 = std::sin(p[5]);
   const double c0 = std::cos(p[5]);
   const double t0 = x[4] - x[1];
@@ -247,10 +251,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
-    const double in_[16] = {p[0], p[1], p[2], p[3], p[4], p[5], x[0], x[1], x[3], x[4], x[6], x[7], x[8], x[9], x[10], x[11]};
-    return all_finite(A_0, 4) && all_finite(in_, 16) ? 1 : 2;
-  }
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t5 = p[1]*(B_0[3]*B_0[4] + B_0[1]*B_0[0]);
   const double t6 = -B_0[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -260,10 +261,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_1[2] = {
       -(p[4]*p[1]*s0 + B_0[2]*p[1])*B_0[0] - (p[4]*p[0]*p[2]*s0) - (B_0[5]*p[1] - (c0*p[4]*p[1]))*B_0[3],
       -((B_0[5] - (c0*p[4]))*B_0[4] - (t6 - (p[4]*s0))*B_0[1])*p[1]};
-  if (chol_solve<2, 1>(A_1, B_1) != 0) {
-    const double in_[16] = {p[0], p[1], p[2], p[3], p[4], p[5], x[0], x[1], x[3], x[4], x[6], x[7], x[8], x[9], x[10], x[11]};
-    return all_finite(A_1, 4) && all_finite(in_, 16) ? 1 : 2;
-  }
+  if (chol_solve<2, 1>(A_1, B_1) != 0) return all_finite(A_1, 4) && inputs_finite_() ? 1 : 2;
   const double R_u = -B_1[0]*p[2];
   const double D_u = t6 - B_1[0]*B_0[0] - B_0[1]*B_1[1];
   const double D_v = -B_1[0]*B_0[3] - B_1[1]*B_0[4] - B_0[5];
@@ -475,6 +473,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
+    return all_finite(in_, 12);
+  };
   const double t0 = 2.0*x[3] - 2.0*x[0];
   const double t1 = 2.0*x[4] - 2.0*x[1];
   const double t2 = x[4] - x[1];
@@ -493,10 +495,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t7, 0.0, 2.0*x[10]*t8 + 2.0*x[6]*t9 - 2.0*x[7]*t8 - 2.0*x[9]*t9,
       t10, p[3], (x[9]*t8 - x[6]*t8 + x[10]*t9 - x[7]*t9)*t3};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
-    const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
-    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
-  }
+  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
   double A_1[4] = {
       t0, t1,

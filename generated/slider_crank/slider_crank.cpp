@@ -189,6 +189,10 @@ int chol_1x1(int k, const double* A, double* B) {
 
 int rhs(double /*t*/, const double* x, const double* u, const double* p, double* OUT) {
   assert(u != nullptr && "u: the model has inputs (kNin > 0)");
+  const auto inputs_finite_ = [&]() {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15]};
+    return all_finite(in_, 20);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
@@ -201,10 +205,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (solve_1x1(2, A_0, B_0) != 0) {
-    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15]};
-    return all_finite(A_0, 1) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   const double t3 = p[1]*s0*B_0[0];
   const double t4 = t3 - s1*p[0];
   const double t5 = 0.25*(p[0]*p[0]*p[2]);
@@ -217,10 +218,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       B_0[0]*B_0[0]*p[5] + p[3] + t4*t4*p[6] + t5*s1*s1 + 0.25*p[4]*t6*t6 + 0.25*p[4]*t7*t7 + t5*c1*c1};
   double B_1[1] = {
       0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1 - B_0[1]*p[5]*B_0[0] - -((t8 + t9 + t0*p[0]*c1)*p[6] + u[1])*t4 + 0.25*t6*p[4]*(2.0*t0*p[0]*c1 + t8 + t9) - s1*t5*t0*c1 - 0.25*t7*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + u[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], u[0], u[1], x[2], x[5], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15]};
-    return all_finite(A_1, 1) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double crank_u = -0.5*(s1*B_1[0] + t0*c1)*p[0];
   const double crank_v = 0.5*(B_1[0]*c1 - s1*t0)*p[0];
   const double t10 = -t0*p[0]*c1;
@@ -301,6 +299,10 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
 
 int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const double* p, double* OUT) {
   assert(zdot != nullptr && "zdot: kNdof accelerations");
+  const auto inputs_finite_ = [&]() {
+    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
+    return all_finite(in_, 13);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
@@ -313,10 +315,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
       -c0*p[1]};
   double B_0[2] = {
       -p[0]*c1, s1*t0*p[0] + t2};
-  if (solve_1x1(2, A_0, B_0) != 0) {
-    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
-    return all_finite(A_0, 1) && all_finite(in_, 13) ? 1 : 2;
-  }
+  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   const double t3 = p[1]*s0*B_0[0];
   const double t4 = t3 - s1*p[0];
   const double t5 = t4*t4;
@@ -330,10 +329,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
       t5 + 1.0};
   double B_1[1] = {
       s1*(0.25*t8)*t0*c1 - t4*(t6 + t7 + t0*p[0]*c1)*p[6] + 0.25*t9*(2.0*(p[7]*p[4]) - (c0*p[1]*B_0[1] + t2 + 2.0*s1*t0*p[0])*p[4]) + 0.25*zdot[0]*(4.0*p[3] + 4.0*B_0[0]*B_0[0]*p[5] + p[4]*t10*t10 + 4.0*t5*p[6] + p[4]*t9*t9 + t8*c1*c1 + t8*s1*s1) - 0.25*t10*p[4]*(2.0*t0*p[0]*c1 + t6 + t7) + B_0[1]*p[5]*B_0[0] - 0.25*(s1*t0*(p[0]*p[2]) - 2.0*(p[7]*p[2]))*p[0]*c1};
-  if (solve_1x1(1, A_1, B_1) != 0) {
-    const double in_[13] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], x[2], x[5], x[10], x[13], zdot[0]};
-    return all_finite(A_1, 1) && all_finite(in_, 13) ? 1 : 2;
-  }
+  if (solve_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   OUT[0] = B_1[0];
   OUT[1] = t4*B_1[0];
   if (!all_finite(OUT, 2)) return 2;
@@ -554,6 +550,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
+    return all_finite(in_, 11);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
@@ -565,10 +565,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t0};
   double B_0[2] = {
       t1, s1*x[10]*x[10]*p[0] + x[13]*x[13]*p[1]*s0};
-  if (solve_1x1(2, A_0, B_0) != 0) {
-    const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
-    return all_finite(A_0, 1) && all_finite(in_, 11) ? 1 : 2;
-  }
+  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[1] = {
       t0};

@@ -75,33 +75,28 @@ int chol_1x1(int k, const double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(in_, 8);
+  };
   // solve A_0 X = B_0 (1x1, 2 columns): sparse elimination: speeds bob.u, bob.v, bob.w
   double A_0[1] = {
       p[0]};
   double B_0[2] = {
       -2.0*x[0], p[0]*p[2]};
-  if (chol_1x1(2, A_0, B_0) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_0, 1) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (chol_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   // solve A_1 X = B_1 (1x1, 1 column): sparse elimination: speeds bob.u, bob.v, bob.w
   double A_1[1] = {
       p[0]};
   double B_1[1] = {
       -2.0*x[1]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_1, 1) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   // solve A_2 X = B_2 (1x1, 1 column): sparse elimination: speeds bob.u, bob.v, bob.w
   double A_2[1] = {
       p[0]};
   double B_2[1] = {
       -2.0*x[2]};
-  if (chol_1x1(1, A_2, B_2) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_2, 1) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_2, B_2) != 0) return all_finite(A_2, 1) && inputs_finite_() ? 1 : 2;
   const double ks4 = 2.0*B_2[0]*x[2] + 2.0*B_1[0]*x[1] + 2.0*x[0]*B_0[0];
   const double kr5 = 2.0*x[3]*x[3] + 2.0*x[0]*B_0[1] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5];
   // solve A_3 X = B_3 (1x1, 1 column): sparse elimination: constraints rod
@@ -109,10 +104,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       -ks4};
   double B_3[1] = {
       -kr5};
-  if (chol_1x1(1, A_3, B_3) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_3, 1) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_3, B_3) != 0) return all_finite(A_3, 1) && inputs_finite_() ? 1 : 2;
   const double bob_u = B_0[1] - B_3[0]*B_0[0];
   const double bob_v = -B_1[0]*B_3[0];
   const double bob_w = -B_3[0]*B_2[0];

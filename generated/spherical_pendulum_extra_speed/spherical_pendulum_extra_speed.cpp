@@ -219,15 +219,16 @@ int chol_solve(double* A, double* B) {
 }  // namespace
 
 int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(in_, 8);
+  };
   // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {
       2.0*x[1], 2.0*x[2], 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_0, 1) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   const double t0 = p[0]*B_0[1]*B_0[0];
   const double t1 = B_0[2] + p[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -237,10 +238,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_1[2] = {
       -t1*p[0]*B_0[0],
       -t1*p[0]*B_0[1]};
-  if (chol_solve<2, 1>(A_1, B_1) != 0) {
-    const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_1, 4) && all_finite(in_, 8) ? 1 : 2;
-  }
+  if (chol_solve<2, 1>(A_1, B_1) != 0) return all_finite(A_1, 4) && inputs_finite_() ? 1 : 2;
   const double bob_u = -B_1[0]*B_0[0] - B_0[2] - B_0[1]*B_1[1];
   const double v2 = 2.0*x[4]*B_1[0] + 2.0*x[3]*bob_u + 2.0*x[5]*B_1[1];
   OUT[0] = x[3];
@@ -381,6 +379,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(in_, 7);
+  };
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
   const double t2 = 2.0*x[2];
@@ -389,10 +391,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t0};
   double B_0[3] = {
       t1, t2, 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) {
-    const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(A_0, 1) && all_finite(in_, 7) ? 1 : 2;
-  }
+  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
   double A_1[1] = {
       t0};

@@ -209,6 +209,10 @@ int chol_solve(double* A, double* B) {
 
 int rhs(double /*t*/, const double* x, const double* u, const double* p, double* OUT) {
   assert(u != nullptr && "u: the model has inputs (kNin > 0)");
+  const auto inputs_finite_ = [&]() {
+    const double in_[37] = {p[0], p[1], p[2], p[3], p[4], p[5], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
+    return all_finite(in_, 37);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
@@ -280,10 +284,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t30, t31, 0.0, 0.5*t27*(t19*c6 + t32) + t33 + t3 + t34 + t35 + 2.0*t6*s2,
       t23, 0.0, t36, 0.5*t27*(t28 - c6) + t4 + t25 + 2.0*c4*t12 + t29 + t37,
       t30, 0.0, t38, 0.5*t27*(t32 - t19*c6) + t33 + t3 + t39 + t35 + 2.0*s4*t12};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) {
-    const double in_[37] = {p[0], p[1], p[2], p[3], p[4], p[5], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_0, 16) && all_finite(in_, 37) ? 1 : 2;
-  }
+  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) && inputs_finite_() ? 1 : 2;
   const double t40 = B_0[0]*s0 + t23;
   const double t41 = s1*s0 + c0*c1;
   const double t42 = t30 - B_0[0]*c0;
@@ -362,10 +363,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t40*t86 - B_0[15]*B_0[12]*p[1] - 2.0*s1*e_HA_proximal_u*p[4] - t89*B_0[4] - t93*B_0[8] - t42*t95 - t48*t99*p[0] + t46*t103*p[0] - c2*t104*B_0[4] - t105*B_0[8]*s4 - 2.0*t41*p[4]*B_0[3] - B_0[0]*t106 + 2.0*s1*t85*p[4] - 2.0*t94*p[4]*c1 - s2*B_0[4]*t107 + t108*B_0[8]*c4 + 2.0*p[4]*c1*e_HA_proximal_v + u[0],
       t108*B_0[9]*c4 - t105*B_0[9]*s4 - B_0[9]*t93 + c0*t95*B_0[1] + t99*t61*p[0] + 2.0*s3*t87*p[4] - B_0[1]*t106 - t104*t52 + u[1] + 2.0*p[4]*e_HB_proximal_v*c3 - t89*B_0[5] - t57*t103*p[0] + B_0[1]*t86*s0 + t54*t107 - B_0[15]*B_0[13]*p[1] - 2.0*t88*p[4]*c3 + 2.0*B_0[7]*t53*p[4] - 2.0*s3*e_HB_proximal_u*p[4],
       t108*t72 - t99*p[0]*t70 - B_0[2]*t106 - 2.0*t75*p[4]*B_0[11] - t89*B_0[6] - c2*t104*B_0[6] - s2*B_0[6]*t107 + B_0[2]*c0*t95 + t105*t76 + 2.0*c5*p[4]*e_HC_proximal_v - 2.0*t92*p[4]*s5 + B_0[2]*t86*s0 + u[2] - B_0[15]*B_0[14]*p[1] - 2.0*e_HC_proximal_u*p[4]*s5 - B_0[10]*t93 - 2.0*c5*t90*p[4] + t103*p[0]*t71};
-  if (chol_solve<3, 1>(A_1, B_1) != 0) {
-    const double in_[37] = {p[0], p[1], p[2], p[3], p[4], p[5], u[0], u[1], u[2], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[21], x[22], x[23], x[24], x[25], x[26], x[27], x[28], x[29], x[30], x[31], x[32], x[33], x[34], x[35], x[36], x[37], x[38], x[39], x[40], x[41]};
-    return all_finite(A_1, 9) && all_finite(in_, 37) ? 1 : 2;
-  }
+  if (chol_solve<3, 1>(A_1, B_1) != 0) return all_finite(A_1, 9) && inputs_finite_() ? 1 : 2;
   const double HA_distal_w = -B_0[3] - B_0[2]*B_1[2] - B_0[0]*B_1[0] - B_1[1]*B_0[1];
   const double t109 = -2.0*s1*B_1[0];
   const double HA_distal_u = t100 + HA_distal_w*s0 + t109 + c0*t0;
@@ -1240,6 +1238,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(in_, 20);
+  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[11]);
@@ -1299,10 +1301,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t24, t25, 0.0, 0.5*t21*(t2*c2 + t26) + t27 + t28 - 2.0*s5*t20 + t29 + 2.0*t17*s1,
       t13, 0.0, t30, 0.5*t21*(t22 - c2) + t16 + t19 + 2.0*c3*t31 + t23 - 2.0*c6*t32,
       t24, 0.0, t33, 0.5*t21*(t26 - t2*c2) + t27 + t28 - 2.0*t32*s6 + t29 + 2.0*s3*t31};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) {
-    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
-    return all_finite(A_0, 16) && all_finite(in_, 20) ? 1 : 2;
-  }
+  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (4x4): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
   double A_1[16] = {
       t0, t1, 0.0, t4,

@@ -203,6 +203,10 @@ int lu_solve_2x2(int k, const double* A, double* B) {
 
 int rhs(double /*t*/, const double* x, const double* u, const double* p, double* OUT) {
   assert(u != nullptr && "u: the model has inputs (kNin > 0)");
+  const auto inputs_finite_ = [&]() {
+    const double in_[28] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], u[0], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
+    return all_finite(in_, 28);
+  };
   const double s0 = std::sin(x[4]);
   const double c0 = std::cos(x[4]);
   const double s1 = std::sin(x[7]);
@@ -222,10 +226,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double B_0[4] = {
       0.0, p[3]*t4*s0 - s1*p[6]*t3,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t5*x[21] - t5*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t5*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[28] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], u[0], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
-    return all_finite(A_0, 4) && all_finite(in_, 28) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t6 = B_0[2]*s1*p[6] - p[3]*s0*B_0[0];
   const double t7 = B_0[0]*B_0[0];
   const double t8 = B_0[2]*B_0[2];
@@ -239,10 +240,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
       t6*t6*p[0] + t7*(0.25*(p[3]*p[3]*p[1]))*c0*c0 + t1*t8*t9 + p[8] + 0.25*p[1]*t10*t10 + t2*t8*t9 + t8*p[5] + t7*p[2]};
   double B_1[1] = {
       -c0*(c0*p[3]*B_0[1] + p[3]*t4*s0)*(0.25*(p[3]*p[1]))*B_0[0] - (t11 + t12 + B_0[3]*s1*p[6] - p[3]*B_0[1]*s0)*p[0]*t6 - p[2]*B_0[1]*B_0[0] - B_0[3]*B_0[2]*p[5] - t13*(s1*p[6]*t3 + B_0[3]*c1*p[6])*c1*B_0[2] + (c1*p[6]*t3 - B_0[3]*s1*p[6])*t13*B_0[2]*s1 - 0.25*t10*(p[3]*B_0[1]*s0 - c0*p[3]*t4 - 2.0*B_0[3]*s1*p[6] + 2.0*c1*p[6]*t3)*p[1] + u[0]};
-  if (chol_1x1(1, A_1, B_1) != 0) {
-    const double in_[28] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], u[0], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12], x[13], x[14], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
-    return all_finite(A_1, 1) && all_finite(in_, 28) ? 1 : 2;
-  }
+  if (chol_1x1(1, A_1, B_1) != 0) return all_finite(A_1, 1) && inputs_finite_() ? 1 : 2;
   const double rod_w = -B_1[0]*B_0[0] - B_0[1];
   const double rocker_w = -B_0[3] - B_1[0]*B_0[2];
   const double t14 = -rocker_w*s1*p[6];
@@ -626,6 +624,10 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+  const auto inputs_finite_ = [&]() {
+    const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
+    return all_finite(in_, 23);
+  };
   const double s0 = std::sin(x[4]);
   const double c0 = std::cos(x[4]);
   const double s1 = std::sin(x[7]);
@@ -646,10 +648,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       0.0, p[3]*x[15]*x[15]*s0 - s1*p[6]*x[18]*x[18],
       t5, c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t6*x[21] - t6*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t6*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t1 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
-    const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
-    return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
-  }
+  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -35,7 +35,13 @@ std::vector<std::string> split_lines(const std::string& text) {
 
 std::string join(const std::vector<std::string>& parts, const std::string& sep) {
   std::string out;
-  for (std::size_t i = 0; i < parts.size(); ++i) out += (i ? sep : "") + parts[i];
+  std::size_t size = 0;
+  for (const auto& part : parts) size += part.size() + sep.size();
+  out.reserve(size);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i) out += sep;
+    out += parts[i];
+  }
   return out;
 }
 

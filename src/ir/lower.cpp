@@ -58,6 +58,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
 
   // Roots in step order (live steps only), then the outputs.
   std::vector<std::string> define_names(spec.steps.size());
+  prog->roots.reserve(spec.steps.size() + outputs.size());
   for (int j = 0; j < nsteps; ++j) {
     const auto& step = spec.steps[static_cast<std::size_t>(j)];
     if (const auto* d = std::get_if<Define>(&step)) {

@@ -25,6 +25,9 @@ struct Text {
 
 std::string join(const std::vector<std::string>& parts, const char* sep) {
   std::string out;
+  std::size_t size = 0;
+  for (const auto& part : parts) size += part.size() + std::char_traits<char>::length(sep);
+  out.reserve(size);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     if (i) out += sep;
     out += parts[i];
@@ -57,6 +60,15 @@ class Printer {
     const int zeros = zero_outputs();
     const bool fill = 2 * zeros > prog_.nout;
     bool filled = false;
+    // Several solves share one test of the inputs for their failure paths (written once:
+    // a list of every input per solve grew as solves x inputs in a big model).
+    int nsolves = 0;
+    for (const Statement& st : prog_.statements) nsolves += st.kind == Statement::Kind::Solve;
+    shared_input_check_ = nsolves > 1 && !prog_.live_inputs.empty();
+    if (shared_input_check_)
+      lines.push_back("  const auto inputs_finite_ = [&]() {\n    const double in_[" + std::to_string(prog_.live_inputs.size()) +
+                      "] = {" + join(prog_.live_inputs, ", ") + "};\n    return all_finite(in_, " +
+                      std::to_string(prog_.live_inputs.size()) + ");\n  };");
     for (const Statement& st : prog_.statements) {
       if (fill && st.kind == Statement::Kind::Output && !filled) {
         lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) + "; ++i) OUT[i] = 0.0;  // " +
@@ -147,6 +159,9 @@ class Printer {
     const std::string finite_matrix = "all_finite(A_" + id + ", " + std::to_string(s.n * s.n) + ")";
     if (prog_.live_inputs.empty()) {
       lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return " + finite_matrix + " ? 1 : 2;");
+    } else if (shared_input_check_) {
+      lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) return " + finite_matrix +
+                      " && inputs_finite_() ? 1 : 2;");
     } else {
       lines.push_back("  if (" + call + "A_" + id + ", B_" + id + ") != 0) {");
       lines.push_back("    const double in_[" + std::to_string(prog_.live_inputs.size()) + "] = {" +
@@ -356,6 +371,7 @@ class Printer {
   }
 
   const Program& prog_;
+  bool shared_input_check_ = false;  // the solves' failure paths call inputs_finite_()
   const Dag& dag_;
   OpCount& ops_;
   std::vector<int> solve_number_;

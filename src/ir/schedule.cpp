@@ -270,6 +270,7 @@ class Scheduler {
   // Statements: trig of inputs first, then each live step and each output in order.
   void emit_statements() {
     emit_leaf_trig_pairs(-1);
+    prog_.statements.reserve(prog_.statements.size() + prog_.roots.size());
     for (const Root& r : prog_.roots) {
       switch (r.kind) {
         case Root::Kind::Define:
