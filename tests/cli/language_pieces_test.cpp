@@ -151,3 +151,35 @@ TEST_CASE("massless links: one cause, one error naming every body of the motion"
                               "bob.v) and turns rod (rod.w) and nothing with inertia; give 'bob' a mass or 'rod' an "
                               "inertia, or constrain that motion") != std::string::npos);
 }
+
+TEST_CASE("massless links: a chain in absolute angles (rates solved step by step) finds its massless bob",
+          "[cli][massless]") {
+  // The positive-definiteness check runs the chain's rate steps numerically instead of
+  // forming the symbolic M; a massless last bob must still make M singular there, and
+  // a massive one must not.
+  std::string model = "model chain3\nparameter m = 1.0, l = 1.0, g = 9.81\ngravity (0, -g)\n"
+                      "body b1 : particle2d { mass m }\nbody b2 : particle2d { mass m }\n"
+                      "body b3 : particle2d { mass MASS }\n"
+                      "coordinate th1, th2, th3\nspeed w1 = th1', w2 = th2', w3 = th3'\n"
+                      "constraint position {\n"
+                      "  b1x: b1.x = l*sin(th1)\n  b1y: b1.y = -l*cos(th1)\n"
+                      "  b2x: b2.x = b1.x + l*sin(th2)\n  b2y: b2.y = b1.y - l*cos(th2)\n"
+                      "  b3x: b3.x = b2.x + l*sin(th3)\n  b3y: b3.y = b2.y - l*cos(th3)\n}\n"
+                      "independent w1, w2, w3\n";
+  const fs::path dir = fresh_dir("massless_chain");
+  for (const char* mass : {"m", "0"}) {
+    std::string text = model;
+    text.replace(text.find("MASS"), 4, mass);
+    write_text(dir / "chain3.mbs", text);
+    auto r = run(kMbsc + " check " + quote((dir / "chain3.mbs").string()));
+    INFO(r.output);
+    if (std::string(mass) == "m") {
+      CHECK(r.exit_code == 0);
+      CHECK(r.output.find("3 degree(s) of freedom") != std::string::npos);
+    } else {
+      CHECK(r.exit_code == 1);
+      CHECK(r.output.find("chain3.mbs:6:29: error: body 'b3' is massless (mass 0) and the reduced mass matrix is singular: "
+                          "the motion along w3 moves it") != std::string::npos);
+    }
+  }
+}
