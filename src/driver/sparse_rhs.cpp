@@ -25,8 +25,12 @@ bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym:
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
                    const std::vector<ir::Binding>& binds) {
   if (opt.solver != Solver::Auto) return opt.solver == Solver::Sparse;
-  // Closed loops: the dense forms solve only where the constraints lose rank, a tree
-  // order's pivots could also vanish where a loop's partial chain does (a toggle).
+  // Closed loops stay dense: a tree order's pivots could vanish where a loop's partial
+  // chain folds (a toggle). The speeds-first order is as regular as the dense forms, but
+  // its pivots are many small blocks whose condition numbers (1 for a 1x1 block) do not
+  // warn `conditioning`'s readers of a coming rank loss as the dense block's does (the
+  // 40-window parallelogram chain under --continuation stops at a flat pose with it):
+  // it is taken when asked for (--solver sparse).
   if (!sparse.forest) return false;
   if (m.speeds.size() > 64) return true;
   return ir::lower(sparse_rhs, binds).ops.total() < ir::lower(dense(), binds).ops.total();

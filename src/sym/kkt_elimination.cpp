@@ -62,8 +62,8 @@ class Eliminator {
  public:
   Eliminator(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
              const std::vector<GiNaC::symbol>& lambda, const std::function<GiNaC::ex(const GiNaC::ex&)>& fin,
-             const Probe& probe)
-      : m_(m), sys_(sys), lambda_(lambda), fin_(fin), probe_(probe) {
+             const Probe& probe, bool speeds_first)
+      : m_(m), sys_(sys), lambda_(lambda), fin_(fin), probe_(probe), speeds_first_(speeds_first) {
     group_speeds();
     group_constraints();
     fill_blocks(c);
@@ -99,8 +99,18 @@ class Eliminator {
     // A tree's joints are each reached from one side; a pivot that joins two parts
     // eliminated apart closes a loop (or links two free bodies: counted too, safely).
     out.forest = acyclic && !joins_;
-    for (auto& step : steps_)
-      if (auto* solve = std::get_if<ir::Solve>(&step)) solve->reported = !out.forest;
+    bool constraint_seen = false;
+    out.speeds_first = true;
+    for (const auto& rec : order) {
+      const bool speed = groups_[static_cast<std::size_t>(rec.p)].speed;
+      if (speed && constraint_seen) out.speeds_first = false;
+      constraint_seen = constraint_seen || !speed;
+    }
+    // `conditioning` watches the pivots that may vanish: none in a tree; the constraint
+    // pivots when the speeds went first (they vanish with A's rank); else all.
+    for (std::size_t i = 0; i < steps_.size(); ++i)
+      if (auto* solve = std::get_if<ir::Solve>(&steps_[i]))
+        solve->reported = out.forest ? false : out.speeds_first ? constraint_pivots_.count(i) > 0 : true;
     out.steps = std::move(steps_);
     return out;
   }
@@ -277,7 +287,9 @@ class Eliminator {
     if (std::get<0>(k) >= 0) ready_.erase(k);
     std::get<0>(k) = -1;
     if (eliminated_[static_cast<std::size_t>(g)] || !definite(g)) return;
-    k = {cost(g), size(g), g};
+    // Speeds first (the loop order): a constraint block waits while any speed block is ready.
+    const long later = speeds_first_ && !groups_[static_cast<std::size_t>(g)].speed ? (1L << 40) : 0L;
+    k = {cost(g) + later, size(g), g};
     ready_.insert(k);
   }
 
@@ -390,7 +402,10 @@ class Eliminator {
           store(i, c, x, entry_value(i, c) / pv);
         }
         solve.k = static_cast<int>(solve.B.size());
-        if (solve.k > 0) steps_.push_back(solve);
+        if (solve.k > 0) {
+          if (!speed) constraint_pivots_.insert(steps_.size());
+          steps_.push_back(solve);
+        }
       }
     } else {
       ir::Solve solve;
@@ -418,7 +433,10 @@ class Eliminator {
           solve.X.push_back(x);
           store(i, cols[k], x, Xv(i, static_cast<int>(k)));
         }
-      if (solve.k > 0) steps_.push_back(solve);
+      if (solve.k > 0) {
+        if (!speed) constraint_pivots_.insert(steps_.size());
+        steps_.push_back(solve);
+      }
     }
 
     // Schur complement on the neighbours: K_hk -= K_ph^T X_k, r_h -= K_ph^T x_r.
@@ -531,6 +549,8 @@ class Eliminator {
   std::vector<ir::Step> steps_;
   long counter_ = 0;
   std::string asymmetric_;      // a speed whose My row is not its column (a custom leaf's force)
+  bool speeds_first_ = false;   // order: every ready speed block before any constraint block
+  std::set<std::size_t> constraint_pivots_;  // indices into steps_ of the constraint blocks' pivot solves
 };
 
 }  // namespace
@@ -539,8 +559,14 @@ std::optional<KktElimination> eliminate_kkt(const model::Model& m, const KktSyst
                                             const std::vector<GiNaC::symbol>& lambda,
                                             const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
                                             std::string& why) {
-  Eliminator e(m, sys, c, lambda, fin, probe);
-  return e.run(why);
+  auto fewest = Eliminator(m, sys, c, lambda, fin, probe, false).run(why);
+  if (fewest && fewest->forest) return fewest;
+  // A loop (or no order at all): speeds first keeps every pivot regular where A has full
+  // rank, at the price of the fill of A My^-1 A^T (banded for a chain of loops).
+  std::string why_speeds;
+  auto speeds = Eliminator(m, sys, c, lambda, fin, probe, true).run(why_speeds);
+  if (speeds && speeds->speeds_first) return speeds;
+  return fewest;
 }
 
 }  // namespace mbsc::sym

@@ -36,12 +36,22 @@ struct KktElimination {
   /// joint's counterpart, regular wherever the joint itself is; in a loop such a pivot
   /// can vanish where the loop's open parts fold. Pivots are `reported` unless forest.
   bool forest = false;
+  /// Every speed block was eliminated before the first constraint block (the order
+  /// eliminate_kkt tries when the model has a loop). The speed pivots are then My's own
+  /// blocks and every constraint pivot a Schur complement of -A My^-1 A^T, which is
+  /// negative definite wherever A has full row rank: the pivots fail only where the
+  /// dense multipliers form fails too. Then only the constraint pivots are `reported`.
+  bool speeds_first = false;
+  /// No pivot can vanish where the constraints keep their rank: forest or speeds_first.
+  bool regular() const { return forest || speeds_first; }
   int blocks = 0;       // pivot blocks eliminated
   int largest = 0;      // size of the largest pivot block
   long fill = 0;        // block pairs coupled by the elimination that were not coupled before
 };
 
-/// Eliminates the system with constraint right-hand sides `c` (A q1' = c). `fin` prepares
+/// Eliminates the system with constraint right-hand sides `c` (A q1' = c): fewest
+/// neighbours first; when that order does not find a tree, once more with every speed
+/// block first (kept when it gets through that way: `speeds_first`). `fin` prepares
 /// every expression for emission (formals, frozen values); `probe` evaluates prepared
 /// expressions. nullopt, with `why` set, when no order with definite pivots exists at the
 /// probe point (a massless part that no constraint fixes, redundant constraints).
