@@ -362,6 +362,17 @@ class Eliminator {
       const Block& b = off_[static_cast<std::size_t>(p)].at(rec.neighbours[static_cast<std::size_t>(c.nb)]);
       return b.e[b.at(i, c.j)];
     };
+    // A constraint pivot of the speeds-first order is reported with its neighbour columns
+    // as `gains`: its conditioning divides by max(1, |P^-1 K_ph|), which grows without
+    // bound as the pivot vanishes with A's rank, while P and K_ph share their units (both
+    // blocks of A My^-1 A^T), so the measure is scale-free. Row i of a split diagonal
+    // pivot, or the whole block (i < 0): the neighbour columns come first in B.
+    auto neighbour_columns = [&](int i) {
+      int n = 0;
+      for (const auto& c : cols)
+        if (c.nb >= 0 && (i < 0 || !entry(i, c).is_zero())) ++n;
+      return n;
+    };
     auto entry_value = [&](int i, const Column& c) -> double {
       if (c.nb < 0) return 0.0;  // right-hand sides are not needed at the probe
       const Block& b = off_[static_cast<std::size_t>(p)].at(rec.neighbours[static_cast<std::size_t>(c.nb)]);
@@ -402,6 +413,7 @@ class Eliminator {
           store(i, c, x, entry_value(i, c) / pv);
         }
         solve.k = static_cast<int>(solve.B.size());
+        if (!speed && speeds_first_) solve.gains = neighbour_columns(i);
         if (solve.k > 0) {
           if (!speed) constraint_pivots_.insert(steps_.size());
           steps_.push_back(solve);
@@ -433,6 +445,7 @@ class Eliminator {
           solve.X.push_back(x);
           store(i, cols[k], x, Xv(i, static_cast<int>(k)));
         }
+      if (!speed && speeds_first_) solve.gains = neighbour_columns(-1);
       if (solve.k > 0) {
         if (!speed) constraint_pivots_.insert(steps_.size());
         steps_.push_back(solve);
