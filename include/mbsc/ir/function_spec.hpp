@@ -77,7 +77,7 @@ struct FunctionSpec {
   std::string third_arg = "u";
   /// When set, the function cannot be computed for this model: it is emitted returning 4
   /// with NaN outputs, and this sentence in its documentation.
-  std::string undefined_reason;
+  std::string undefined_reason{};
 };
 
 }  // namespace mbsc::ir
