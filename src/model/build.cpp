@@ -229,6 +229,15 @@ class Builder {
         if (s.kind == Kind::Point || s.kind == Kind::Axis) library_.add_failed(PlanarLibrary::kGround, s.name);
         continue;
       }
+      // (Three components parse for rigid3d bodies; the ground's points are planar so far.)
+      if ((s.kind == Kind::Point && v.size() != 2) || (s.kind == Kind::Axis && v.size() != 4)) {
+        diags_.error(s.pos, fmt::format("{} '{}' of the ground needs 2 components{} (x, y): spatial ground points are "
+                                        "not supported yet",
+                                        s.kind == Kind::Point ? "point" : "axis", s.name,
+                                        s.kind == Kind::Axis ? " for its point and its direction" : ""));
+        library_.add_failed(PlanarLibrary::kGround, s.name);
+        continue;
+      }
       if (s.kind == Kind::Point) library_.add_point(PlanarLibrary::kGround, s.name, v[0], v[1], s.name_pos);
       else if (s.kind == Kind::Axis) library_.add_axis(PlanarLibrary::kGround, s.name, v[0], v[1], v[2], v[3], s.name_pos);
       else diags_.error(s.pos, "only 'point' and 'axis' statements belong in 'ground'");
@@ -859,6 +868,7 @@ class Builder {
             break;
           }
           if (s.kind == Kind::Inertia && !s.exprs.empty()) {
+            inertia_given_.insert(id);  // (reported here, not as missing)
             diags_.error(s.pos, fmt::format("'inertia' of {} body '{}' is one value (a list of tensor entries is for "
                                             "rigid3d bodies)",
                                             to_string(node.kind), node.name));
@@ -1103,7 +1113,8 @@ class Builder {
     if (s.kind == Kind::Axis && s.exprs.size() == 5) ok = false;  // (a, b) (c, d, e) or the reverse
     if (ok) return true;
     const char* what = s.kind == Kind::Point ? "point" : s.kind == Kind::Com ? "com" : "axis";
-    diags_.error(s.pos, fmt::format("{} {}{}of {} body '{}' needs {} components{} ({})", what, s.name, s.name.empty() ? "" : " ",
+    diags_.error(s.pos, fmt::format("{}{} of {} body '{}' needs {} components{} ({})", what,
+                                    s.name.empty() ? std::string() : " '" + s.name + "'",
                                     to_string(node.kind), m_.label(id), want, per == 2 ? " for its point and its direction" : "",
                                     want == 3 ? "x, y, z in body axes" : "x, y in body axes"));
     if (s.kind != Kind::Com) library_.add_failed(id, s.name);
