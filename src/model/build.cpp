@@ -851,6 +851,9 @@ class Builder {
           if (e) m_.forces.push_back(Force{target->second, *e, s.pos});
           break;
         }
+        case Kind::Torque:
+          add_rigid3d_torque(id, s);
+          break;
         case Kind::Attitude:
           if (node.kind != LeafKind::Rigid3d)
             diags_.error(s.pos, fmt::format("'attitude' is only allowed in rigid3d bodies ('{}' is {})", m_.label(id),
@@ -1102,6 +1105,34 @@ class Builder {
     node.rigid3d.inertia = {e[0], e[3], e[4], e[3], e[1], e[5], e[4], e[5], e[2]};
     node.inertia_pos = s.pos;
     rigid3d_inertia_pos_[id] = s.pos;
+  }
+
+  /// `torque [space|body] (Tx, Ty, Tz)` in a rigid3d body: an applied torque given in
+  /// space axes (the default) or body axes, turned into generalized forces along the
+  /// angular speeds (their frame: R^T tau for body-frame speeds given a space torque, R tau
+  /// for space-frame speeds given a body torque). It may read the state, inputs and t.
+  void add_rigid3d_torque(int id, const Statement& s) {
+    const Node& node = m_.nodes[id];
+    if (node.kind != LeafKind::Rigid3d) {
+      diags_.error(s.pos, fmt::format("'torque' is only allowed in rigid3d bodies ('{}' is {}); a torque on a "
+                                      "planar body is a force on its w",
+                                      m_.label(id), to_string(node.kind)));
+      return;
+    }
+    rigid3d::Vec tau;
+    for (const auto& e : s.exprs) {
+      auto c = convert(id, e, true, false, false);
+      if (!c) return;
+      tau.push_back(*c);
+    }
+    if (node.rigid3d.rotation.empty()) return;  // its variables failed (reported)
+    const bool given_in_body = s.option2.text == "body";
+    rigid3d::Vec along = tau;
+    if (given_in_body && node.rigid3d.space_frame) along = rigid3d::mat_vec(node.rigid3d.rotation, tau);
+    if (!given_in_body && !node.rigid3d.space_frame) along = rigid3d::mat_t_vec(node.rigid3d.rotation, tau);
+    for (int k = 0; k < 3; ++k)
+      if (!along[static_cast<std::size_t>(k)].is_zero())
+        m_.forces.push_back(Force{node.speeds[3 + static_cast<std::size_t>(k)], along[static_cast<std::size_t>(k)], s.pos});
   }
 
   /// Points and axes have two components in the plane, three in space.

@@ -245,6 +245,9 @@ class Parser {
   // stmt := one of the statements below, chosen by its leading keyword
   void parse_statement(std::vector<StatementPtr>& out, bool top_level) {
     const Token& t = peek();
+    // `torque` begins a statement only here: elsewhere it stays a name (a joint's
+    // `torque` option, a parameter called torque).
+    if (t.kind == TK::Ident && t.text == "torque") return parse_torque(out, take());
     if (t.kind == TK::Ident) fail_unknown_statement(t);
     if (t.kind == TK::Invalid) fail(t.pos, t.text);
     if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) fail_expected("a statement");
@@ -550,6 +553,19 @@ class Parser {
       st.value = parse_expr();
     }
     end_statement("inertia expression");
+    push(out, std::move(st));
+  }
+
+  // 'torque' ['body' | 'space'] '(' expr ',' expr ',' expr ')'
+  void parse_torque(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Torque, kw);
+    if (at_keyword("body") || (at(TK::Ident) && peek().text == "space")) {
+      const Token frame = take();
+      st.option2 = ast::Path{frame.text, frame.pos};
+    }
+    parse_pair(st.exprs, "the torque's components");
+    if (st.exprs.size() != 3) fail(kw.pos, "a torque has three components: torque (Tx, Ty, Tz)");
+    end_statement("torque");
     push(out, std::move(st));
   }
 

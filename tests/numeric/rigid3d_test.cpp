@@ -18,6 +18,9 @@
 #include "free_body_quaternion/free_body_quaternion.hpp"
 #include "free_body_quaternion_space/free_body_quaternion_space.hpp"
 #include "mbsc/runtime/dop853.hpp"
+#include "torque_body/torque_body.hpp"
+#include "torque_euler_space/torque_euler_space.hpp"
+#include "torque_space/torque_space.hpp"
 #include "test_support.hpp"
 
 using mbsc_test::index_of;
@@ -161,6 +164,9 @@ namespace E = mbsc_gen::free_body_euler;
 namespace QS = mbsc_gen::free_body_quaternion_space;
 namespace ES = mbsc_gen::free_body_euler_space;
 namespace P = mbsc_gen::free_body_principal;
+namespace TQ = mbsc_gen::torque_space;
+namespace TE = mbsc_gen::torque_euler_space;
+namespace TB = mbsc_gen::torque_body;
 
 TEST_CASE("rigid3d: the parameters the tests read", "[numeric][rigid3d]") {
   const char* const want[] = {"m", "g", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz"};
@@ -293,4 +299,67 @@ TEST_CASE("rigid3d: an off-principal spin is not uniform (the tensor's products 
   const Vec3 Iwd = mul(I, wd);
   for (int i = 0; i < 3; ++i) CHECK(Iwd[i] == Approx(rhs[i]).margin(1e-12));
   CHECK(std::abs(wd[0]) + std::abs(wd[2]) > 1e-3);
+}
+
+TEST_CASE("rigid3d: a constant torque in space adds tau t to the angular momentum", "[numeric][rigid3d]") {
+  // torque_space: quaternion, body-frame speeds (torque enters as R^T tau);
+  // torque_euler_space: zxz angles, space-frame speeds (torque enters as it is).
+  std::vector<Form> forms{MAKE_FORM(TQ, "torque/quaternion/body", "quaternion", false),
+                          MAKE_FORM(TE, "torque/zxz/space", "zxz", true)};
+  for (auto& f : forms) {
+    INFO(f.name);
+    // Parameters: m, Ixx, Iyy, Izz, Ixy, Ixz, Iyz, Tx, Ty, Tz.
+    REQUIRE(std::string(TQ::kParamNames[7]) == "Tx");
+    REQUIRE(std::string(TE::kParamNames[1]) == "Ixx");
+    const double* p = f.params;
+    const Mat I{p[1], p[4], p[5], p[4], p[2], p[6], p[5], p[6], p[3]};
+    const Vec3 tau{p[7], p[8], p[9]};
+    const Mat R0 = euler("zyx", 0.3, 1.0, -0.2);
+    f.start(R0, kWb, kV);
+    auto h_of = [&](const std::vector<double>& s) {
+      const Mat R = f.rotation(s);
+      return mul(R, mul(I, mul_t(R, f.omega_space(s))));
+    };
+    const Vec3 h0 = h_of(f.x);
+    auto s = integrator(f, 1e-13);
+    double worst = 0.0;
+    for (int check = 1; check <= 8; ++check) {
+      const double t = 0.25 * check;
+      run_to(*s, t);
+      const Vec3 h = h_of(s->x());
+      for (int i = 0; i < 3; ++i) worst = std::max(worst, std::abs(h[i] - (h0[i] + tau[i] * t)));
+    }
+    CHECK(worst < 1e-10);
+  }
+}
+
+TEST_CASE("rigid3d: a constant body torque on a spherical body turns it about a fixed axis", "[numeric][rigid3d]") {
+  // torque_body: J about every axis, quaternion with space-frame speeds, torque fixed in
+  // the body (enters as R tau). From rest at attitude R0: R(t) = R0 Rot(n, |tau| t^2 / (2 J)).
+  Form f = MAKE_FORM(TB, "torque/body", "quaternion", true);
+  const double* p = f.params;  // m, J, Tx, Ty, Tz
+  REQUIRE(std::string(TB::kParamNames[1]) == "J");
+  const double J = p[1];
+  const Vec3 tau{p[2], p[3], p[4]};
+  const double T = std::sqrt(tau[0] * tau[0] + tau[1] * tau[1] + tau[2] * tau[2]);
+  const Vec3 n{tau[0] / T, tau[1] / T, tau[2] / T};
+  const Mat R0 = euler("zyx", 0.3, 0.4, -0.2);
+  f.start(R0, {0, 0, 0}, {0, 0, 0});
+  auto s = integrator(f, 1e-13);
+  double worst = 0.0;
+  for (int check = 1; check <= 8; ++check) {
+    const double t = 0.25 * check;
+    run_to(*s, t);
+    // Rodrigues: Rot(n, a) = I + sin a K + (1 - cos a) K^2, K the skew matrix of n.
+    const double a = T * t * t / (2 * J);
+    const Mat K{0, -n[2], n[1], n[2], 0, -n[0], -n[1], n[0], 0};
+    const Mat K2 = mul(K, K);
+    Mat rot{};
+    for (int k = 0; k < 9; ++k) rot[k] = (k % 4 == 0 ? 1.0 : 0.0) + std::sin(a) * K[k] + (1 - std::cos(a)) * K2[k];
+    const Mat want = mul(R0, rot), got = f.rotation(s->x());
+    for (int k = 0; k < 9; ++k) worst = std::max(worst, std::abs(got[k] - want[k]));
+  }
+  CHECK(worst < 1e-9);
+  // It did turn: |tau| t^2 / (2 J) at t = 2 is about 1.5 rad.
+  CHECK(T * 4 / (2 * J) > 1.0);
 }

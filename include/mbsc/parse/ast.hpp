@@ -74,6 +74,8 @@ struct Statement {
                   // inertia (Ixx, Iyy, Izz [, Ixy, Ixz, Iyz])  exprs (a rigid3d body's tensor)
     Attitude,     // attitude quaternion [body|space]   name = "quaternion" or "euler", name_pos;
                   // attitude euler SEQ [body|space]    path = SEQ (e.g. zyx), option2 = the frame word
+    Torque,       // torque [body|space] (Tx, Ty, Tz)   exprs, option2 = the frame word (a rigid3d body's
+                  //                                    applied torque; 'torque' is a keyword only here)
     Kinetic,      // kinetic expr                       value
     Potential,    // potential expr                     value
     Independent,  // independent PATH, PATH ...         paths
