@@ -13,9 +13,11 @@
 #include <vector>
 
 #include "free_body_euler/free_body_euler.hpp"
+#include "free_body_euler_min/free_body_euler_min.hpp"
 #include "free_body_euler_space/free_body_euler_space.hpp"
 #include "free_body_principal/free_body_principal.hpp"
 #include "free_body_quaternion/free_body_quaternion.hpp"
+#include "free_body_quaternion_min/free_body_quaternion_min.hpp"
 #include "free_body_quaternion_space/free_body_quaternion_space.hpp"
 #include "mbsc/runtime/dop853.hpp"
 #include "torque_body/torque_body.hpp"
@@ -167,6 +169,8 @@ namespace P = mbsc_gen::free_body_principal;
 namespace TQ = mbsc_gen::torque_space;
 namespace TE = mbsc_gen::torque_euler_space;
 namespace TB = mbsc_gen::torque_body;
+namespace QM = mbsc_gen::free_body_quaternion_min;
+namespace EM = mbsc_gen::free_body_euler_min;
 
 TEST_CASE("rigid3d: the parameters the tests read", "[numeric][rigid3d]") {
   const char* const want[] = {"m", "g", "Ixx", "Iyy", "Izz", "Ixy", "Ixz", "Iyz"};
@@ -362,4 +366,21 @@ TEST_CASE("rigid3d: a constant body torque on a spherical body turns it about a 
   CHECK(worst < 1e-9);
   // It did turn: |tau| t^2 / (2 J) at t = 2 is about 1.5 rad.
   CHECK(T * 4 / (2 * J) > 1.0);
+}
+
+TEST_CASE("rigid3d: --state minimal keeps a free body's state and rhs", "[numeric][rigid3d][minimal]") {
+  // No constraints: the minimal state is the full one (7 + 6 with a quaternion, 6 + 6
+  // with angles), and the rhs agrees entry by entry.
+  REQUIRE(QM::kNx == Q::kNx);
+  REQUIRE(EM::kNx == E::kNx);
+  Form q = MAKE_FORM(Q, "quaternion/body", "quaternion", false), e = MAKE_FORM(E, "zyx/body", "zyx", false);
+  q.start(kR0, kWb, kV);
+  e.start(kR0, kWb, kV);
+  std::vector<double> a(Q::kNx), b(Q::kNx), c(E::kNx), d(E::kNx);
+  REQUIRE(Q::rhs(0.0, q.x.data(), nullptr, Q::kParamDefaults, a.data()) == 0);
+  REQUIRE(QM::rhs(0.0, q.x.data(), nullptr, QM::kParamDefaults, b.data()) == 0);
+  REQUIRE(E::rhs(0.0, e.x.data(), nullptr, E::kParamDefaults, c.data()) == 0);
+  REQUIRE(EM::rhs(0.0, e.x.data(), nullptr, EM::kParamDefaults, d.data()) == 0);
+  for (int k = 0; k < Q::kNx; ++k) CHECK(b[static_cast<std::size_t>(k)] == Approx(a[static_cast<std::size_t>(k)]).margin(1e-14));
+  for (int k = 0; k < E::kNx; ++k) CHECK(d[static_cast<std::size_t>(k)] == Approx(c[static_cast<std::size_t>(k)]).margin(1e-14));
 }
