@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mbsc/model/build.hpp"
+#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/parse/parse.hpp"
 
 namespace {
@@ -121,4 +122,30 @@ TEST_CASE("rigid3d: variables, inertia tensor and default attitude", "[model][ri
   // Row-major symmetric tensor from (Ixx, Iyy, Izz, Ixy, Ixz, Iyz).
   const double want[9] = {1, 0.1, 0.2, 0.1, 2, 0.3, 0.2, 0.3, 3};
   for (int k = 0; k < 9; ++k) CHECK(number(r.inertia[static_cast<std::size_t>(k)], {}) == Approx(want[k]));
+}
+
+TEST_CASE("rigid3d: points and axes in space for joints (x + R p, R d)", "[model][rigid3d]") {
+  mbsc::Diagnostics d;
+  auto file = mbsc::parse::parse_text(
+      "model m\nbody b : rigid3d { mass 1\n inertia (1, 2, 3)\n attitude euler zxz\n point P (0.1, -0.2, 0.3)\n"
+      " axis A (0, 0, 0.5) (1, 1, 0) }\n",
+      "t.mbs", d);
+  REQUIRE(file);
+  auto m = mbsc::model::build(*file, d);
+  REQUIRE(m);
+  const auto& node = m->nodes[0];
+  REQUIRE(node.rigid3d.points.count("P") == 1);
+  REQUIRE(node.rigid3d.axes.count("A") == 1);
+  GiNaC::exmap at;
+  const double q[6] = {1.0, -2.0, 0.5, 0.4, 0.7, -0.3};  // x, y, z, phi, theta, psi
+  for (int k = 0; k < 6; ++k) at[m->coords[static_cast<std::size_t>(node.coords[static_cast<std::size_t>(k)])].sym] = q[k];
+  const Mat R = rotation("zxz", {q[3], q[4], q[5]});
+  const auto p = mbsc::model::rigid3d::point_in_space(*m, node, node.rigid3d.points.at("P"));
+  const double local[3] = {0.1, -0.2, 0.3};
+  for (int i = 0; i < 3; ++i)
+    CHECK(number(p[static_cast<std::size_t>(i)], at) ==
+          Approx(q[i] + R[3 * i] * local[0] + R[3 * i + 1] * local[1] + R[3 * i + 2] * local[2]).margin(1e-13));
+  const auto& axis = node.rigid3d.axes.at("A");
+  const auto dir = mbsc::model::rigid3d::direction_in_space(node, {axis[3], axis[4], axis[5]});
+  for (int i = 0; i < 3; ++i) CHECK(number(dir[static_cast<std::size_t>(i)], at) == Approx(R[3 * i] + R[3 * i + 1]).margin(1e-13));
 }
