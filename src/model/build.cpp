@@ -1156,9 +1156,13 @@ class Builder {
   void add_rigid3d_geometry(int id, const Statement& s, const std::vector<GiNaC::ex>& v) {
     Node& node = m_.nodes[id];
     if (s.kind == Kind::Com) {
-      diags_.error(s.pos, fmt::format("com is not used in rigid3d body '{}': its coordinates x, y, z are the mass "
-                                      "centre; give points relative to it",
-                                      node.name));
+      if (rigid3d_com_pos_.count(id)) {
+        diags_.error(s.pos, fmt::format("com of body '{}' is given twice (first at {})", node.name,
+                                        position_text(rigid3d_com_pos_[id], s.pos)));
+        return;
+      }
+      rigid3d_com_pos_[id] = s.pos;
+      node.rigid3d.com = v;
       return;
     }
     auto& into = s.kind == Kind::Point ? node.rigid3d.points : node.rigid3d.axes;
@@ -1574,6 +1578,7 @@ class Builder {
   std::size_t declared_nodes_ = 0;                // subsystems declared so far (limits::kMaxNodes)
   std::map<int, GiNaC::ex> builtin_rates_;
   std::map<int, SourcePos> rigid3d_inertia_pos_;  // rigid3d bodies' inertia statements
+  std::map<int, SourcePos> rigid3d_com_pos_;      // rigid3d bodies' com statements
   std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;

@@ -151,7 +151,8 @@ Vec inertia_in_speed_frame(const Node& node) {
 }
 
 Vec point_in_space(const Model& m, const Node& node, const Vec& local) {
-  const Vec d = mat_vec(node.rigid3d.rotation, local);
+  const Vec& c = node.rigid3d.com;
+  const Vec d = mat_vec(node.rigid3d.rotation, {local[0] - c[0], local[1] - c[1], local[2] - c[2]});
   Vec out;
   for (int k = 0; k < 3; ++k) out.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].sym + d[k]);
   return out;

@@ -43,7 +43,10 @@ struct Rigid3dData {
   std::vector<GiNaC::ex> rotation;
   /// Inertia tensor about the mass centre in body axes (row-major 3x3, symmetric).
   std::vector<GiNaC::ex> inertia;
-  /// Points in body coordinates (relative to the mass centre), by local name.
+  /// Where the mass centre is in the body frame of the points and axes (`com`; default
+  /// the origin): a point p is at (x, y, z) + R (p - com).
+  std::vector<GiNaC::ex> com{0, 0, 0};
+  /// Points in body coordinates, by local name.
   std::map<std::string, std::vector<GiNaC::ex>> points;
   /// Axes: a point and a direction, both in body coordinates (6 entries), by local name.
   std::map<std::string, std::vector<GiNaC::ex>> axes;

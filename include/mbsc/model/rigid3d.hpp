@@ -46,7 +46,7 @@ Vec angular_speeds(const Model& m, const Node& node);
 Vec angular_velocity_in_space(const Model& m, const Node& node);
 /// Inertia tensor in the frame of the angular speeds: I (body) or R I R^T (space).
 Vec inertia_in_speed_frame(const Node& node);
-/// A body point (body coordinates relative to the mass centre) in space: x + R p.
+/// A body point (body coordinates) in space: x + R (p - com).
 Vec point_in_space(const Model& m, const Node& node, const Vec& local);
 /// A body direction in space: R d.
 Vec direction_in_space(const Node& node, const Vec& local);

@@ -149,3 +149,24 @@ TEST_CASE("rigid3d: points and axes in space for joints (x + R p, R d)", "[model
   const auto dir = mbsc::model::rigid3d::direction_in_space(node, {axis[3], axis[4], axis[5]});
   for (int i = 0; i < 3; ++i) CHECK(number(dir[static_cast<std::size_t>(i)], at) == Approx(R[3 * i] + R[3 * i + 1]).margin(1e-13));
 }
+
+TEST_CASE("rigid3d: com moves the points' frame origin: x + R (p - com)", "[model][rigid3d]") {
+  mbsc::Diagnostics d;
+  auto file = mbsc::parse::parse_text(
+      "model m\nbody b : rigid3d { mass 1\n inertia (1, 2, 3)\n attitude euler xyz space\n point P (0.1, -0.2, 0.3)\n"
+      " com (0.05, 0.1, -0.2) }\n",
+      "t.mbs", d);
+  REQUIRE(file);
+  auto m = mbsc::model::build(*file, d);
+  REQUIRE(m);
+  const auto& node = m->nodes[0];
+  GiNaC::exmap at;
+  const double q[6] = {1.0, -2.0, 0.5, 0.4, 0.7, -0.3};
+  for (int k = 0; k < 6; ++k) at[m->coords[static_cast<std::size_t>(node.coords[static_cast<std::size_t>(k)])].sym] = q[k];
+  const Mat R = rotation("xyz", {q[3], q[4], q[5]});
+  const auto p = mbsc::model::rigid3d::point_in_space(*m, node, node.rigid3d.points.at("P"));
+  const double rel[3] = {0.1 - 0.05, -0.2 - 0.1, 0.3 + 0.2};
+  for (int i = 0; i < 3; ++i)
+    CHECK(number(p[static_cast<std::size_t>(i)], at) ==
+          Approx(q[i] + R[3 * i] * rel[0] + R[3 * i + 1] * rel[1] + R[3 * i + 2] * rel[2]).margin(1e-13));
+}
