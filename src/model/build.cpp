@@ -13,6 +13,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
+#include "mbsc/model/rigid3d.hpp"
 #include "named_expressions.hpp"
 #include "planar_library.hpp"
 
@@ -26,6 +27,7 @@ const char* to_string(LeafKind kind) {
     case LeafKind::Rigid2d: return "rigid2d";
     case LeafKind::Custom: return "custom";
     case LeafKind::Rigid2dNodal: return "rigid2d_nodal";
+    case LeafKind::Rigid3d: return "rigid3d";
   }
   return "?";
 }
@@ -50,6 +52,7 @@ bool leaf_kind_from_name(const std::string& s, LeafKind& kind) {
   else if (s == "rigid2d") kind = LeafKind::Rigid2d;
   else if (s == "custom") kind = LeafKind::Custom;
   else if (s == "rigid2d_nodal") kind = LeafKind::Rigid2dNodal;
+  else if (s == "rigid3d") kind = LeafKind::Rigid3d;
   else return false;
   return true;
 }
@@ -195,7 +198,7 @@ class Builder {
     const Node* spatial = nullptr;
     for (const auto& n : m_.nodes) {
       if (!is_body(n.kind)) continue;
-      const Node*& first = n.kind == LeafKind::Particle3d ? spatial : planar;
+      const Node*& first = n.kind == LeafKind::Particle3d || n.kind == LeafKind::Rigid3d ? spatial : planar;
       if (!first) first = &n;
     }
     const std::size_t given = gravity_stmt_->exprs.size();
@@ -224,6 +227,15 @@ class Builder {
       }
       if (v.size() != s.exprs.size()) {
         if (s.kind == Kind::Point || s.kind == Kind::Axis) library_.add_failed(PlanarLibrary::kGround, s.name);
+        continue;
+      }
+      // (Three components parse for rigid3d bodies; the ground's points are planar so far.)
+      if ((s.kind == Kind::Point && v.size() != 2) || (s.kind == Kind::Axis && v.size() != 4)) {
+        diags_.error(s.pos, fmt::format("{} '{}' of the ground needs 2 components{} (x, y): spatial ground points are "
+                                        "not supported yet",
+                                        s.kind == Kind::Point ? "point" : "axis", s.name,
+                                        s.kind == Kind::Axis ? " for its point and its direction" : ""));
+        library_.add_failed(PlanarLibrary::kGround, s.name);
         continue;
       }
       if (s.kind == Kind::Point) library_.add_point(PlanarLibrary::kGround, s.name, v[0], v[1], s.name_pos);
@@ -464,6 +476,7 @@ class Builder {
                                         npoints));
         break;
       }
+      case LeafKind::Rigid3d: declare_rigid3d(id, prefix, pos, own_body); break;
       default: break;
     }
     // Declared coordinates and speeds, and named expressions.
@@ -474,6 +487,63 @@ class Builder {
       if (s->kind == Kind::Joint && !s->joint_coordinate.text.empty()) declare_joint_coordinate(id, prefix, *s);
     }
     return id;
+  }
+
+  /// A rigid3d leaf's variables (model.hpp Rigid3dData): x, y, z and the attitude
+  /// coordinates, u, v, w and wx, wy, wz; the attitude's rates are the kinematic
+  /// equations in the angular speeds (model/rigid3d.hpp), its rotation matrix kept for
+  /// forces, energy and joints. `attitude` chooses; the default is a unit quaternion with
+  /// body-frame angular speeds.
+  void declare_rigid3d(int id, const std::string& prefix, const SourcePos& pos, const std::vector<ast::StatementPtr>& body) {
+    Rigid3dData data;
+    data.sequence = "quaternion";
+    const Statement* given = nullptr;
+    for (const auto& s : body) {
+      if (s->kind != Kind::Attitude) continue;
+      if (given) {
+        diags_.error(s->pos, fmt::format("attitude of body '{}' is given twice (first at {})", prefix,
+                                         position_text(given->pos, s->pos)));
+        continue;
+      }
+      given = s.get();
+      if (s->name == "euler") {
+        if (!rigid3d::valid_sequence(s->path.text)) {
+          diags_.error(s->path.pos, fmt::format("'{}' is not an Euler sequence (body '{}'): write three axes of x, y, z "
+                                                "with no axis twice in a row, e.g. zyx, zxz, xyz",
+                                                s->path.text, prefix));
+          return;
+        }
+        data.sequence = s->path.text;
+      } else if (s->name != "quaternion") {
+        diags_.error(s->name_pos, fmt::format("unknown attitude '{}' of body '{}' (quaternion or euler SEQUENCE)", s->name,
+                                              prefix));
+        return;
+      }
+      data.space_frame = s->option2.text == "space";
+    }
+    const bool quaternion = data.sequence == "quaternion";
+    const char* const position[] = {"x", "y", "z"};
+    const char* const velocity[] = {"u", "v", "w"};
+    std::vector<int> q, u;
+    for (int i = 0; i < 3; ++i) q.push_back(add_variable(id, join(prefix, position[i]), pos, true, true));
+    const std::vector<const char*> attitude =
+        quaternion ? std::vector<const char*>{"e0", "e1", "e2", "e3"} : std::vector<const char*>{"phi", "theta", "psi"};
+    for (const char* a : attitude) q.push_back(add_variable(id, join(prefix, a), pos, true, true));
+    for (int i = 0; i < 3; ++i) u.push_back(add_variable(id, join(prefix, velocity[i]), pos, false, true));
+    for (const char* w : {"wx", "wy", "wz"}) u.push_back(add_variable(id, join(prefix, w), pos, false, true));
+    for (int i : q)
+      if (i < 0) return;  // a name declared twice (reported)
+    for (int i : u)
+      if (i < 0) return;
+    rigid3d::Vec a, w;
+    for (std::size_t k = 3; k < q.size(); ++k) a.push_back(m_.coords[static_cast<std::size_t>(q[k])].sym);
+    for (int k = 3; k < 6; ++k) w.push_back(m_.speeds[static_cast<std::size_t>(u[k])].sym);
+    for (int k = 0; k < 3; ++k) builtin_rates_[q[k]] = m_.speeds[static_cast<std::size_t>(u[k])].sym;
+    const rigid3d::Vec rates =
+        quaternion ? rigid3d::quaternion_rates(a, w, data.space_frame) : rigid3d::euler_rates(data.sequence, a, w, data.space_frame);
+    for (std::size_t k = 0; k < rates.size(); ++k) builtin_rates_[q[3 + k]] = rates[k];
+    data.rotation = quaternion ? rigid3d::quaternion_rotation(a) : rigid3d::euler_rotation(data.sequence, a);
+    m_.nodes[id].rigid3d = data;
   }
 
   /// `joint ... coordinate q [speed s]`: the joint's relative coordinate q and its rate s
@@ -494,7 +564,8 @@ class Builder {
   /// "unknown kind", with the close name if any, the leaf kinds and the components.
   std::string unknown_kind_message(const std::string& subsystem, const std::string& kind) const {
     std::vector<std::string> kinds;
-    for (LeafKind k : {LeafKind::Particle2d, LeafKind::Particle3d, LeafKind::Rigid2d, LeafKind::Rigid2dNodal, LeafKind::Custom})
+    for (LeafKind k : {LeafKind::Particle2d, LeafKind::Particle3d, LeafKind::Rigid2d, LeafKind::Rigid2dNodal,
+                       LeafKind::Rigid3d, LeafKind::Custom})
       kinds.push_back(to_string(k));
     std::vector<std::string> components, all = kinds;
     for (const auto& [name, stmt] : components_) components.push_back(name);
@@ -780,11 +851,30 @@ class Builder {
           if (e) m_.forces.push_back(Force{target->second, *e, s.pos});
           break;
         }
+        case Kind::Torque:
+          add_rigid3d_torque(id, s);
+          break;
+        case Kind::Attitude:
+          if (node.kind != LeafKind::Rigid3d)
+            diags_.error(s.pos, fmt::format("'attitude' is only allowed in rigid3d bodies ('{}' is {})", m_.label(id),
+                                            to_string(node.kind)));
+          break;
         case Kind::Mass:
         case Kind::Inertia: {
           if (!body_kind) {
-            diags_.error(s.pos, fmt::format("'{}' is only allowed in particle2d, particle3d and rigid2d bodies",
+            diags_.error(s.pos, fmt::format("'{}' is only allowed in particle2d, particle3d, rigid2d and rigid3d bodies",
                                             s.kind == Kind::Mass ? "mass" : "inertia"));
+            break;
+          }
+          if (s.kind == Kind::Inertia && node.kind == LeafKind::Rigid3d) {
+            fill_rigid3d_inertia(id, s);
+            break;
+          }
+          if (s.kind == Kind::Inertia && !s.exprs.empty()) {
+            inertia_given_.insert(id);  // (reported here, not as missing)
+            diags_.error(s.pos, fmt::format("'inertia' of {} body '{}' is one value (a list of tensor entries is for "
+                                            "rigid3d bodies)",
+                                            to_string(node.kind), node.name));
             break;
           }
           if (s.kind == Kind::Inertia && !is_rigid2d(node.kind)) {
@@ -904,6 +994,11 @@ class Builder {
             if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
             break;
           }
+          if (!check_point_dimension(id, s)) break;
+          if (node.kind == LeafKind::Rigid3d) {
+            add_rigid3d_geometry(id, s, v);
+            break;
+          }
           if (s.kind == Kind::Point) library_.add_point(id, s.name, v[0], v[1], s.name_pos);
           else if (s.kind == Kind::Com) library_.set_com(id, v[0], v[1], s.pos);
           else library_.add_axis(id, s.name, v[0], v[1], v[2], v[3], s.name_pos);
@@ -960,7 +1055,7 @@ class Builder {
     }
     // (A mass or inertia statement whose value failed is reported there, not as missing.)
     if (body_kind && !mass_given_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
-    if (is_rigid2d(node.kind) && !inertia_given_.count(id))
+    if ((is_rigid2d(node.kind) || node.kind == LeafKind::Rigid3d) && !inertia_given_.count(id))
       diags_.error(node.pos, fmt::format("{} body '{}' has no inertia", to_string(node.kind), node.name));
     // A nodal body is finished from all its points: not when one of them failed.
     if (node.kind == LeafKind::Rigid2dNodal && has_mass_.count(id) && inertia_pos_.count(id) &&
@@ -986,6 +1081,113 @@ class Builder {
         else nd.instance_of = it->second;
       }
     }
+  }
+
+  /// `inertia (Ixx, Iyy, Izz [, Ixy, Ixz, Iyz])` of a rigid3d body: the tensor about the
+  /// mass centre in body axes (principal values alone, or with its off-diagonal entries).
+  void fill_rigid3d_inertia(int id, const Statement& s) {
+    Node& node = m_.nodes[id];
+    inertia_given_.insert(id);
+    if (s.exprs.size() != 3 && s.exprs.size() != 6) {
+      diags_.error(s.pos, fmt::format("inertia of rigid3d body '{}' has {} {}: give (Ixx, Iyy, Izz) or (Ixx, Iyy, Izz, "
+                                      "Ixy, Ixz, Iyz) about the mass centre in body axes",
+                                      node.name, s.exprs.empty() ? 1 : s.exprs.size(),
+                                      s.exprs.size() == 1 || s.exprs.empty() ? "entry" : "entries"));
+      return;
+    }
+    std::vector<GiNaC::ex> e;
+    for (const auto& x : s.exprs) {
+      auto c = convert(id, x, true, false, false);
+      if (!c) return;
+      e.push_back(*c);
+    }
+    while (e.size() < 6) e.push_back(0);
+    node.rigid3d.inertia = {e[0], e[3], e[4], e[3], e[1], e[5], e[4], e[5], e[2]};
+    node.inertia_pos = s.pos;
+    rigid3d_inertia_pos_[id] = s.pos;
+  }
+
+  /// `torque [space|body] (Tx, Ty, Tz)` in a rigid3d body: an applied torque given in
+  /// space axes (the default) or body axes, turned into generalized forces along the
+  /// angular speeds (their frame: R^T tau for body-frame speeds given a space torque, R tau
+  /// for space-frame speeds given a body torque). It may read the state, inputs and t.
+  void add_rigid3d_torque(int id, const Statement& s) {
+    const Node& node = m_.nodes[id];
+    if (node.kind != LeafKind::Rigid3d) {
+      diags_.error(s.pos, fmt::format("'torque' is only allowed in rigid3d bodies ('{}' is {}); a torque on a "
+                                      "planar body is a force on its w",
+                                      m_.label(id), to_string(node.kind)));
+      return;
+    }
+    rigid3d::Vec tau;
+    for (const auto& e : s.exprs) {
+      auto c = convert(id, e, true, false, false);
+      if (!c) return;
+      tau.push_back(*c);
+    }
+    if (node.rigid3d.rotation.empty()) return;  // its variables failed (reported)
+    const bool given_in_body = s.option2.text == "body";
+    rigid3d::Vec along = tau;
+    if (given_in_body && node.rigid3d.space_frame) along = rigid3d::mat_vec(node.rigid3d.rotation, tau);
+    if (!given_in_body && !node.rigid3d.space_frame) along = rigid3d::mat_t_vec(node.rigid3d.rotation, tau);
+    for (int k = 0; k < 3; ++k)
+      if (!along[static_cast<std::size_t>(k)].is_zero())
+        m_.forces.push_back(Force{node.speeds[3 + static_cast<std::size_t>(k)], along[static_cast<std::size_t>(k)], s.pos});
+  }
+
+  /// Points and axes have two components in the plane, three in space.
+  bool check_point_dimension(int id, const Statement& s) {
+    const Node& node = m_.nodes[id];
+    const std::size_t want = node.kind == LeafKind::Rigid3d ? 3 : 2;
+    const std::size_t per = s.kind == Kind::Axis ? 2 : 1;
+    bool ok = s.exprs.size() == want * per;
+    if (s.kind == Kind::Axis && s.exprs.size() == 5) ok = false;  // (a, b) (c, d, e) or the reverse
+    if (ok) return true;
+    const char* what = s.kind == Kind::Point ? "point" : s.kind == Kind::Com ? "com" : "axis";
+    diags_.error(s.pos, fmt::format("{}{} of {} body '{}' needs {} components{} ({})", what,
+                                    s.name.empty() ? std::string() : " '" + s.name + "'",
+                                    to_string(node.kind), m_.label(id), want, per == 2 ? " for its point and its direction" : "",
+                                    want == 3 ? "x, y, z in body axes" : "x, y in body axes"));
+    if (s.kind != Kind::Com) library_.add_failed(id, s.name);
+    return false;
+  }
+
+  /// A rigid3d body's points and axes, in body coordinates relative to its mass centre.
+  void add_rigid3d_geometry(int id, const Statement& s, const std::vector<GiNaC::ex>& v) {
+    Node& node = m_.nodes[id];
+    if (s.kind == Kind::Com) {
+      if (rigid3d_com_pos_.count(id)) {
+        diags_.error(s.pos, fmt::format("com of body '{}' is given twice (first at {})", node.name,
+                                        position_text(rigid3d_com_pos_[id], s.pos)));
+        return;
+      }
+      rigid3d_com_pos_[id] = s.pos;
+      node.rigid3d.com = v;
+      return;
+    }
+    auto& into = s.kind == Kind::Point ? node.rigid3d.points : node.rigid3d.axes;
+    if (node.rigid3d.points.count(s.name) || node.rigid3d.axes.count(s.name)) {
+      diags_.error(s.name_pos, fmt::format("point or axis '{}' of body '{}' is already declared", s.name, node.name));
+      return;
+    }
+    if (s.kind == Kind::Axis) {
+      double len2 = 0;
+      bool known = true;
+      for (int k = 3; k < 6; ++k) {
+        double d;
+        try {
+          known = known && evaluate_number(substitute_param_defaults(v[static_cast<std::size_t>(k)], true), d);
+        } catch (const std::exception&) {
+          known = false;
+        }
+        if (known) len2 += d * d;
+      }
+      if (known && !(len2 > 0)) {
+        diags_.error(s.name_pos, fmt::format("axis '{}' of body '{}' has a zero direction", s.name, node.name));
+        return;
+      }
+    }
+    into[s.name] = v;
   }
 
   /// `latex NAME "text"`: NAME is looked up as an expression would be there (the node's
@@ -1257,6 +1459,42 @@ class Builder {
   /// names, since the file alone looks right). Zero is allowed (a massless link); the
   /// derivation then checks that the reduced mass matrix stays positive definite
   /// (sym/massless_check.hpp).
+  /// A rigid3d inertia tensor is constant and, at the parameters' defaults (or their
+  /// --freeze values), symmetric positive definite: its leading minors are positive.
+  /// (A tensor that is not makes the mass matrix singular or indefinite.)
+  void check_rigid3d_inertia(const Node& node, const SourcePos& pos, const GiNaC::exmap& formals) {
+    std::vector<double> I(9);
+    for (std::size_t k = 0; k < 9; ++k) {
+      GiNaC::ex e = node.rigid3d.inertia[k];
+      try {
+        for (int pass = 0; pass < 2 && !formals.empty(); ++pass) {
+          std::string why;
+          const auto next = guarded_subs(e, formals, why);
+          if (!next) throw std::runtime_error(why);
+          e = *next;
+        }
+        if (const std::string varying = varying_part(e); !varying.empty()) {
+          diags_.error(pos, fmt::format("inertia of body '{}' must be constant: it reads {} (inertias may use parameters "
+                                        "only)",
+                                        node.name, varying));
+          return;
+        }
+        if (!evaluate_number(substitute_param_defaults(e, true), I[k])) return;  // left symbolic: not checked here
+      } catch (const std::exception& ex) {
+        diags_.error(pos, fmt::format("inertia of body '{}' is undefined at these parameter values ({})", node.name, ex.what()));
+        return;
+      }
+    }
+    const double m1 = I[0], m2 = I[0] * I[4] - I[1] * I[3];
+    const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6]) + I[2] * (I[3] * I[7] - I[4] * I[6]);
+    GiNaC::ex all = 0;  // every entry, for the note on frozen parameters
+    for (const auto& e : node.rigid3d.inertia) all += GiNaC::pow(e, 2);
+    if (!(m1 > 0 && m2 > 0 && m3 > 0))
+      diags_.error(pos, fmt::format("inertia tensor of body '{}' is not positive definite at the parameter values "
+                                    "(leading minors {:g}, {:g}, {:g}; all must be positive){}",
+                                    node.name, m1, m2, m3, frozen_note(all)));
+  }
+
   void check_masses() {
     GiNaC::exmap formals;
     for (auto& [name, f] : m_.formals) {
@@ -1297,6 +1535,7 @@ class Builder {
       };
       if (has_mass_.count(static_cast<int>(n))) check(node.mass, node.mass_pos, "mass");
       if (inertia_pos_.count(static_cast<int>(n))) check(node.inertia, inertia_pos_[n], "inertia");
+      if (rigid3d_inertia_pos_.count(static_cast<int>(n))) check_rigid3d_inertia(node, rigid3d_inertia_pos_[n], formals);
     }
   }
 
@@ -1338,6 +1577,8 @@ class Builder {
   std::vector<GiNaC::symbol> coord_dot_;
   std::size_t declared_nodes_ = 0;                // subsystems declared so far (limits::kMaxNodes)
   std::map<int, GiNaC::ex> builtin_rates_;
+  std::map<int, SourcePos> rigid3d_inertia_pos_;  // rigid3d bodies' inertia statements
+  std::map<int, SourcePos> rigid3d_com_pos_;      // rigid3d bodies' com statements
   std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;

@@ -15,11 +15,11 @@ namespace mbsc::parse {
 
 namespace {
 
-constexpr std::array<const char*, 30> statement_keywords = {
+constexpr std::array<const char*, 31> statement_keywords = {
     "model",      "parameter", "input",   "gravity", "include", "component",   "subsystem", "body",   "coordinate",
     "speed",      "constraint", "force",  "mass",    "inertia", "kinetic",     "potential", "independent", "alternative",
     "output",     "point",      "com",    "axis",    "ground",  "joint",       "spring",    "damper", "parametrization",
-    "latex", "let", "initial"};
+    "latex", "let", "initial", "attitude"};
 
 constexpr std::array<const char*, 5> other_keywords = {"position", "velocity", "nonlinear", "energy", "for"};
 

@@ -245,6 +245,9 @@ class Parser {
   // stmt := one of the statements below, chosen by its leading keyword
   void parse_statement(std::vector<StatementPtr>& out, bool top_level) {
     const Token& t = peek();
+    // `torque` begins a statement only here: elsewhere it stays a name (a joint's
+    // `torque` option, a parameter called torque).
+    if (t.kind == TK::Ident && t.text == "torque") return parse_torque(out, take());
     if (t.kind == TK::Ident) fail_unknown_statement(t);
     if (t.kind == TK::Invalid) fail(t.pos, t.text);
     if (t.kind != TK::Keyword || !is_statement_keyword(t.text)) fail_expected("a statement");
@@ -264,7 +267,8 @@ class Parser {
     if (k == "constraint") return parse_constraint(out, kw);
     if (k == "force") return parse_force(out, kw);
     if (k == "mass") return parse_valued(out, kw, Statement::Kind::Mass);
-    if (k == "inertia") return parse_valued(out, kw, Statement::Kind::Inertia);
+    if (k == "inertia") return parse_inertia(out, kw);
+    if (k == "attitude") return parse_attitude(out, kw);
     if (k == "kinetic") return parse_valued(out, kw, Statement::Kind::Kinetic);
     if (k == "potential") return parse_valued(out, kw, Statement::Kind::Potential);
     if (k == "independent") return parse_independent(out, kw, Statement::Kind::Independent);
@@ -517,13 +521,71 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // '(' expr ',' expr ')'
+  // '(' expr ',' expr [',' expr] ')'  (two components in the plane, three in space)
   void parse_pair(std::vector<ExprPtr>& into, const std::string& what) {
     expect(TK::LParen, "'(' before " + what);
     into.push_back(parse_expr());
-    expect(TK::Comma, "',' between the two components of " + what);
+    expect(TK::Comma, "',' between the components of " + what);
     into.push_back(parse_expr());
+    if (accept(TK::Comma)) into.push_back(parse_expr());
     expect(TK::RParen, "')' after " + what);
+  }
+
+  // 'inertia' expr  |  'inertia' '(' expr (',' expr)+ ')'  (a rigid3d body's tensor entries)
+  void parse_inertia(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Inertia, kw);
+    const std::size_t start = i_;
+    const int depth = paren_depth_;
+    bool list = false;
+    if (at(TK::LParen)) {
+      take();
+      parse_expr();
+      list = at(TK::Comma);
+      i_ = start;  // read again below, as a list or as one expression
+      paren_depth_ = depth;
+    }
+    if (list) {
+      take();  // '('
+      st.exprs.push_back(parse_expr());
+      while (accept(TK::Comma)) st.exprs.push_back(parse_expr());
+      expect(TK::RParen, "')' after the inertia tensor entries");
+    } else {
+      st.value = parse_expr();
+    }
+    end_statement("inertia expression");
+    push(out, std::move(st));
+  }
+
+  // 'torque' ['body' | 'space'] '(' expr ',' expr ',' expr ')'
+  void parse_torque(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Torque, kw);
+    if (at_keyword("body") || (at(TK::Ident) && peek().text == "space")) {
+      const Token frame = take();
+      st.option2 = ast::Path{frame.text, frame.pos};
+    }
+    parse_pair(st.exprs, "the torque's components");
+    if (st.exprs.size() != 3) fail(kw.pos, "a torque has three components: torque (Tx, Ty, Tz)");
+    end_statement("torque");
+    push(out, std::move(st));
+  }
+
+  // 'attitude' ('quaternion' | 'euler' SEQ) ['body' | 'space']: how a rigid3d body's
+  // attitude is parametrized and in which frame its angular speeds are measured.
+  void parse_attitude(std::vector<StatementPtr>& out, const Token& kw) {
+    Statement st = begin(Statement::Kind::Attitude, kw);
+    const Token kind = expect_name("'quaternion' or 'euler' after 'attitude'");
+    st.name = kind.text;
+    st.name_pos = kind.pos;
+    if (kind.text == "euler") {
+      const Token seq = expect_name("the axis sequence after 'attitude euler' (e.g. zyx)");
+      st.path = ast::Path{seq.text, seq.pos};
+    }
+    if (at_keyword("body") || (at(TK::Ident) && peek().text == "space")) {
+      const Token frame = take();
+      st.option2 = ast::Path{frame.text, frame.pos};
+    }
+    end_statement("attitude '" + kind.text + "'");
+    push(out, std::move(st));
   }
 
   // 'point' IDENT '(' expr ',' expr ')'

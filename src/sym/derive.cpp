@@ -18,6 +18,7 @@
 #include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/massless_check.hpp"
+#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/linear_gradient.hpp"
@@ -779,7 +780,10 @@ class Deriver {
     bool ok = true;
     for (const auto& node : m_.nodes) {
       const bool body = model::is_body(node.kind) && node.kind != LeafKind::Rigid2dNodal;  // nodal: node.kinetic
-      if (body) {
+      if (node.kind == LeafKind::Rigid3d) {
+        T += fz(model::rigid3d::kinetic_energy(m_, node));
+        V += fz(model::rigid3d::gravity_potential(m_, node));
+      } else if (body) {
         for (size_t k = 0; k < node.speeds.size(); ++k) {
           const GiNaC::ex u = m_.speeds[node.speeds[k]].sym;
           const bool rot = node.kind == LeafKind::Rigid2d && k == 2;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "mbsc/model/rigid3d.hpp"
+
 namespace mbsc::sym {
 
 GiNaC::ex own_force(const model::Model& m, int speed) {
@@ -14,7 +16,10 @@ GiNaC::ex own_force(const model::Model& m, int speed) {
   if (model::is_body(node.kind) && node.kind != model::LeafKind::Rigid2dNodal) {
     // Body speeds are (u, v[, w]) = rates of (x, y[, z | theta]).
     const GiNaC::ex rate = m.speed_dots[static_cast<std::size_t>(speed)];
-    if (node.kind == model::LeafKind::Rigid2d && k == 2) {
+    if (node.kind == model::LeafKind::Rigid3d && k >= 3) {
+      // Euler's equations in the angular speeds' frame (model/rigid3d.hpp).
+      f += model::rigid3d::angular_inertia_force(m, node, static_cast<int>(k) - 3);
+    } else if (node.kind == model::LeafKind::Rigid2d && k == 2) {
       f += -node.inertia * rate;
     } else {
       f += -node.mass * rate;

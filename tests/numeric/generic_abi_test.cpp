@@ -25,6 +25,8 @@
 #include "four_bar_min/four_bar_min.hpp"
 #include "four_bar_mult/four_bar_mult.hpp"
 #include "four_bar_toggle/four_bar_toggle.hpp"
+#include "free_body_euler/free_body_euler.hpp"
+#include "free_body_quaternion/free_body_quaternion.hpp"
 #include "free_particle/free_particle.hpp"
 #include "generic_harness.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
@@ -51,6 +53,8 @@ MBSC_GENERIC_MODEL(four_bar);
 MBSC_GENERIC_MODEL(four_bar_min);
 MBSC_GENERIC_MODEL(four_bar_mult);
 MBSC_GENERIC_MODEL(four_bar_toggle);
+MBSC_GENERIC_MODEL(free_body_euler);
+MBSC_GENERIC_MODEL(free_body_quaternion);
 MBSC_GENERIC_MODEL(free_particle);
 MBSC_GENERIC_MODEL(massless_rod_pendulum);
 MBSC_GENERIC_MODEL(parallelogram_chain);
@@ -299,7 +303,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 18);
+  REQUIRE(shipped == 20);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -307,6 +311,8 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<five_bar_abi>(rng);
     check_model<four_bar_abi>(rng);
     check_model<four_bar_toggle_abi>(rng);
+    check_model<free_body_euler_abi>(rng);
+    check_model<free_body_quaternion_abi>(rng);
     check_model<massless_rod_pendulum_abi>(rng);
     check_model<parallelogram_chain_abi>(rng);
     check_model<ring_disc_abi>(rng);
@@ -388,6 +394,8 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<five_bar_abi>(rng);
     check_sparse_jacobians<four_bar_abi>(rng);
     check_sparse_jacobians<four_bar_toggle_abi>(rng);
+    check_sparse_jacobians<free_body_euler_abi>(rng);
+    check_sparse_jacobians<free_body_quaternion_abi>(rng);
     check_sparse_jacobians<massless_rod_pendulum_abi>(rng);
     check_sparse_jacobians<parallelogram_chain_abi>(rng);
     check_sparse_jacobians<ring_disc_abi>(rng);

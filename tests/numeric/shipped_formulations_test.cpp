@@ -34,6 +34,10 @@
 #include "four_bar_mult/four_bar_mult.hpp"
 #include "four_bar_toggle/four_bar_toggle.hpp"
 #include "four_bar_toggle_mult/four_bar_toggle_mult.hpp"
+#include "free_body_euler/free_body_euler.hpp"
+#include "free_body_euler_mult/free_body_euler_mult.hpp"
+#include "free_body_quaternion/free_body_quaternion.hpp"
+#include "free_body_quaternion_mult/free_body_quaternion_mult.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "massless_rod_pendulum_mult/massless_rod_pendulum_mult.hpp"
 #include "mbsc/runtime/assemble.hpp"
@@ -484,6 +488,24 @@ std::vector<Case> shipped_models() {
                    {},
                    {},
                    4});
+  // The free body (no constraints): the two forms are the same Newton-Euler equations;
+  // any attitude and any motion. The quaternion is near unit (its norm is not a
+  // constraint; the rhs is right for any e).
+  const std::vector<Range> body_speeds{{"b.u", 0.5, 1.0}, {"b.v", 0.0, 1.0}, {"b.w", 3.0, 1.0},
+                                       {"b.wx", 1.0, 1.0}, {"b.wy", -0.5, 1.0}, {"b.wz", 2.0, 1.0}};
+  cases.push_back({PAIR_VELOCITY_ONLY(free_body_quaternion),
+                   {{"b.e0", 1.0}},
+                   {{"b.x", 0.0, 1.0}, {"b.z", 0.0, 1.0}, {"b.e1", 0.1, 0.05}, {"b.e2", -0.2, 0.05}, {"b.e3", 0.1, 0.05}},
+                   body_speeds,
+                   {},
+                   {}});
+  // Away from gimbal lock (theta = +-pi/2).
+  cases.push_back({PAIR_VELOCITY_ONLY(free_body_euler),
+                   {},
+                   {{"b.phi", 0.3, 1.0}, {"b.theta", 0.2, 0.4}, {"b.psi", -0.2, 1.0}},
+                   body_speeds,
+                   {},
+                   {}});
   return cases;
 }
 
@@ -500,7 +522,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 18);
+  REQUIRE(shipped.size() == 20);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -16,16 +16,41 @@ namespace mbsc::model {
 /// Rigid2dNodal: a planar rigid body in nodal (natural) coordinates, thesis Ex 2.6 and
 /// Mo2DPack: its points are its nodes, their world positions its coordinates
 /// (planar_library.cpp builds its invariants, forces and energy).
-enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom, Rigid2dNodal };
+/// Rigid3d: a rigid body in space (thesis Ex 2.1, 2.5): mass-centre position and an
+/// attitude (unit quaternion or Euler angles), mass-centre velocity in space and angular
+/// speeds in the body or the space frame (model/rigid3d.hpp holds its kinematics).
+enum class LeafKind { Node, Particle2d, Particle3d, Rigid2d, Custom, Rigid2dNodal, Rigid3d };
 const char* to_string(LeafKind kind);
 /// Bodies (particle2d, particle3d, rigid2d, rigid2d_nodal) have a mass; all but the nodal
 /// one get their inertia forces, gravity and energy from their absolute coordinates
 /// automatically (the nodal one gets them from the library as explicit terms).
 inline bool is_body(LeafKind kind) {
   return kind == LeafKind::Particle2d || kind == LeafKind::Particle3d || kind == LeafKind::Rigid2d ||
-         kind == LeafKind::Rigid2dNodal;
+         kind == LeafKind::Rigid2dNodal || kind == LeafKind::Rigid3d;
 }
 inline bool is_rigid2d(LeafKind kind) { return kind == LeafKind::Rigid2d || kind == LeafKind::Rigid2dNodal; }
+
+/// What a rigid3d leaf adds to its node. Coordinates: x, y, z (mass centre in space), then
+/// e0..e3 (unit quaternion, e0 the scalar part) or the three Euler angles phi, theta, psi
+/// (rotations about the sequence's first, second and third axis). Speeds: u, v, w (the
+/// mass centre's velocity in space), then wx, wy, wz (the angular velocity's components
+/// in the body frame, or in the space frame when `space_frame`).
+struct Rigid3dData {
+  std::string sequence;      // "quaternion", or the Euler axis sequence ("zyx", "zxz", ...)
+  bool space_frame = false;  // angular speeds in the space frame (else the body frame)
+  /// Body-to-space rotation matrix R (row-major 3x3) in the attitude coordinates: a
+  /// vector with body components b has space components R b.
+  std::vector<GiNaC::ex> rotation;
+  /// Inertia tensor about the mass centre in body axes (row-major 3x3, symmetric).
+  std::vector<GiNaC::ex> inertia;
+  /// Where the mass centre is in the body frame of the points and axes (`com`; default
+  /// the origin): a point p is at (x, y, z) + R (p - com).
+  std::vector<GiNaC::ex> com{0, 0, 0};
+  /// Points in body coordinates, by local name.
+  std::map<std::string, std::vector<GiNaC::ex>> points;
+  /// Axes: a point and a direction, both in body coordinates (6 entries), by local name.
+  std::map<std::string, std::vector<GiNaC::ex>> axes;
+};
 
 /// A generalized coordinate (q0) or quasi-velocity (q1).
 struct Variable {
@@ -92,6 +117,7 @@ struct Node {
   SourcePos mass_pos, inertia_pos;
   GiNaC::ex kinetic, potential;  // user-given energy terms (0 when absent)
   bool has_kinetic = false;
+  Rigid3dData rigid3d;  // rigid3d leaves only
 };
 
 /// The whole model. Arrays are index-aligned; nodes are stored in post-order

@@ -71,6 +71,11 @@ struct Statement {
     Force,        // force PATH : expr                  path, value
     Mass,         // mass expr                          value
     Inertia,      // inertia expr                       value
+                  // inertia (Ixx, Iyy, Izz [, Ixy, Ixz, Iyz])  exprs (a rigid3d body's tensor)
+    Attitude,     // attitude quaternion [body|space]   name = "quaternion" or "euler", name_pos;
+                  // attitude euler SEQ [body|space]    path = SEQ (e.g. zyx), option2 = the frame word
+    Torque,       // torque [body|space] (Tx, Ty, Tz)   exprs, option2 = the frame word (a rigid3d body's
+                  //                                    applied torque; 'torque' is a keyword only here)
     Kinetic,      // kinetic expr                       value
     Potential,    // potential expr                     value
     Independent,  // independent PATH, PATH ...         paths
@@ -78,9 +83,9 @@ struct Statement {
     Output,       // output NAME = expr | output energy name, value (null for "output energy")
     Let,          // let NAME = expr                    name, value (a named expression, docs/language.md "Named expressions")
     // Planar library level (docs/language.md "Bodies, points and joints"):
-    Point,        // point NAME (ex, ey)                name, exprs = {ex, ey} (body coordinates)
-    Com,          // com (ex, ey)                       exprs = {ex, ey}
-    Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy}
+    Point,        // point NAME (ex, ey [, ez])          name, exprs = {ex, ey[, ez]} (body coordinates)
+    Com,          // com (ex, ey [, ez])                exprs = {ex, ey[, ez]}
+    Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy} (or three of each)
     Ground,       // ground { point/axis ... }          body
     Joint,        // joint [NAME :] KIND PATH PATH [coordinate Q [speed S]] [OPTION expr [OPTION2 expr2]]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,

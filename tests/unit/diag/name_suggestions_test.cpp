@@ -111,7 +111,7 @@ TEST_CASE("an unknown kind lists the kinds and components", "[diag][suggest][mod
   const auto errs = errors_of("model m\ncomponent Arm(l) { body b : particle2d { mass l } }\nbody b : rigid2 { mass 1 }\n");
   REQUIRE(errs.size() == 1);
   CHECK(errs[0] == "3:10: subsystem 'b' has unknown kind or component 'rigid2' (did you mean 'rigid2d'?); the leaf kinds "
-                   "are particle2d, particle3d, rigid2d, rigid2d_nodal and custom, the components Arm");
+                   "are particle2d, particle3d, rigid2d, rigid2d_nodal, rigid3d and custom, the components Arm");
   const auto none = errors_of("model m\nbody b : pendulum { mass 1 }\n");
   REQUIRE(none.size() == 1);
   CHECK(none[0].find("unknown kind or component 'pendulum'; the leaf kinds are particle2d,") != std::string::npos);

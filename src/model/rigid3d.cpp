@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#include "mbsc/model/rigid3d.hpp"
+
+namespace mbsc::model::rigid3d {
+
+using GiNaC::ex;
+
+bool valid_sequence(const std::string& seq) {
+  if (seq.size() != 3) return false;
+  for (char c : seq)
+    if (c != 'x' && c != 'y' && c != 'z') return false;
+  return seq[0] != seq[1] && seq[1] != seq[2];
+}
+
+Vec quaternion_rotation(const Vec& e) {
+  const ex &e0 = e[0], &e1 = e[1], &e2 = e[2], &e3 = e[3];
+  return {e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2),
+          2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1),
+          2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3};
+}
+
+namespace {
+
+int axis_index(char a) { return a - 'x'; }
+
+/// Rotation by angle a about coordinate axis i.
+GiNaC::matrix axis_rotation(int i, const ex& a) {
+  GiNaC::matrix r(3, 3);
+  const int j = (i + 1) % 3, k = (i + 2) % 3;
+  r(i, i) = 1;
+  r(j, j) = cos(a);
+  r(k, k) = cos(a);
+  r(j, k) = -sin(a);
+  r(k, j) = sin(a);
+  return r;
+}
+
+Vec entries(const GiNaC::matrix& m) {
+  Vec out;
+  for (unsigned i = 0; i < m.rows(); ++i)
+    for (unsigned j = 0; j < m.cols(); ++j) out.push_back(m(i, j));
+  return out;
+}
+
+GiNaC::matrix unit(int i) {
+  GiNaC::matrix u(3, 1);
+  u(static_cast<unsigned>(i), 0) = 1;
+  return u;
+}
+
+/// sin^2 -> 1 - cos^2 for the angles, then one common denominator: the entries of H^-1
+/// come out as short quotients of trigonometric monomials.
+ex trig_tidy(const ex& e, const Vec& angles) {
+  GiNaC::exmap pyth;
+  for (const auto& a : angles) pyth[pow(sin(a), 2)] = 1 - pow(cos(a), 2);
+  return GiNaC::normal(GiNaC::expand(e).subs(pyth, GiNaC::subs_options::algebraic));
+}
+
+}  // namespace
+
+Vec euler_rotation(const std::string& seq, const Vec& angles) {
+  GiNaC::matrix r = axis_rotation(axis_index(seq[0]), angles[0]);
+  r = r.mul(axis_rotation(axis_index(seq[1]), angles[1])).mul(axis_rotation(axis_index(seq[2]), angles[2]));
+  return entries(r);
+}
+
+Vec quaternion_rates(const Vec& e, const Vec& w, bool space_frame) {
+  // e' = 1/2 (-ev.w, e0 w + s ev x w), s = +1 for e (0, w), -1 for (0, w) e.
+  const Vec ev{e[1], e[2], e[3]};
+  const Vec c = cross(ev, w);
+  const int s = space_frame ? -1 : 1;
+  const ex half = GiNaC::numeric(1, 2);
+  return {-half * dot(ev, w), half * (e[0] * w[0] + s * c[0]), half * (e[0] * w[1] + s * c[1]),
+          half * (e[0] * w[2] + s * c[2])};
+}
+
+Vec euler_rates(const std::string& seq, const Vec& angles, const Vec& w, bool space_frame) {
+  const int a = axis_index(seq[0]), b = axis_index(seq[1]), c = axis_index(seq[2]);
+  const GiNaC::matrix Ra = axis_rotation(a, angles[0]), Rb = axis_rotation(b, angles[1]), Rc = axis_rotation(c, angles[2]);
+  // Columns of H: each angle's rate contributes its axis, in the frame of the speeds.
+  GiNaC::matrix cols[3];
+  if (space_frame) {
+    cols[0] = unit(a);
+    cols[1] = Ra.mul(unit(b));
+    cols[2] = Ra.mul(Rb).mul(unit(c));
+  } else {
+    cols[0] = Rc.transpose().mul(Rb.transpose()).mul(unit(a));
+    cols[1] = Rc.transpose().mul(unit(b));
+    cols[2] = unit(c);
+  }
+  GiNaC::matrix H(3, 3);
+  for (unsigned j = 0; j < 3; ++j)
+    for (unsigned i = 0; i < 3; ++i) H(i, j) = trig_tidy(cols[j](i, 0), angles);
+  const GiNaC::matrix Hinv = H.inverse();
+  Vec out(3, ex(0));
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) out[i] += trig_tidy(Hinv(i, j), angles) * w[j];
+  return out;
+}
+
+Vec mat_vec(const Vec& A, const Vec& v) {
+  Vec out(3, ex(0));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[i] += A[3 * i + j] * v[j];
+  return out;
+}
+
+Vec mat_t_vec(const Vec& A, const Vec& v) {
+  Vec out(3, ex(0));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[i] += A[3 * j + i] * v[j];
+  return out;
+}
+
+Vec cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+ex dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+Vec attitude_coordinates(const Model& m, const Node& node) {
+  Vec out;
+  for (std::size_t k = 3; k < node.coords.size(); ++k) out.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].sym);
+  return out;
+}
+
+Vec angular_speeds(const Model& m, const Node& node) {
+  Vec out;
+  for (std::size_t k = 3; k < 6; ++k) out.push_back(m.speeds[static_cast<std::size_t>(node.speeds[k])].sym);
+  return out;
+}
+
+Vec angular_velocity_in_space(const Model& m, const Node& node) {
+  const Vec w = angular_speeds(m, node);
+  return node.rigid3d.space_frame ? w : mat_vec(node.rigid3d.rotation, w);
+}
+
+Vec inertia_in_speed_frame(const Node& node) {
+  const Vec& I = node.rigid3d.inertia;
+  if (!node.rigid3d.space_frame) return I;
+  const Vec& R = node.rigid3d.rotation;
+  Vec J(9, ex(0));
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      ex s = 0;
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l) s += R[3 * i + k] * I[3 * k + l] * R[3 * j + l];
+      J[3 * i + j] = J[3 * j + i] = s;
+    }
+  return J;
+}
+
+Vec point_in_space(const Model& m, const Node& node, const Vec& local) {
+  const Vec& c = node.rigid3d.com;
+  const Vec d = mat_vec(node.rigid3d.rotation, {local[0] - c[0], local[1] - c[1], local[2] - c[2]});
+  Vec out;
+  for (int k = 0; k < 3; ++k) out.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].sym + d[k]);
+  return out;
+}
+
+Vec direction_in_space(const Node& node, const Vec& local) { return mat_vec(node.rigid3d.rotation, local); }
+
+GiNaC::ex angular_inertia_force(const Model& m, const Node& node, int k) {
+  const Vec J = inertia_in_speed_frame(node);
+  const Vec w = angular_speeds(m, node);
+  Vec wdot;
+  for (std::size_t i = 3; i < 6; ++i) wdot.push_back(m.speed_dots[static_cast<std::size_t>(node.speeds[i])]);
+  const Vec Jw = mat_vec(J, w), Jwdot = mat_vec(J, wdot);
+  const Vec gyro = cross(w, Jw);
+  return -(Jwdot[k] + gyro[k]);
+}
+
+GiNaC::ex kinetic_energy(const Model& m, const Node& node) {
+  ex T = 0;
+  for (int k = 0; k < 3; ++k) {
+    const ex u = m.speeds[static_cast<std::size_t>(node.speeds[k])].sym;
+    T += GiNaC::numeric(1, 2) * node.mass * u * u;
+  }
+  const Vec w = angular_speeds(m, node);
+  return T + GiNaC::numeric(1, 2) * dot(w, mat_vec(inertia_in_speed_frame(node), w));
+}
+
+GiNaC::ex gravity_potential(const Model& m, const Node& node) {
+  ex V = 0;
+  for (std::size_t k = 0; k < 3 && k < m.gravity.size(); ++k)
+    V -= node.mass * m.gravity[k] * m.coords[static_cast<std::size_t>(node.coords[k])].sym;
+  return V;
+}
+
+}  // namespace mbsc::model::rigid3d
