@@ -925,10 +925,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[20] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[10], p[13], p[15], p[17], x[6], x[7], x[14], x[15], x[25], x[26], x[33], x[34]};
-    return all_finite(in_, 20);
-  };
   const double s0 = std::sin(x[7]);
   const double c0 = std::cos(x[7]);
   const double s1 = std::sin(x[15]);
@@ -956,7 +952,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t4, t5, c1*p[4]*t6 + c3*p[3]*t7 - c0*t8*p[2] - c2*t9*p[1],
       t10, t11, p[3]*s3*t7 - t9*p[1]*s2 + p[4]*t6*s1 - t8*p[2]*s0};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+    const double in_[20] = {p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[10], p[13], p[15], p[17], x[6], x[7], x[14], x[15], x[25], x[26], x[33], x[34]};
+    return all_finite(A_0, 4) && all_finite(in_, 20) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'linkage': dependent block B*, core left by 3 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -592,10 +592,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(in_, 12);
-  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -618,7 +614,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       t4, t6*p[2]*c1 - t5*p[0]*c2 - t7*c0*p[1],
       t8, t6*s1*p[2] - t7*p[1]*s0 - s2*t5*p[0]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -590,10 +590,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(in_, 12);
-  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[8]);
@@ -616,7 +612,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       t4, t5*c0*p[1] + t6*p[0]*c2 - t7*p[2]*c1,
       t8, s2*t6*p[0] + t5*p[1]*s0 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
@@ -716,10 +715,6 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
 }
 
 int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(in_, 12);
-  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -742,7 +737,10 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c1*p[1] + t6*p[0]*c0 - t7*p[2]*c2,
       t8, s0*t6*p[0] + t5*p[1]*s1 - t7*s2*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
@@ -844,10 +842,6 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
 }
 
 int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
-    return all_finite(in_, 12);
-  };
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[8]);
@@ -870,7 +864,10 @@ int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c2*p[1] + t6*p[0]*c0 - t7*p[2]*c1,
       t8, s0*t6*p[0] + t5*p[1]*s2 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
+    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -1006,10 +1006,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
-    return all_finite(in_, 18);
-  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[14]);
@@ -1064,7 +1060,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       0.0, s2*p[1]*t21 - t18*p[1]*s0 - p[0]*s3*t22,
       0.0, c4*t23*p[1] - t24*p[0]*c5 - c2*p[1]*t21,
       0.0, t23*s4*p[1] - s2*p[1]*t21 - t24*s5*p[0]};
-  if (lu_solve<6, 2>(A_0, B_0) != 0) return all_finite(A_0, 36) && inputs_finite_() ? 1 : 2;
+  if (lu_solve<6, 2>(A_0, B_0) != 0) {
+    const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(A_0, 36) && all_finite(in_, 18) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (6x6): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
   double A_1[36] = {
       t0, 0.0, 0.0, t1, 0.0, 0.0,

@@ -462,10 +462,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[9] = {p[0], p[1], p[2], p[3], p[5], x[6], x[9], x[12], x[13]};
-    return all_finite(in_, 9);
-  };
   const double t0 = p[5] - x[6];
   const double s0 = std::sin(t0);
   const double c0 = std::cos(t0);
@@ -478,7 +474,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t1};
   double B_0[3] = {
       t3, t4, x[13]*s0*(x[13]*t2 - x[12]*p[3] + x[9]*p[2])};
-  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
+  if (solve_1x1(3, A_0, B_0) != 0) {
+    const double in_[9] = {p[0], p[1], p[2], p[3], p[5], x[6], x[9], x[12], x[13]};
+    return all_finite(A_0, 1) && all_finite(in_, 9) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
   double A_1[1] = {
       t1};

@@ -473,10 +473,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
-    return all_finite(in_, 12);
-  };
   const double t0 = 2.0*x[3] - 2.0*x[0];
   const double t1 = 2.0*x[4] - 2.0*x[1];
   const double t2 = x[4] - x[1];
@@ -495,7 +491,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t7, 0.0, 2.0*x[10]*t8 + 2.0*x[6]*t9 - 2.0*x[7]*t8 - 2.0*x[9]*t9,
       t10, p[3], (x[9]*t8 - x[6]*t8 + x[10]*t9 - x[7]*t9)*t3};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+    const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
+    return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -550,10 +550,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
-    return all_finite(in_, 11);
-  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
@@ -565,7 +561,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t0};
   double B_0[2] = {
       t1, s1*x[10]*x[10]*p[0] + x[13]*x[13]*p[1]*s0};
-  if (solve_1x1(2, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
+  if (solve_1x1(2, A_0, B_0) != 0) {
+    const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
+    return all_finite(A_0, 1) && all_finite(in_, 11) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
   double A_1[1] = {
       t0};

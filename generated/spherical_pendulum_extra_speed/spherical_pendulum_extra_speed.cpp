@@ -379,10 +379,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
-    return all_finite(in_, 7);
-  };
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
   const double t2 = 2.0*x[2];
@@ -391,7 +387,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t0};
   double B_0[3] = {
       t1, t2, 2.0*x[3]*x[3] + 2.0*x[4]*x[4] + 2.0*x[5]*x[5]};
-  if (solve_1x1(3, A_0, B_0) != 0) return all_finite(A_0, 1) && inputs_finite_() ? 1 : 2;
+  if (solve_1x1(3, A_0, B_0) != 0) {
+    const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
+    return all_finite(A_0, 1) && all_finite(in_, 7) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
   double A_1[1] = {
       t0};

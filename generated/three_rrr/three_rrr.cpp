@@ -1238,10 +1238,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
-    return all_finite(in_, 20);
-  };
   const double s0 = std::sin(x[5]);
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[11]);
@@ -1301,7 +1297,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t24, t25, 0.0, 0.5*t21*(t2*c2 + t26) + t27 + t28 - 2.0*s5*t20 + t29 + 2.0*t17*s1,
       t13, 0.0, t30, 0.5*t21*(t22 - c2) + t16 + t19 + 2.0*c3*t31 + t23 - 2.0*c6*t32,
       t24, 0.0, t33, 0.5*t21*(t26 - t2*c2) + t27 + t28 - 2.0*t32*s6 + t29 + 2.0*s3*t31};
-  if (lu_solve<4, 4>(A_0, B_0) != 0) return all_finite(A_0, 16) && inputs_finite_() ? 1 : 2;
+  if (lu_solve<4, 4>(A_0, B_0) != 0) {
+    const double in_[20] = {p[0], p[1], p[2], p[3], p[4], p[5], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
+    return all_finite(A_0, 16) && all_finite(in_, 20) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (4x4): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
   double A_1[16] = {
       t0, t1, 0.0, t4,

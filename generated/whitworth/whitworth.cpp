@@ -624,10 +624,6 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
 }
 
 int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  const auto inputs_finite_ = [&]() {
-    const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
-    return all_finite(in_, 23);
-  };
   const double s0 = std::sin(x[4]);
   const double c0 = std::cos(x[4]);
   const double s1 = std::sin(x[7]);
@@ -648,7 +644,10 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       0.0, p[3]*x[15]*x[15]*s0 - s1*p[6]*x[18]*x[18],
       t5, c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t6*x[21] - t6*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t6*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t1 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+    const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
+    return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
+  }
   // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
   double A_1[4] = {
       t0, t1,

@@ -105,7 +105,7 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     for (unsigned r = 0; r < nc; ++r)
       c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));
     std::string why;
-    sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+    sparse = sparse_solve_steps(m, eom, sys, c, lambda, opt.solver, why);
     if (!sparse && opt.solver == Solver::Sparse) {
       diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
       return {};

@@ -417,7 +417,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         lambda.emplace_back(fmt::format("lambda_{}", r));
       }
       std::string why;
-      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, opt.solver, why);
       if (!sparse && opt.solver == Solver::Sparse) {
         diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
         return {};

@@ -13,12 +13,13 @@ Solver solver_named(const std::string& name) {
 
 std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, const sym::Eom& eom,
                                                       const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
-                                                      const std::vector<GiNaC::symbol>& lambda, std::string& why) {
+                                                      const std::vector<GiNaC::symbol>& lambda, Solver solver,
+                                                      std::string& why) {
   const std::function<GiNaC::ex(const GiNaC::ex&)> fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
   // The generic probe point (pseudo-random state, parameter values): a pivot that is
   // definite there is definite almost everywhere.
   const sym::Probe probe(m, eom.param_values);
-  return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, why);
+  return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, solver == Solver::Sparse, why);
 }
 
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,

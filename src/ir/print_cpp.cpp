@@ -63,7 +63,8 @@ class Printer {
     // Several solves share one test of the inputs for their failure paths (written once:
     // a list of every input per solve grew as solves x inputs in a big model).
     int nsolves = 0;
-    for (const Statement& st : prog_.statements) nsolves += st.kind == Statement::Kind::Solve;
+    for (const Statement& st : prog_.statements)
+      nsolves += st.kind == Statement::Kind::Solve && !prog_.solves[static_cast<std::size_t>(st.index)].condition;  // rcond blocks have no failure path
     shared_input_check_ = nsolves > 1 && !prog_.live_inputs.empty();
     if (shared_input_check_)
       lines.push_back("  const auto inputs_finite_ = [&]() {\n    const double in_[" + std::to_string(prog_.live_inputs.size()) +

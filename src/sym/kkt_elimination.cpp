@@ -362,7 +362,7 @@ class Eliminator {
       const Block& b = off_[static_cast<std::size_t>(p)].at(rec.neighbours[static_cast<std::size_t>(c.nb)]);
       return b.e[b.at(i, c.j)];
     };
-    // A constraint pivot of the speeds-first order is reported with its neighbour columns
+    // A constraint pivot (of the speeds-first order above all) is reported with its neighbour columns
     // as `gains`: its conditioning divides by max(1, |P^-1 K_ph|), which grows without
     // bound as the pivot vanishes with A's rank, while P and K_ph share their units (both
     // blocks of A My^-1 A^T), so the measure is scale-free. Row i of a split diagonal
@@ -413,7 +413,7 @@ class Eliminator {
           store(i, c, x, entry_value(i, c) / pv);
         }
         solve.k = static_cast<int>(solve.B.size());
-        if (!speed && speeds_first_) solve.gains = neighbour_columns(i);
+        if (!speed) solve.gains = neighbour_columns(i);
         if (solve.k > 0) {
           if (!speed) constraint_pivots_.insert(steps_.size());
           steps_.push_back(solve);
@@ -445,7 +445,7 @@ class Eliminator {
           solve.X.push_back(x);
           store(i, cols[k], x, Xv(i, static_cast<int>(k)));
         }
-      if (!speed && speeds_first_) solve.gains = neighbour_columns(-1);
+      if (!speed) solve.gains = neighbour_columns(-1);
       if (solve.k > 0) {
         if (!speed) constraint_pivots_.insert(steps_.size());
         steps_.push_back(solve);
@@ -571,14 +571,17 @@ class Eliminator {
 std::optional<KktElimination> eliminate_kkt(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
                                             const std::vector<GiNaC::symbol>& lambda,
                                             const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
-                                            std::string& why) {
+                                            bool loops_speeds_first, std::string& why) {
   auto fewest = Eliminator(m, sys, c, lambda, fin, probe, false).run(why);
-  if (fewest && fewest->forest) return fewest;
+  if ((fewest && fewest->forest) || !loops_speeds_first) return fewest;
   // A loop (or no order at all): speeds first keeps every pivot regular where A has full
   // rank, at the price of the fill of A My^-1 A^T (banded for a chain of loops).
   std::string why_speeds;
   auto speeds = Eliminator(m, sys, c, lambda, fin, probe, true).run(why_speeds);
-  if (speeds && speeds->speeds_first) return speeds;
+  if (speeds && (speeds->speeds_first || !fewest)) {
+    why.clear();
+    return speeds;
+  }
   return fewest;
 }
 

@@ -50,14 +50,15 @@ struct KktElimination {
 };
 
 /// Eliminates the system with constraint right-hand sides `c` (A q1' = c): fewest
-/// neighbours first; when that order does not find a tree, once more with every speed
-/// block first (kept when it gets through that way: `speeds_first`). `fin` prepares
+/// neighbours first; with `loops_speeds_first`, when that order does not find a tree,
+/// once more with every speed block first (kept when it gets through: `speeds_first`;
+/// only --solver sparse takes a loop's elimination, so auto skips that work). `fin` prepares
 /// every expression for emission (formals, frozen values); `probe` evaluates prepared
 /// expressions. nullopt, with `why` set, when no order with definite pivots exists at the
 /// probe point (a massless part that no constraint fixes, redundant constraints).
 std::optional<KktElimination> eliminate_kkt(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
                                             const std::vector<GiNaC::symbol>& lambda,
                                             const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
-                                            std::string& why);
+                                            bool loops_speeds_first, std::string& why);
 
 }  // namespace mbsc::sym

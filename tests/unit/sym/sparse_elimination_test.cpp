@@ -299,7 +299,7 @@ TEST_CASE("a loop through the ground that the block graph does not show is not t
       lambda.emplace_back();
     }
     std::string why;
-    const auto e = mbsc::driver::sparse_solve_steps(*m, *eom, sys, c, lambda, why);
+    const auto e = mbsc::driver::sparse_solve_steps(*m, *eom, sys, c, lambda, Solver::Sparse, why);
     INFO(why);
     REQUIRE(e);
     bool reported = false;
@@ -332,7 +332,7 @@ TEST_CASE("a loop of massive bodies is eliminated speeds first: only constraint 
     lambda.emplace_back();
   }
   std::string why;
-  const auto e = mbsc::driver::sparse_solve_steps(*m, *eom, sys, c, lambda, why);
+  const auto e = mbsc::driver::sparse_solve_steps(*m, *eom, sys, c, lambda, Solver::Sparse, why);
   INFO(why);
   REQUIRE(e);
   CHECK_FALSE(e->forest);
