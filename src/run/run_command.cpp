@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -209,6 +210,20 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   sim.projection = a.projection == "on" ? Projection::On
                    : a.projection == "off" || T.multipliers ? Projection::Off : Projection::Auto;
   const bool projecting = sim.projection != Projection::Off && T.nposc + T.nc > 0 && T.full_state_layout();
+  // Unit quaternions of rigid3d bodies: kept at |e| = 1 after each step (both forms)
+  // unless --projection off.
+  if (a.projection != "off")
+    for (const auto& node : m->nodes) {
+      if (node.kind != model::LeafKind::Rigid3d || node.rigid3d.sequence != "quaternion" || node.coords.size() < 7) continue;
+      std::array<int, 4> q{};
+      bool found = true;
+      for (int k = 0; k < 4 && found; ++k) {
+        q[static_cast<std::size_t>(k)] =
+            runtime::ModelTable::find(T.state_names, T.nx, m->coords[static_cast<std::size_t>(node.coords[static_cast<std::size_t>(3 + k)])].name.c_str());
+        found = q[static_cast<std::size_t>(k)] >= 0;
+      }
+      if (found) sim.unit_quaternions.push_back(q);
+    }
   RunProgress progress(a.t_end, a.work.quiet);
   std::vector<double> row(columns.size()), all(available.size());
   std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());

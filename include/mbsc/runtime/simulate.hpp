@@ -24,6 +24,7 @@
 /// A failure ends the run with every sample before it delivered, a status, a message
 /// naming t and the quantity, and the last good state.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <ctime>
 #include <functional>
@@ -130,6 +131,13 @@ struct SimulationOptions {
   bool reselect = true;
   /// Record the total energy's drift (when the model defines energy).
   bool track_energy = true;
+  /// Unit quaternions in the state (the indices of e0..e3 of each rigid3d body with a
+  /// quaternion attitude, `mbsc run` fills them): their norm is an invariant of the
+  /// kinematics only, so the integrator's error moves it; after an accepted step a
+  /// quaternion whose |e| is off 1 by more than projection_threshold is divided by |e|
+  /// (the nearest unit quaternion) and the stepper restarts. Leave it empty to let them
+  /// drift (`mbsc run --projection off` does).
+  std::vector<std::array<int, 4>> unit_quaternions;
 };
 
 struct PartitionSwitch {
@@ -152,6 +160,7 @@ struct SimulationResult {
   double max_position_residual = 0.0;
   double max_velocity_residual = 0.0;
   long projections = 0;
+  long normalizations = 0;  // quaternions brought back to |e| = 1 (unit_quaternions)
   // Energy (kinetic + potential, the generated energy()'s entry 2): defined unless the
   // model's energy() reports status 4.
   bool energy_defined = false;
@@ -254,6 +263,9 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
     return finish(SimulationResult::Status::BadSetup,
                   "the initial state has " + std::to_string(x0.size()) + " entries, the model " + std::to_string(m.nx));
   if (!(o.t_end >= o.t0)) return finish(SimulationResult::Status::BadSetup, "t_end is before t0");
+  for (const auto& q : o.unit_quaternions)
+    for (int i : q)
+      if (i < 0 || i >= m.nx) return finish(SimulationResult::Status::BadSetup, "unit_quaternions: an index outside the state");
   if (const int bad = detail::first_non_finite(x0); bad >= 0)
     return finish(SimulationResult::Status::NonFiniteState,
                   std::string("the initial value of '") + m.state_names[bad] + "' is not finite");
@@ -406,6 +418,16 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
           restart = true;
         }
       }
+    }
+    // (3b) unit quaternions.
+    for (const auto& q : o.unit_quaternions) {
+      double n2 = 0.0;
+      for (int i : q) n2 += x[static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
+      const double n = std::sqrt(n2);
+      if (!(n > 0.0) || std::fabs(n - 1.0) <= o.projection_threshold) continue;
+      for (int i : q) x[static_cast<std::size_t>(i)] /= n;
+      ++res.normalizations;
+      restart = true;
     }
     res.t = t;
     res.x = x;
