@@ -227,7 +227,10 @@ class Builder {
         v.push_back(*c);
       }
       if (v.size() != s.exprs.size()) {
-        if (s.kind == Kind::Point || s.kind == Kind::Axis) library_.add_failed(PlanarLibrary::kGround, s.name);
+        if (s.kind == Kind::Point || s.kind == Kind::Axis) {
+          library_.add_failed(PlanarLibrary::kGround, s.name);
+          spatial_.add_failed(PlanarLibrary::kGround, s.name);
+        }
         continue;
       }
       // Three components (point) or six (axis: point, then direction) make a spatial
@@ -999,6 +1002,7 @@ class Builder {
           }
           if (v.size() != s.exprs.size()) {
             if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
+            if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
             break;
           }
           if (!check_point_dimension(id, s)) break;
@@ -1157,6 +1161,7 @@ class Builder {
                                     to_string(node.kind), m_.label(id), want, per == 2 ? " for its point and its direction" : "",
                                     want == 3 ? "x, y, z in body axes" : "x, y in body axes"));
     if (s.kind != Kind::Com) library_.add_failed(id, s.name);
+    if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
     return false;
   }
 
@@ -1192,6 +1197,7 @@ class Builder {
       }
       if (known && !(len2 > 0)) {
         diags_.error(s.name_pos, fmt::format("axis '{}' of body '{}' has a zero direction", s.name, node.name));
+        spatial_.add_failed(id, s.name);  // a joint naming it says no more
         return;
       }
     }

@@ -57,6 +57,7 @@ void SpatialLibrary::add_ground_axis(const std::string& name, const Vec& v, cons
   }
   if (at_defaults(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]) == 0.0) {
     diags_.error(pos, fmt::format("axis 'ground.{}' has a zero direction vector", name));
+    add_failed(PlanarLibrary::kGround, name);
     return;
   }
   ground_axes_[name] = v;
@@ -133,6 +134,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
   if (*b == PlanarLibrary::kGround) {
     const auto& table = axis ? ground_axes_ : ground_points_;
     const auto it = table.find(name);
+    if (it == table.end() && failed_.count({PlanarLibrary::kGround, name})) return std::nullopt;
     if (it == table.end()) {
       diags_.error(pos, fmt::format("{}: unknown {} '{}' of the ground{}", what, noun, path,
                                     (axis ? ground_points_ : ground_axes_).count(name)
@@ -160,6 +162,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
   if (node.rigid3d.rotation.empty()) return std::nullopt;  // its variables failed (reported)
   const auto& table = axis ? node.rigid3d.axes : node.rigid3d.points;
   const auto it = table.find(name);
+  if (it == table.end() && failed_.count({*b, name})) return std::nullopt;
   if (it == table.end()) {
     const auto& other = axis ? node.rigid3d.points : node.rigid3d.axes;
     diags_.error(pos, fmt::format("{}: unknown {} '{}' of body '{}'{}", what, noun, path, node.name,

@@ -19,6 +19,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,8 @@ class SpatialLibrary {
   /// Ground points (x, y, z) and axes (px, py, pz, dx, dy, dz) in space.
   void add_ground_point(const std::string& name, const Vec& p, const SourcePos& pos);
   void add_ground_axis(const std::string& name, const Vec& v, const SourcePos& pos);
+  /// A point or axis whose declaration failed (reported): a joint naming it says no more.
+  void add_failed(int node, const std::string& name) { failed_.insert({node, name}); }
   bool has_ground(const std::string& name) const { return ground_points_.count(name) || ground_axes_.count(name); }
 
   /// Whether a joint belongs here: a spatial-only kind, or an end on a rigid3d body or on
@@ -64,6 +67,7 @@ class SpatialLibrary {
   Model& m_;
   Diagnostics& diags_;
   std::map<std::string, Vec> ground_points_, ground_axes_;
+  std::set<std::pair<int, std::string>> failed_;
   int unnamed_ = 0;
 };
 
