@@ -16,6 +16,7 @@
 #include "mbsc/model/rigid3d.hpp"
 #include "named_expressions.hpp"
 #include "planar_library.hpp"
+#include "spatial_library.hpp"
 
 namespace mbsc::model {
 
@@ -226,15 +227,24 @@ class Builder {
         v.push_back(*c);
       }
       if (v.size() != s.exprs.size()) {
-        if (s.kind == Kind::Point || s.kind == Kind::Axis) library_.add_failed(PlanarLibrary::kGround, s.name);
+        if (s.kind == Kind::Point || s.kind == Kind::Axis) {
+          library_.add_failed(PlanarLibrary::kGround, s.name);
+          spatial_.add_failed(PlanarLibrary::kGround, s.name);
+        }
         continue;
       }
-      // (Three components parse for rigid3d bodies; the ground's points are planar so far.)
+      // Three components (point) or six (axis: point, then direction) make a spatial
+      // ground point or axis, which spatial joints name.
+      if ((s.kind == Kind::Point && v.size() == 3) || (s.kind == Kind::Axis && v.size() == 6)) {
+        if (s.kind == Kind::Point) spatial_.add_ground_point(s.name, v, s.name_pos);
+        else spatial_.add_ground_axis(s.name, v, s.name_pos);
+        continue;
+      }
       if ((s.kind == Kind::Point && v.size() != 2) || (s.kind == Kind::Axis && v.size() != 4)) {
-        diags_.error(s.pos, fmt::format("{} '{}' of the ground needs 2 components{} (x, y): spatial ground points are "
-                                        "not supported yet",
-                                        s.kind == Kind::Point ? "point" : "axis", s.name,
-                                        s.kind == Kind::Axis ? " for its point and its direction" : ""));
+        diags_.error(s.pos, fmt::format("{} '{}' of the ground needs {} components: {}", s.kind == Kind::Point ? "point" : "axis",
+                                        s.name, s.kind == Kind::Point ? "2 or 3" : "4 or 6",
+                                        s.kind == Kind::Point ? "(x, y) in the plane or (x, y, z) in space"
+                                                              : "(px, py) (dx, dy) in the plane or (px, py, pz) (dx, dy, dz) in space"));
         library_.add_failed(PlanarLibrary::kGround, s.name);
         continue;
       }
@@ -992,6 +1002,7 @@ class Builder {
           }
           if (v.size() != s.exprs.size()) {
             if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
+            if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
             break;
           }
           if (!check_point_dimension(id, s)) break;
@@ -1048,7 +1059,8 @@ class Builder {
               e.length = *v;
             }
           }
-          library_.add_element(id, e);
+          if (spatial_.claims(id, e)) spatial_.add_element(id, e);
+          else library_.add_element(id, e);
           break;
         }
       }
@@ -1149,6 +1161,7 @@ class Builder {
                                     to_string(node.kind), m_.label(id), want, per == 2 ? " for its point and its direction" : "",
                                     want == 3 ? "x, y, z in body axes" : "x, y in body axes"));
     if (s.kind != Kind::Com) library_.add_failed(id, s.name);
+    if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
     return false;
   }
 
@@ -1184,6 +1197,7 @@ class Builder {
       }
       if (known && !(len2 > 0)) {
         diags_.error(s.name_pos, fmt::format("axis '{}' of body '{}' has a zero direction", s.name, node.name));
+        spatial_.add_failed(id, s.name);  // a joint naming it says no more
         return;
       }
     }
@@ -1567,6 +1581,7 @@ class Builder {
   GiNaC::exmap param_values_frozen_;  // its --freeze value, else its default
   Model m_;
   PlanarLibrary library_{m_, diags_};  // points, axes, joints, springs, dampers
+  SpatialLibrary spatial_{m_, diags_};  // spatial ground points and axes, spatial joints
   NamedExpressions lets_{diags_, [this](int node, const ast::Expr& e) { return convert_let(node, e); }};
   std::map<std::string, Entry> table_;
   std::map<std::string, const Statement*> components_;

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The spatial joints of the library level (private to src/model). Every joint is a list
+/// of a few vector forms (thesis sections 2.3-2.4), each a handful of position rows a
+/// user could write by hand:
+///   * coincide      P_a - P_b = 0                          (3 rows: .x .y .z)
+///   * on_line       (P_b - A) . n1 = (P_b - A) . n2 = 0    (2 rows: .n1 .n2)
+///   * on_plane      d . (P_b - A) = 0                      (1 row:  .normal)
+///   * parallel      d_b . n1 = d_b . n2 = 0                (2 rows: .align1 .align2)
+///   * perpendicular d_a . d_b = 0                          (1 row:  .cross)
+///   * no_twist      n1_a . n2_b = 0                        (1 row:  .twist)
+///   * same_axes     y_a . z_b = z_a . x_b = x_a . y_b = 0  (3 rows: .rx .ry .rz)
+/// with A, d the point and unit-free direction of the first end's axis and n1, n2 two
+/// directions normal to d, fixed in that axis's body. A joint kind is only its list:
+/// spherical = coincide; revolute = coincide + parallel; universal = coincide +
+/// perpendicular; cylindrical = on_line + parallel; prismatic = cylindrical + no_twist;
+/// weld = coincide + same_axes; point_on_line = on_line; point_on_plane = on_plane.
+#include <ginac/ginac.h>
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/model/model.hpp"
+#include "planar_library.hpp"
+
+namespace mbsc::model {
+
+class SpatialLibrary {
+ public:
+  using Vec = std::vector<GiNaC::ex>;
+  SpatialLibrary(Model& m, Diagnostics& diags);
+
+  /// Ground points (x, y, z) and axes (px, py, pz, dx, dy, dz) in space.
+  void add_ground_point(const std::string& name, const Vec& p, const SourcePos& pos);
+  void add_ground_axis(const std::string& name, const Vec& v, const SourcePos& pos);
+  /// A point or axis whose declaration failed (reported): a joint naming it says no more.
+  void add_failed(int node, const std::string& name) { failed_.insert({node, name}); }
+  bool has_ground(const std::string& name) const { return ground_points_.count(name) || ground_axes_.count(name); }
+
+  /// Whether a joint belongs here: a spatial-only kind, or an end on a rigid3d body or on
+  /// a spatial ground point or axis.
+  bool claims(int owner, const PlanarLibrary::Element& e) const;
+  void add_element(int owner, const PlanarLibrary::Element& e);
+
+  /// The joint kinds this library knows.
+  static const std::vector<std::string>& kinds();
+
+ private:
+  struct End {  // a resolved point or axis, in space
+    int node = PlanarLibrary::kGround;
+    Vec p;          // the point (the axis's point)
+    Vec d, n1, n2;  // axis: its direction and two normals fixed in the body (empty for a point)
+    Vec ex, ey, ez; // the body's axes in space (weld)
+  };
+  std::optional<int> body(int owner, const std::string& path) const;
+  /// The end named `path`; `axis` asks for an axis (else a point).
+  std::optional<End> end(int owner, const std::string& path, bool axis, const SourcePos& pos, const std::string& what);
+  double at_defaults(const GiNaC::ex& e) const;
+  /// Two directions normal to the body-frame direction d (in the body frame).
+  std::pair<Vec, Vec> normals(const Vec& d) const;
+  void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+
+  Model& m_;
+  Diagnostics& diags_;
+  std::map<std::string, Vec> ground_points_, ground_axes_;
+  std::set<std::pair<int, std::string>> failed_;
+  int unnamed_ = 0;
+};
+
+}  // namespace mbsc::model

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Spatial joints through the command line: `mbsc check` counts the degrees of freedom a
+// joint leaves (6 per free body minus the joint's independent rows: the numeric rank the
+// check computes must equal the count of the vector forms' rows), and `print --what
+// invariants` shows the joint's rows under their names.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <string>
+
+#include "run_command.hpp"
+
+using namespace mbsc_test;
+
+namespace {
+std::string path(const std::string& rel) { return quote(std::string(MBSC_SOURCE_DIR) + "/" + rel); }
+const std::string kMbsc = MBSC_BINARY;
+}  // namespace
+
+TEST_CASE("spatial joints: check counts the freedom each joint leaves", "[cli][spatial_joints]") {
+  // Body a hangs from the ground by a spherical joint (3 dof); body b (6) is joined to
+  // it by the joint under test, which removes: spherical 3, revolute 5, universal 4,
+  // cylindrical 4, prismatic 5, weld 6, point_on_line 2, point_on_plane 1.
+  struct Case {
+    const char* kind;
+    int rows, dof;
+  };
+  for (const Case& c : {Case{"spherical", 3, 6}, Case{"revolute", 5, 4}, Case{"universal", 4, 5},
+                        Case{"cylindrical", 4, 5}, Case{"prismatic", 5, 4}, Case{"weld", 6, 3},
+                        Case{"point_on_line", 2, 7}, Case{"point_on_plane", 1, 8}}) {
+    INFO(c.kind);
+    const auto r = run(kMbsc + " check " + path(std::string("tests/data/spatial_joints/chain_") + c.kind + ".mbs"));
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find(std::string("model chain_") + c.kind + ": " + std::to_string(c.dof) + " degree(s) of freedom") !=
+          std::string::npos);
+    const std::string rank = std::to_string(3 + c.rows);
+    CHECK(r.output.find(std::to_string(3 + c.rows) + " constraint(s), rank " + rank + ", " + std::to_string(c.dof) + " dof") !=
+          std::string::npos);
+  }
+  // The heavy top: a body held at one point turns freely about it.
+  const auto r = run(kMbsc + " check " + path("models/heavy_top.mbs"));
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("model heavy_top: 3 degree(s) of freedom") != std::string::npos);
+}
+
+TEST_CASE("spatial joints: print shows the rows a joint expands into", "[cli][spatial_joints]") {
+  // A door on a revolute joint about the raised ground axis (0, 0, 1) + s (0, 1, 0), its
+  // edge at (-w/2, 0, 0) in the body: the rows are the vector form written out (the
+  // ground axis's normals are n1 = y x x = (0, 0, -1), n2 = y x n1 = (-1, 0, 0)).
+  auto r = run(kMbsc + " print " + path("tests/data/spatial_joints/door.mbs") + " --what invariants");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  for (const char* row : {"hinge.x (position): 1/2*(door.e0^2 + door.e1^2 - door.e2^2 - door.e3^2)*w - door.x = 0",
+                          "hinge.y (position): door.e0*door.e3*w + door.e1*door.e2*w - door.y = 0",
+                          "hinge.z (position): 1 - door.e0*door.e2*w + door.e1*door.e3*w - door.z = 0",
+                          "hinge.align1 (position): -2*door.e0*door.e1 - 2*door.e2*door.e3 = 0",
+                          "hinge.align2 (position): 2*door.e0*door.e3 - 2*door.e1*door.e2 = 0"})
+    CHECK(r.output.find(row) != std::string::npos);
+  r = run(kMbsc + " check " + path("tests/data/spatial_joints/door.mbs"));
+  CHECK(r.output.find("model door: 1 degree(s) of freedom") != std::string::npos);
+}
+
+TEST_CASE("spatial joints: a ground point in space", "[cli][spatial_joints]") {
+  // The top's tip on a raised ground point: the same 3 dof.
+  const auto dir = fresh_dir("spatial_ground");
+  const auto file = dir / "raised.mbs";
+  {
+    std::ofstream out(file);
+    out << "model raised\ngravity (0, 0, -9.81)\nground {\n  point P (0.5, 0, 1)\n}\n"
+           "body top : rigid3d {\n  mass 1\n  inertia (1, 1, 2)\n  point tip (0, 0, -0.1)\n}\n"
+           "joint pivot : spherical ground.P top.tip\n";
+  }
+  const auto r = run(kMbsc + " print " + quote(file.string()) + " --what invariants");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("pivot.x") != std::string::npos);
+  CHECK(r.output.find("pivot.x (position): 1/2 + 1/5*top.e0*top.e2 + 1/5*top.e1*top.e3 - top.x = 0") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}
