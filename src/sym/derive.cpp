@@ -375,13 +375,8 @@ class Deriver {
     if (!r.rate_steps.empty()) {
       for (int a = 0; a < nd; ++a) c[static_cast<std::size_t>(col[r.independent[static_cast<std::size_t>(a)]])].insert(a) = 1.0;
       for (const auto& [s, local] : r.rate_steps) {
-        const SymbolSet in_local(local);
         Row acc(nd);
-        for (int j : r.y) {
-          if (j == s) continue;
-          const GiNaC::ex a = in_local.diff(local, m_.speed_dots[j]);
-          if (!a.is_zero()) acc += probe_.eval(a) * c[static_cast<std::size_t>(col[j])];
-        }
+        for (const auto& [j, a] : step_coefficients(r, s, local)) acc += probe_.eval(a) * c[static_cast<std::size_t>(col[j])];
         c[static_cast<std::size_t>(col[s])] = acc;
       }
     } else {
@@ -398,6 +393,19 @@ class Deriver {
           for (Row::InnerIterator b(c[static_cast<std::size_t>(k)]); b; ++b) Mn(a.index(), b.index()) += a.value() * myik * b.value();
       }
     return Mn;
+  }
+
+  /// Rate step s reads y*_s = sum_j a_sj y_j + const: the nonzero a_sj, in y order (a
+  /// step reads a few rates, so it is differentiated only by those it contains).
+  std::vector<std::pair<int, GiNaC::ex>> step_coefficients(const NodeResult& r, int s, const GiNaC::ex& local) const {
+    std::vector<std::pair<int, GiNaC::ex>> out;
+    const SymbolSet in_local(local);
+    for (int j : r.y) {
+      if (j == s) continue;
+      const GiNaC::ex a = in_local.diff(local, m_.speed_dots[j]);
+      if (!a.is_zero()) out.emplace_back(j, a);
+    }
+    return out;
   }
 
   /// h = C^T v by running the rate steps backwards (the transpose of the forward
@@ -421,12 +429,7 @@ class Deriver {
         probe_.bind(R, probe_.eval(vs));
         vs = R;
       }
-      const SymbolSet in_local(local);  // a step reads a few rates: diff only by those
-      for (int j : r.y) {
-        if (j == s) continue;
-        const GiNaC::ex a = in_local.diff(local, m_.speed_dots[j]);
-        if (!a.is_zero()) adjoint[j] += a * vs;
-      }
+      for (const auto& [j, a] : step_coefficients(r, s, local)) adjoint[j] += a * vs;
     }
     for (size_t a = 0; a < r.independent.size(); ++a) r.h(static_cast<unsigned>(a), 0) = adjoint[r.independent[a]];
   }

@@ -8,10 +8,6 @@
 namespace mbsc::sym {
 namespace {
 
-struct ExHash {
-  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
-};
-
 /// The one symbol of `index` that t holds, -1 when none, -2 when several (or t is not
 /// of the shape v * rest with v to the first power and nowhere else in t).
 int linear_in(const GiNaC::ex& t, const std::unordered_map<GiNaC::ex, int, ExHash, GiNaC::ex_is_equal>& index) {

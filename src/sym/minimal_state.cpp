@@ -16,10 +16,6 @@ namespace mbsc::sym {
 
 namespace {
 
-struct SymbolHash {
-  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
-};
-
 class MinimalStateBuilder {
  public:
   MinimalStateBuilder(const model::Model& m, const Eom& eom, Diagnostics& diags)
@@ -279,7 +275,7 @@ class MinimalStateBuilder {
   std::vector<GiNaC::ex> order1_;     // order-1 residual of every constraint, model order
   Probe probe_;                       // decides which pivots are nonzero (parameter defaults)
   std::map<int, GiNaC::ex> relation_;  // dependent speed -> value in its node's y#
-  std::unordered_map<GiNaC::ex, int, SymbolHash, GiNaC::ex_is_equal> coord_index_;  // coordinate symbol -> index
+  std::unordered_map<GiNaC::ex, int, ExHash, GiNaC::ex_is_equal> coord_index_;  // coordinate symbol -> index
 };
 
 }  // namespace

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 
 #include "mbsc/model/exact_guard.hpp"
 
@@ -65,10 +66,6 @@ namespace {
 /// created fresh with every model, and a fingerprint of its parameters and formals):
 /// is_state_free is called once per matrix entry, and an index per call would make
 /// that quadratic in the model's size.
-struct ExHash {
-  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
-};
-
 struct ConstantSymbols {
   GiNaC::ex time;
   std::size_t fingerprint = 0;

@@ -10,6 +10,12 @@
 
 namespace mbsc::sym {
 
+/// GiNaC's own hash of an expression, for unordered containers keyed by symbols or
+/// expressions (with GiNaC::ex_is_equal as the equality).
+struct ExHash {
+  std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
+};
+
 class SymbolSet {
  public:
   explicit SymbolSet(const GiNaC::ex& e);
@@ -18,10 +24,7 @@ class SymbolSet {
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& s) const { return contains(s) ? e.diff(s) : GiNaC::ex(0); }
 
  private:
-  struct Hash {
-    std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
-  };
-  std::unordered_set<GiNaC::ex, Hash, GiNaC::ex_is_equal> symbols_;
+  std::unordered_set<GiNaC::ex, ExHash, GiNaC::ex_is_equal> symbols_;
 };
 
 }  // namespace mbsc::sym
