@@ -24,7 +24,9 @@ cmake --build "$BUILD" -j"$(nproc)"
 # Left to the Release run of the test command (keeps this job inside CI's half hour):
 # the LaTeX entry (over three minutes in pdflatex under ASan, the same print code as the
 # `cli` entry's print commands), the printer's entry (every shipped model printed and read
-# back, 76 s under ASan) and the 1000-period pendulum (the same generated code and
-# integrator as pendulum_periods_test, which runs here).
-ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" -E '^(latex|print|pendulum_1000_periods_test)$'
+# back, 76 s under ASan), the 1000-period pendulum (the same generated code and
+# integrator as pendulum_periods_test, which runs here) and the 40-window rank-loss chain
+# (over five minutes under ASan; the same rank-loss code as rank_loss_test, which runs here).
+ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" \
+  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test)$'
 FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <optional>
 
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
 
 namespace mbsc::parse {
@@ -217,6 +218,10 @@ class Expander {
     }
     ++loop_depth_;
     for (long v = *first; v <= *last; ++v) {
+      // Outer loops report their progress (and meet the time budget) once per repetition.
+      if (loop_depth_ == 1)
+        checkpoint("expanding", fmt::format("loop over '{}'", var), kw.pos, static_cast<std::size_t>(v - *first),
+                   static_cast<std::size_t>(*last - *first + 1));
       Env inner = env;
       inner[var] = v;
       if (!expand(open + 1, close, inner, out)) {

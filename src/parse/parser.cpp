@@ -9,6 +9,7 @@
 
 #include "lexer.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "loop_expansion.hpp"
 #include "mbsc/parse/latex_text.hpp"
@@ -220,6 +221,8 @@ class Parser {
         continue;
       }
       const std::size_t before = i_;
+      // Top-level statements report how far through the (expanded) tokens parsing is.
+      if (top_level) checkpoint("parsing", "tokens", t.pos, i_, toks_.size());
       paren_depth_ = 0;
       continuation_ = false;
       try {
