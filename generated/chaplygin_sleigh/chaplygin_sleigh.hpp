@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 3;
 inline constexpr int kPositionJacobianNnz = 0;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "sleigh.x",
@@ -98,6 +99,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0};
 // kPositionJacobianColIdx is empty: C++ has no zero-size arrays, so it holds one placeholder;
 // take the size from the count constant, not from the array.
 inline constexpr int kPositionJacobianColIdx[1] = {0};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 3 adds, 9 muls, 0 divs, 2 calls, 4 solve flops, total 18.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 10;
 inline constexpr int kPositionJacobianNnz = 10;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "b1.x",
@@ -104,6 +105,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {0, 4, 1, 4, 0, 2, 5, 1, 3, 5
 inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 7, 10};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 4, 1, 4, 0, 2, 5, 1, 3, 5};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 18 adds, 47 muls, 0 divs, 4 calls, 5 solve flops, total 74.

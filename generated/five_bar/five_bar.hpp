@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 47;
 inline constexpr int kPositionJacobianNnz = 43;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "linkage.left.upper.x",
@@ -249,6 +250,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {
 inline constexpr int kPositionJacobianColIdx[] = {
     0, 6, 1, 6, 2, 6, 3, 6, 7, 4, 6, 7, 5, 7, 8, 14, 9, 14, 10, 14, 11, 14, 15, 12, 14, 15, 13, 15,
     6, 7, 16, 6, 7, 17, 14, 15, 16, 14, 15, 17, 7, 15, 18};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 106 adds, 260 muls, 0 divs, 8 calls, 42 solve flops, total 416.

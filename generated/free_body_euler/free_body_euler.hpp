@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 0;
 inline constexpr int kPositionJacobianNnz = 0;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "b.x",
@@ -116,6 +117,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0};
 // kPositionJacobianColIdx is empty: C++ has no zero-size arrays, so it holds one placeholder;
 // take the size from the count constant, not from the array.
 inline constexpr int kPositionJacobianColIdx[1] = {0};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 13 adds, 27 muls, 1 divs, 4 calls, 72 solve flops, total 117.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 9;
 inline constexpr int kPositionJacobianNnz = 15;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 1;
 
 inline constexpr const char* kStateNames[] = {
     "top.x",
@@ -108,6 +109,8 @@ inline constexpr int kConstraintJacobianColIdx[] = {0, 3, 4, 1, 3, 4, 2, 3, 4};
 inline constexpr int kPositionJacobianRowPtr[] = {0, 5, 10, 15};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 3, 4, 5, 6, 1, 3, 4, 5, 6, 2, 3, 4, 5, 6};
+
+inline constexpr int kQuaternionIndices[] = {3, 4, 5, 6};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 63 adds, 139 muls, 0 divs, 0 calls, 26 solve flops, total 228.

@@ -50,6 +50,7 @@ inline constexpr int kConstraintJacobianNnz = 64;
 inline constexpr int kPositionJacobianNnz = 64;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "crank_0.x",
@@ -216,6 +217,10 @@ inline constexpr int kPositionJacobianColIdx[] = {
     0, 2, 1, 2, 3, 5, 4, 5, 6, 8, 7, 8, 9, 11, 10, 11, 0, 2, 12, 14, 1, 2, 13, 14, 3, 5, 12, 14, 4,
     5, 13, 14, 3, 5, 15, 17, 4, 5, 16, 17, 6, 8, 15, 17, 7, 8, 16, 17, 6, 8, 18, 20, 7, 8, 19, 20,
     9, 11, 18, 20, 10, 11, 19, 20};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 122 adds, 374 muls, 0 divs, 14 calls, 145 solve flops, total 655.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 14;
 inline constexpr int kPositionJacobianNnz = 0;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "R.x",
@@ -119,6 +120,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0};
 // kPositionJacobianColIdx is empty: C++ has no zero-size arrays, so it holds one placeholder;
 // take the size from the count constant, not from the array.
 inline constexpr int kPositionJacobianColIdx[1] = {0};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 32 adds, 89 muls, 0 divs, 4 calls, 8 solve flops, total 133.

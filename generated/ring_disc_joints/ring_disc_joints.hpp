@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 13;
 inline constexpr int kPositionJacobianNnz = 5;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "R.x",
@@ -112,6 +113,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {1, 0, 2, 0, 1, 3, 4, 0, 1, 2
 inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 5};
 
 inline constexpr int kPositionJacobianColIdx[] = {1, 0, 1, 3, 4};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 30 adds, 61 muls, 1 divs, 2 calls, 20 solve flops, total 114.

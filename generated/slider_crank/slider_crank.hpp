@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 19;
 inline constexpr int kPositionJacobianNnz = 19;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "crank.x",
@@ -136,6 +137,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 8, 12, 15, 18, 19};
 
 inline constexpr int kPositionJacobianColIdx[] = {
     0, 2, 1, 2, 0, 2, 3, 5, 1, 2, 4, 5, 3, 5, 6, 4, 5, 7, 7};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 37 adds, 104 muls, 0 divs, 4 calls, 3 solve flops, total 148.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 8;
 inline constexpr int kPositionJacobianNnz = 8;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "bob.x",
@@ -100,6 +101,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {0, 3, 1, 3, 4, 2, 3, 4};
 inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 5, 8};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 3, 1, 3, 4, 2, 3, 4};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 19 adds, 62 muls, 0 divs, 4 calls, 5 solve flops, total 90.

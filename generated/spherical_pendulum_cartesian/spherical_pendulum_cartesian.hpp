@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 3;
 inline constexpr int kPositionJacobianNnz = 3;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {"bob.x", "bob.y", "bob.z", "bob.u", "bob.v", "bob.w"};
 
@@ -88,6 +89,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {0, 1, 2};
 inline constexpr int kPositionJacobianRowPtr[] = {0, 3};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 1, 2};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 6 adds, 21 muls, 0 divs, 0 calls, 5 solve flops, total 32.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 7;
 inline constexpr int kPositionJacobianNnz = 3;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "bob.x",
@@ -96,6 +97,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {0, 1, 2, 0, 1, 2, 3};
 inline constexpr int kPositionJacobianRowPtr[] = {0, 3};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 1, 2};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 9 adds, 27 muls, 0 divs, 0 calls, 8 solve flops, total 44.

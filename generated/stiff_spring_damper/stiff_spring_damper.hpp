@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 2;
 inline constexpr int kPositionJacobianNnz = 2;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "b1.x",
@@ -98,6 +99,10 @@ inline constexpr int kConstraintJacobianColIdx[] = {1, 3};
 inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 2};
 
 inline constexpr int kPositionJacobianColIdx[] = {1, 3};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 12 adds, 19 muls, 3 divs, 4 calls, 5 solve flops, total 43.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 28;
 inline constexpr int kPositionJacobianNnz = 28;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 1;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "link1.x",
@@ -158,6 +159,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0, 2, 4, 6, 10, 14, 17, 21, 25
 
 inline constexpr int kPositionJacobianColIdx[] = {
     0, 2, 1, 2, 2, 9, 0, 2, 3, 5, 1, 2, 4, 5, 2, 5, 10, 3, 5, 6, 8, 4, 5, 7, 8, 5, 8, 11};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 81 adds, 170 muls, 0 divs, 6 calls, 14 solve flops, total 271.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 54;
 inline constexpr int kPositionJacobianNnz = 54;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "HA.proximal.x",
@@ -214,6 +215,10 @@ inline constexpr int kPositionJacobianColIdx[] = {
     0, 2, 3, 5, 1, 2, 4, 5, 6, 8, 9, 11, 7, 8, 10, 11, 12, 14, 15, 17, 13, 14, 16, 17, 0, 1, 6, 7,
     12, 13, 3, 5, 18, 20, 4, 5, 19, 20, 9, 11, 18, 20, 10, 11, 19, 20, 15, 17, 18, 20, 16, 17, 19,
     20};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 350 adds, 656 muls, 0 divs, 15 calls, 99 solve flops, total 1120.

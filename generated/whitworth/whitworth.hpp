@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 27;
 inline constexpr int kPositionJacobianNnz = 27;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "slider.x",
@@ -166,6 +167,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0, 1, 4, 7, 11, 15, 17, 19, 20
 
 inline constexpr int kPositionJacobianColIdx[] = {
     1, 0, 2, 4, 1, 3, 4, 2, 4, 5, 7, 3, 4, 6, 7, 5, 7, 6, 7, 8, 9, 5, 6, 7, 8, 9, 10};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 64 adds, 171 muls, 0 divs, 6 calls, 12 solve flops, total 253.

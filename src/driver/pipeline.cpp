@@ -16,6 +16,7 @@
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/build.hpp"
+#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/symbol_set.hpp"
@@ -657,6 +658,20 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     g.name_lists.push_back({"kBlockNames", partitions->block_labels});
     g.partitions = partitions->table;
   }
+  // The unit quaternions of rigid3d bodies as state indices, four per body (e0 first):
+  // what an app hands to SimulationOptions::unit_quaternions. A quaternion is listed when
+  // its four components are in the state (--state minimal may keep fewer).
+  std::vector<long> quaternions;
+  for (const auto& names : model::rigid3d::unit_quaternion_names(m)) {
+    std::vector<long> at;
+    for (const auto& n : names) {
+      const auto it = std::find(state.begin(), state.end(), n);
+      if (it != state.end()) at.push_back(static_cast<long>(it - state.begin()));
+    }
+    if (at.size() == 4) quaternions.insert(quaternions.end(), at.begin(), at.end());
+  }
+  g.int_constants.push_back({"kNquaternions", static_cast<long>(quaternions.size() / 4)});
+  g.int_lists.push_back({"kQuaternionIndices", quaternions});
   auto binds = bindings(m, eom, ms);
   if (opt.multipliers) {
     const std::size_t np = eom.free_params.size();

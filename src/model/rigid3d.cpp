@@ -130,6 +130,17 @@ Vec angular_speeds(const Model& m, const Node& node) {
   return out;
 }
 
+std::vector<std::vector<std::string>> unit_quaternion_names(const Model& m) {
+  std::vector<std::vector<std::string>> out;
+  for (const Node& node : m.nodes) {
+    if (node.kind != LeafKind::Rigid3d || node.rigid3d.sequence != "quaternion" || node.coords.size() < 7) continue;
+    std::vector<std::string> names;
+    for (std::size_t k = 3; k < 7; ++k) names.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].name);
+    out.push_back(names);
+  }
+  return out;
+}
+
 Vec angular_velocity_in_space(const Model& m, const Node& node) {
   const Vec w = angular_speeds(m, node);
   return node.rigid3d.space_frame ? w : mat_vec(node.rigid3d.rotation, w);

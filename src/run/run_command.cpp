@@ -19,6 +19,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/work_monitor.hpp"
+#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
@@ -213,14 +214,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // Unit quaternions of rigid3d bodies: kept at |e| = 1 after each step (both forms)
   // unless --projection off.
   if (a.projection != "off")
-    for (const auto& node : m->nodes) {
-      if (node.kind != model::LeafKind::Rigid3d || node.rigid3d.sequence != "quaternion" || node.coords.size() < 7) continue;
+    for (const auto& names : model::rigid3d::unit_quaternion_names(*m)) {
       std::array<int, 4> q{};
       bool found = true;
-      for (int k = 0; k < 4 && found; ++k) {
-        q[static_cast<std::size_t>(k)] =
-            runtime::ModelTable::find(T.state_names, T.nx, m->coords[static_cast<std::size_t>(node.coords[static_cast<std::size_t>(3 + k)])].name.c_str());
-        found = q[static_cast<std::size_t>(k)] >= 0;
+      for (std::size_t k = 0; k < 4 && found; ++k) {
+        q[k] = runtime::ModelTable::find(T.state_names, T.nx, names[k].c_str());
+        found = q[k] >= 0;
       }
       if (found) sim.unit_quaternions.push_back(q);
     }

@@ -20,6 +20,7 @@
 #include "free_body_quaternion_min/free_body_quaternion_min.hpp"
 #include "free_body_quaternion_space/free_body_quaternion_space.hpp"
 #include "mbsc/runtime/dop853.hpp"
+#include "mbsc/runtime/simulate.hpp"
 #include "torque_body/torque_body.hpp"
 #include "torque_euler_space/torque_euler_space.hpp"
 #include "torque_space/torque_space.hpp"
@@ -383,4 +384,42 @@ TEST_CASE("rigid3d: --state minimal keeps a free body's state and rhs", "[numeri
   REQUIRE(EM::rhs(0.0, e.x.data(), nullptr, EM::kParamDefaults, d.data()) == 0);
   for (int k = 0; k < Q::kNx; ++k) CHECK(b[static_cast<std::size_t>(k)] == Approx(a[static_cast<std::size_t>(k)]).margin(1e-14));
   for (int k = 0; k < E::kNx; ++k) CHECK(d[static_cast<std::size_t>(k)] == Approx(c[static_cast<std::size_t>(k)]).margin(1e-14));
+}
+
+TEST_CASE("rigid3d: the generated header lists the unit quaternions an app keeps at |e| = 1", "[numeric][rigid3d]") {
+  // kQuaternionIndices: four state indices per quaternion body, e0 first; none for angles.
+  REQUIRE(Q::kNquaternions == 1);
+  REQUIRE(QM::kNquaternions == 1);
+  CHECK(E::kNquaternions == 0);
+  for (int k = 0; k < 4; ++k) {
+    CHECK(std::string(Q::kStateNames[Q::kQuaternionIndices[k]]) == "b.e" + std::to_string(k));
+    CHECK(std::string(QM::kStateNames[QM::kQuaternionIndices[k]]) == "b.e" + std::to_string(k));
+  }
+  // Handed to the runtime's simulate, they keep the norm at one step's error; without
+  // them it drifts with the integrator's error over a long, loose run.
+  Form q = MAKE_FORM(Q, "quaternion/body", "quaternion", false);
+  q.start(kR0, kWb, kV);
+  const auto model = MBSC_MODEL_TABLE(Q);
+  mbsc::runtime::StepperOptions so;
+  so.rtol = 1e-6;
+  so.atol = 1e-8;
+  auto norm_error = [&](bool keep, long& normalizations) {
+    mbsc::runtime::SimulationOptions opt;
+    opt.t_end = 200.0;
+    opt.dt_out = 0.0;
+    if (keep) opt.unit_quaternions = mbsc::runtime::unit_quaternions_of(Q::kQuaternionIndices, Q::kNquaternions);
+    const auto r = mbsc::runtime::simulate(model, "dopri5", so, opt, q.x, {}, Q::kParamDefaults);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    normalizations = r.normalizations;
+    const double* e = &r.x[static_cast<std::size_t>(Q::kQuaternionIndices[0])];
+    return std::abs(std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]) - 1.0);
+  };
+  long kept = 0, drifted = 0;
+  const double with = norm_error(true, kept), without = norm_error(false, drifted);
+  INFO("|e| - 1 with " << with << " (" << kept << " normalizations), without " << without);
+  CHECK(kept > 0);
+  CHECK(drifted == 0);
+  CHECK(with < 1e-5);
+  CHECK(with < 0.2 * without);
 }

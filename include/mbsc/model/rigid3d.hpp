@@ -42,6 +42,9 @@ GiNaC::ex dot(const Vec& a, const Vec& b);
 /// The node's attitude and angular speed symbols.
 Vec attitude_coordinates(const Model& m, const Node& node);
 Vec angular_speeds(const Model& m, const Node& node);
+/// The coordinate names (e0, e1, e2, e3) of every rigid3d body with a quaternion attitude,
+/// in model order: the unit quaternions a simulation keeps at |e| = 1.
+std::vector<std::vector<std::string>> unit_quaternion_names(const Model& m);
 /// The angular velocity in space components.
 Vec angular_velocity_in_space(const Model& m, const Node& node);
 /// Inertia tensor in the frame of the angular speeds: I (body) or R I R^T (space).

@@ -132,13 +132,24 @@ struct SimulationOptions {
   /// Record the total energy's drift (when the model defines energy).
   bool track_energy = true;
   /// Unit quaternions in the state (the indices of e0..e3 of each rigid3d body with a
-  /// quaternion attitude, `mbsc run` fills them): their norm is an invariant of the
+  /// quaternion attitude: the generated header's kQuaternionIndices, see
+  /// unit_quaternions_of; `mbsc run` fills them): their norm is an invariant of the
   /// kinematics only, so the integrator's error moves it; after an accepted step a
   /// quaternion whose |e| is off 1 by more than projection_threshold is divided by |e|
   /// (the nearest unit quaternion) and the stepper restarts. Leave it empty to let them
   /// drift (`mbsc run --projection off` does).
   std::vector<std::array<int, 4>> unit_quaternions;
 };
+
+/// The unit quaternions of a generated model, from its kQuaternionIndices (four state
+/// indices per body, e0 first) and kNquaternions:
+///   options.unit_quaternions = unit_quaternions_of(m::kQuaternionIndices, m::kNquaternions);
+inline std::vector<std::array<int, 4>> unit_quaternions_of(const int* indices, int count) {
+  std::vector<std::array<int, 4>> out(static_cast<std::size_t>(count > 0 ? count : 0));
+  for (std::size_t b = 0; b < out.size(); ++b)
+    for (std::size_t k = 0; k < 4; ++k) out[b][k] = indices[4 * b + k];
+  return out;
+}
 
 struct PartitionSwitch {
   double t;
