@@ -42,6 +42,8 @@
 #include "heavy_top_mult/heavy_top_mult.hpp"
 #include "sssp/sssp.hpp"
 #include "sssp_mult/sssp_mult.hpp"
+#include "slider_crank_3d/slider_crank_3d.hpp"
+#include "slider_crank_3d_mult/slider_crank_3d_mult.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "massless_rod_pendulum_mult/massless_rod_pendulum_mult.hpp"
 #include "mbsc/runtime/assemble.hpp"
@@ -527,6 +529,15 @@ std::vector<Case> shipped_models() {
                    {{"tip1.w", 0.0, 1.0}, {"slider.u", 0.0, 1.0}},
                    {},
                    {}});
+  // Thesis Ex 4.5, the 3-D slider-crank: the crank angle (quaternion e1 with e0 near 1)
+  // given, the rod and slider placed by assembly; a crank torque and a fixed friction force.
+  cases.push_back({PAIR(slider_crank_3d),
+                   {{"crank.e0", 1.0}, {"rod.x", 1.0}, {"rod.y", -0.5}, {"slider.e0", 1.0}, {"slider.x", 1.41},
+                    {"slider.y", -0.5}},
+                   {{"crank.e1", 0.3, 0.2}},
+                   {{"crank.wx", 2.0, 2.0}},
+                   {0.3, -0.5},
+                   {}});
   return cases;
 }
 
@@ -543,7 +554,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 22);
+  REQUIRE(shipped.size() == 23);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {
