@@ -9,7 +9,11 @@
 //    regular configuration of the mechanism) the complement form's solve is singular
 //    (status 1) while the multipliers form, which needs no independent set, still solves;
 //  - complement, multipliers and --state minimal give the same accelerations at random
-//    assembled states (1e-9), and energy is conserved over a run.
+//    assembled states (1e-9), and energy is conserved over a run;
+//  - the same mechanism built from rigid3d rods on spherical joints and a prismatic joint
+//    (tests/data/rigid3d/sssp_rigid.mbs), started without spin, gives the same
+//    accelerations of p1 and of the slider: the spatial joints against the thesis's
+//    invariants, and the point-mass rods against rigid slender ones.
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <array>
@@ -23,6 +27,7 @@
 #include "sssp/sssp.hpp"
 #include "sssp_min/sssp_min.hpp"
 #include "sssp_mult/sssp_mult.hpp"
+#include "sssp_rigid/sssp_rigid.hpp"
 #include "test_support.hpp"
 
 using mbsc::runtime::ModelTable;
@@ -227,4 +232,76 @@ TEST_CASE("sssp: energy is conserved", "[numeric][sssp]") {
   INFO("energy drift " << worst << ", potential fell by " << e0[1] - lowest);
   CHECK(worst < 1e-8 * std::fabs(e0[2]));
   CHECK(e0[1] - lowest > 1.0);  // the mechanism falls: energy really moves
+}
+
+namespace {
+
+namespace SR = mbsc_gen::sssp_rigid;
+using V3 = std::array<double, 3>;
+V3 cross3(const V3& a, const V3& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+
+/// A rigid rod from a to b (length l) turning without spin: quaternion taking x to the
+/// rod's direction n by the shortest turn, mass centre and its velocity, body-frame rates.
+void put_rod(std::vector<double>& x, const std::string& rod, const V3& a, const V3& b, const V3& va, const V3& vb, double l) {
+  auto at = [&](const std::string& n) -> double& { return x[static_cast<std::size_t>(index_of(SR::kStateNames, SR::kNx, rod + "." + n))]; };
+  const V3 n{(b[0] - a[0]) / l, (b[1] - a[1]) / l, (b[2] - a[2]) / l};
+  // Shortest turn from x to n: axis x cross n = (0, -n_z, n_y), angle acos(n_x).
+  const double half = std::acos(n[0]) / 2, s = std::hypot(n[1], n[2]);
+  const double e0 = std::cos(half), e1 = 0, e2 = s > 0 ? -n[2] / s * std::sin(half) : 0, e3 = s > 0 ? n[1] / s * std::sin(half) : 0;
+  at("e0") = e0, at("e1") = e1, at("e2") = e2, at("e3") = e3;
+  const V3 dv{(vb[0] - va[0]) / l, (vb[1] - va[1]) / l, (vb[2] - va[2]) / l};
+  const V3 w = cross3(n, dv);  // no spin: w . n = 0
+  // Body-frame rates R^T w with R of the unit quaternion.
+  const double R[3][3] = {{1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)},
+                          {2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)},
+                          {2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)}};
+  const char* wn[3] = {"wx", "wy", "wz"};
+  const char* cn[3] = {"x", "y", "z"};
+  const char* vn[3] = {"u", "v", "w"};
+  for (int i = 0; i < 3; ++i) {
+    double wb = 0;
+    for (int k = 0; k < 3; ++k) wb += R[k][i] * w[static_cast<std::size_t>(k)];
+    at(wn[i]) = wb;
+    at(cn[i]) = (a[static_cast<std::size_t>(i)] + b[static_cast<std::size_t>(i)]) / 2;
+    at(vn[i]) = (va[static_cast<std::size_t>(i)] + vb[static_cast<std::size_t>(i)]) / 2;
+  }
+}
+
+}  // namespace
+
+TEST_CASE("sssp: rigid3d rods on spatial joints give the same motion", "[numeric][sssp]") {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double l1 = 1, l2 = 2;
+  const auto p = params(kFull, l1, l2, 0);
+  for (int trial = 0; trial < 10; ++trial) {
+    const double x2 = (trial % 2 ? 1 : -1) * (1.2 + 1.6 * (u(rng) + 1) / 2);
+    const double x1 = (l1 * l1 - l2 * l2 + x2 * x2) / (2 * x2);
+    const double z1 = 0.8 * u(rng) * std::sqrt(l1 * l1 - x1 * x1);
+    const Config c = assembled(l1, l2, x2, z1, u(rng) > 0 ? 1 : -1, 2 * u(rng), 2 * u(rng));
+    std::vector<double> xs = state(kFull, c), xsd(xs.size());
+    REQUIRE(S::rhs(0.0, xs.data(), nullptr, p.data(), xsd.data()) == 0);
+    std::vector<double> xr(static_cast<std::size_t>(SR::kNx), 0.0), xrd(xr.size());
+    const V3 p0{0, 0, 0}, p1{c.x1, c.y1, c.z1}, p2{c.x2, 0, 0};
+    const V3 v0{0, 0, 0}, v1{c.dx1, c.dy1, c.dz1}, v2{c.dx2, 0, 0};
+    put_rod(xr, "rod1", p0, p1, v0, v1, l1);
+    put_rod(xr, "rod2", p1, p2, v1, v2, l2);
+    xr[static_cast<std::size_t>(index_of(SR::kStateNames, SR::kNx, "slider.e0"))] = 1;
+    xr[static_cast<std::size_t>(index_of(SR::kStateNames, SR::kNx, "slider.x"))] = c.x2;
+    xr[static_cast<std::size_t>(index_of(SR::kStateNames, SR::kNx, "slider.u"))] = c.dx2;
+    std::vector<double> r(static_cast<std::size_t>(SR::kNc));
+    REQUIRE(SR::velocity_constraints(0.0, xr.data(), nullptr, SR::kParamDefaults, r.data()) == 0);
+    for (double v : r) REQUIRE(std::fabs(v) < 1e-12);  // the rigid state is consistent
+    REQUIRE(SR::rhs(0.0, xr.data(), nullptr, SR::kParamDefaults, xrd.data()) == 0);
+    auto rigid = [&](const char* n) { return xrd[static_cast<std::size_t>(index_of(SR::kStateNames, SR::kNx, n))]; };
+    INFO("trial " << trial);
+    // p1 = 2 x_rod1 (rod 1 starts at the origin): z1'' = 2 rod1.w'; x2'' = slider.u'.
+    CHECK(2 * rigid("rod1.w") == Approx(speed_rate(kFull, xsd, "tip1.w")).epsilon(1e-9).margin(1e-9));
+    CHECK(2 * rigid("rod1.u") == Approx(speed_rate(kFull, xsd, "tip1.u")).epsilon(1e-9).margin(1e-9));
+    CHECK(2 * rigid("rod1.v") == Approx(speed_rate(kFull, xsd, "tip1.v")).epsilon(1e-9).margin(1e-9));
+    CHECK(rigid("slider.u") == Approx(speed_rate(kFull, xsd, "slider.u")).epsilon(1e-9).margin(1e-9));
+    // No spin is started: the rods' axial rates stay 0.
+    CHECK(std::fabs(rigid("rod1.wx")) < 1e-9);
+    CHECK(std::fabs(rigid("rod2.wx")) < 1e-9);
+  }
 }
