@@ -1049,7 +1049,9 @@ class Builder {
             e.value = *v;
           }
           if (!s.exprs.empty()) {
-            auto v = convert(id, s.exprs[0], false, false, false);
+            // A second actuator (a cylindrical joint's force and torque) may read the state too.
+            const bool actuator2 = s.kind == Kind::Joint && (s.option2.text == "torque" || s.option2.text == "force");
+            auto v = convert(id, s.exprs[0], actuator2, false, false);
             if (!v) break;
             if (s.kind == Kind::Joint) {
               e.option2 = s.option2.text;

@@ -85,10 +85,26 @@ std::optional<int> SpatialLibrary::body(int owner, const std::string& path) cons
   return std::nullopt;
 }
 
+bool SpatialLibrary::is_force_element(const std::string& kind) {
+  return kind == "spring" || kind == "damper" || kind == "rotational_spring" || kind == "rotational_damper";
+}
+
 bool SpatialLibrary::claims(int owner, const PlanarLibrary::Element& e) const {
   const auto& k = kinds();
-  if (std::find(k.begin(), k.end(), e.kind) == k.end()) return false;
-  if (e.kind != "revolute" && e.kind != "prismatic" && e.kind != "weld") return true;  // spatial only
+  const bool force = is_force_element(e.kind);
+  if (!force && std::find(k.begin(), k.end(), e.kind) == k.end()) return false;
+  if (!force && e.kind != "revolute" && e.kind != "prismatic" && e.kind != "weld") return true;  // spatial only
+  // A rotational spring or damper is spatial when an end is an axis (BODY.NAME) of the
+  // ground or of a rigid3d body; the planar one names two bodies.
+  if (e.kind == "rotational_spring" || e.kind == "rotational_damper") {
+    for (const std::string& path : {e.end1, e.end2}) {
+      const auto dot = path.rfind('.');
+      if (dot == std::string::npos) continue;
+      const auto b = body(owner, path.substr(0, dot));
+      if (b && (*b == PlanarLibrary::kGround || m_.nodes[*b].kind == LeafKind::Rigid3d)) return true;
+    }
+    return false;
+  }
   for (const std::string& path : {e.end1, e.end2}) {
     const auto dot = path.rfind('.');
     if (dot == std::string::npos) continue;
@@ -149,6 +165,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     out.ez = {0, 0, 1};
     if (axis) {
       out.d = dir;
+      out.d_length = GiNaC::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
       std::tie(out.n1, out.n2) = normals(dir);
     }
     return out;
@@ -178,6 +195,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     const Vec d{it->second[3], it->second[4], it->second[5]};
     const auto n = normals(d);
     out.d = rigid3d::direction_in_space(node, d);
+    out.d_length = GiNaC::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     out.n1 = rigid3d::direction_in_space(node, n.first);
     out.n2 = rigid3d::direction_in_space(node, n.second);
   }
@@ -202,8 +220,8 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     diags_.error(e.coordinate_pos, fmt::format("{}: a spatial joint takes no coordinate of its own", what));
     return;
   }
-  if (!e.option.empty()) {
-    diags_.error(e.option_pos, fmt::format("{}: option '{}' is not available on spatial joints", what, e.option));
+  if (is_force_element(e.kind)) {
+    add_force_element(owner, e);
     return;
   }
   if (!e.end3.empty()) {
@@ -244,6 +262,7 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     put("ry", rigid3d::dot(a->ez, b->ex));
     put("rz", rigid3d::dot(a->ex, b->ey));
   }
+  if (!e.option.empty()) add_actuators(e, what, *a, *b);
 }
 
 }  // namespace mbsc::model

@@ -15,6 +15,12 @@
 /// spherical = coincide; revolute = coincide + parallel; universal = coincide +
 /// perpendicular; cylindrical = on_line + parallel; prismatic = cylindrical + no_twist;
 /// weld = coincide + same_axes; point_on_line = on_line; point_on_plane = on_plane.
+///
+/// Force elements (spatial_forces.cpp): joint actuators (revolute torque, prismatic force,
+/// cylindrical both), springs and dampers between two points, rotational springs and
+/// dampers about a revolute axis. Each is a force F at a point P and a torque tau on a
+/// body, turned into generalized forces once, by the virtual power:
+/// Q_s = (d v_P / d s) . F + (d omega / d s) . tau over the body's speeds s.
 #include <ginac/ginac.h>
 
 #include <map>
@@ -46,6 +52,9 @@ class SpatialLibrary {
   bool claims(int owner, const PlanarLibrary::Element& e) const;
   void add_element(int owner, const PlanarLibrary::Element& e);
 
+  /// Springs and dampers (kinds spring, damper, rotational_spring, rotational_damper).
+  static bool is_force_element(const std::string& kind);
+
   /// The joint kinds this library knows.
   static const std::vector<std::string>& kinds();
 
@@ -54,6 +63,7 @@ class SpatialLibrary {
     int node = PlanarLibrary::kGround;
     Vec p;          // the point (the axis's point)
     Vec d, n1, n2;  // axis: its direction and two normals fixed in the body (empty for a point)
+    GiNaC::ex d_length;  // axis: |d| in the body frame (constant)
     Vec ex, ey, ez; // the body's axes in space (weld)
   };
   std::optional<int> body(int owner, const std::string& path) const;
@@ -63,6 +73,21 @@ class SpatialLibrary {
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
   void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+
+  // ---- force elements (spatial_forces.cpp) ----
+  /// The unit direction in space of an end's axis: R d / |d| with |d| taken in the body
+  /// frame (a homogeneous quaternion matrix scales R d by |e|^2).
+  Vec unit_axis(const End& a) const;
+  /// Velocity in space of the material point of `node` that is at P (space) now, and the
+  /// node's angular velocity in space (zero for the ground).
+  Vec point_velocity(int node, const Vec& P) const;
+  Vec angular_velocity(int node) const;
+  /// Generalized forces of a force F acting at the point P (space) of `node` and a torque
+  /// tau (space) on it: Q_s = (d v_P / d s) . F + (d omega / d s) . tau.
+  void apply_wrench(int node, const Vec& P, const Vec& F, const Vec& tau, const SourcePos& pos);
+  /// A joint's actuators (options torque / force); false when one does not apply (reported).
+  bool add_actuators(const PlanarLibrary::Element& e, const std::string& what, const End& a, const End& b);
+  void add_force_element(int owner, const PlanarLibrary::Element& e);
 
   Model& m_;
   Diagnostics& diags_;

@@ -653,8 +653,8 @@ class Parser {
       st.path = ast::Path{opt.text, opt.pos};  // the option keyword and where it is
       st.level = take().text;
       st.value = parse_expr();
-      // A second option (rolling_inside: 'radius r ring R').
-      if (peek().kind == TK::Ident) {
+      // A second option (rolling_inside: 'radius r ring R'; cylindrical: 'force F torque T').
+      if (peek().kind == TK::Ident || (peek().kind == TK::Keyword && peek().text == "force")) {
         st.option2 = ast::Path{peek().text, peek().pos};
         take();
         st.exprs.push_back(parse_expr());

@@ -28,6 +28,8 @@
 #include "free_body_euler/free_body_euler.hpp"
 #include "free_body_quaternion/free_body_quaternion.hpp"
 #include "heavy_top/heavy_top.hpp"
+#include "sssp/sssp.hpp"
+#include "slider_crank_3d/slider_crank_3d.hpp"
 #include "free_particle/free_particle.hpp"
 #include "generic_harness.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
@@ -57,6 +59,8 @@ MBSC_GENERIC_MODEL(four_bar_toggle);
 MBSC_GENERIC_MODEL(free_body_euler);
 MBSC_GENERIC_MODEL(free_body_quaternion);
 MBSC_GENERIC_MODEL(heavy_top);
+MBSC_GENERIC_MODEL(sssp);
+MBSC_GENERIC_MODEL(slider_crank_3d);
 MBSC_GENERIC_MODEL(free_particle);
 MBSC_GENERIC_MODEL(massless_rod_pendulum);
 MBSC_GENERIC_MODEL(parallelogram_chain);
@@ -305,7 +309,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 21);
+  REQUIRE(shipped == 23);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -316,6 +320,8 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<free_body_euler_abi>(rng);
     check_model<free_body_quaternion_abi>(rng);
     check_model<heavy_top_abi>(rng);
+    check_model<sssp_abi>(rng);
+    check_model<slider_crank_3d_abi>(rng);
     check_model<massless_rod_pendulum_abi>(rng);
     check_model<parallelogram_chain_abi>(rng);
     check_model<ring_disc_abi>(rng);
@@ -400,6 +406,8 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<free_body_euler_abi>(rng);
     check_sparse_jacobians<free_body_quaternion_abi>(rng);
     check_sparse_jacobians<heavy_top_abi>(rng);
+    check_sparse_jacobians<sssp_abi>(rng);
+    check_sparse_jacobians<slider_crank_3d_abi>(rng);
     check_sparse_jacobians<massless_rod_pendulum_abi>(rng);
     check_sparse_jacobians<parallelogram_chain_abi>(rng);
     check_sparse_jacobians<ring_disc_abi>(rng);

@@ -40,6 +40,10 @@
 #include "free_body_quaternion_mult/free_body_quaternion_mult.hpp"
 #include "heavy_top/heavy_top.hpp"
 #include "heavy_top_mult/heavy_top_mult.hpp"
+#include "sssp/sssp.hpp"
+#include "sssp_mult/sssp_mult.hpp"
+#include "slider_crank_3d/slider_crank_3d.hpp"
+#include "slider_crank_3d_mult/slider_crank_3d_mult.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "massless_rod_pendulum_mult/massless_rod_pendulum_mult.hpp"
 #include "mbsc/runtime/assemble.hpp"
@@ -516,6 +520,24 @@ std::vector<Case> shipped_models() {
                    {{"top.wx", 1.0, 1.0}, {"top.wy", -0.5, 1.0}, {"top.wz", 30.0, 5.0}},
                    {},
                    {}});
+  // Thesis Ex 2.2-2.4, the S-S-S-P mechanism: z1 and x2 given, p1 on the branch y1 > 0
+  // (Ex 2.4's independent set needs y1 != 0), away from the rods in line (x2 < 3).
+  cases.push_back({PAIR(sssp),
+                   {{"tip1.x", 0.42}, {"tip1.y", 0.68}, {"theta", 1.61}, {"mid1.x", 0.21}, {"mid1.y", 0.34}, {"mid1.z", 0.3},
+                    {"mid2.x", 1.31}, {"mid2.y", 0.34}, {"mid2.z", 0.3}},
+                   {{"tip1.z", 0.6, 0.2}, {"slider.x", 2.2, 0.2}},
+                   {{"tip1.w", 0.0, 1.0}, {"slider.u", 0.0, 1.0}},
+                   {},
+                   {}});
+  // Thesis Ex 4.5, the 3-D slider-crank: the crank angle (quaternion e1 with e0 near 1)
+  // given, the rod and slider placed by assembly; a crank torque and a fixed friction force.
+  cases.push_back({PAIR(slider_crank_3d),
+                   {{"crank.e0", 1.0}, {"rod.x", 1.0}, {"rod.y", -0.5}, {"slider.e0", 1.0}, {"slider.x", 1.41},
+                    {"slider.y", -0.5}},
+                   {{"crank.e1", 0.3, 0.2}},
+                   {{"crank.wx", 2.0, 2.0}},
+                   {0.3, -0.5},
+                   {}});
   return cases;
 }
 
@@ -532,7 +554,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 21);
+  REQUIRE(shipped.size() == 23);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -233,12 +233,22 @@ TEST_CASE("printed M and h of every shipped model evaluate to the pipeline's num
             if (w.solved) check_close(mbsc_test::eval(read_back(w.value), shown), mbsc_test::eval(w.value, shown));
       }
       // Numeric complements: closed forms everywhere but where a block is too large (the
-      // parallelogram chain's 6 x 6 block).
+      // parallelogram chain's 6 x 6 block, the 3-D slider-crank's 7 x 7 one).
       const std::string name = path.stem().string();
-      const bool large_blocks = name == "parallelogram_chain";
+      const bool large_blocks = name == "parallelogram_chain" || name == "slider_crank_3d";
       if (expand) {
         CHECK(p.all_closed == !large_blocks);
-        for (const auto& w : p.where) CHECK((w.from_solve && !w.solved) == large_blocks);
+        if (name == "slider_crank_3d") {  // its 7 x 7 block stays numeric, the other rows are closed
+          bool numeric_block = false, closed = false;
+          for (const auto& w : p.where) {
+            numeric_block |= w.from_solve && !w.solved;
+            closed |= w.solved;
+          }
+          CHECK(numeric_block);
+          CHECK(closed);
+        } else {
+          for (const auto& w : p.where) CHECK((w.from_solve && !w.solved) == large_blocks);
+        }
         // Closed forms read the coordinates and the independent speeds z only, but where
         // the speed cannot be rebuilt (a `nonlinear` velocity block) or its closed form
         // would make h too large to print (the 3-RRR platform: over 60000 nodes).

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// Force elements in space: joint actuators, springs and dampers between points, and
+// rotational springs and dampers about a revolute axis. Every element is a force at a
+// point and a torque on each of its two bodies (equal and opposite), and every one turns
+// into generalized forces the same way, by the virtual power of apply_wrench: the
+// partial velocities of the point and the partial angular velocities of the body.
+#include <fmt/format.h>
+
+#include "mbsc/model/rigid3d.hpp"
+#include "spatial_library.hpp"
+
+namespace mbsc::model {
+
+namespace {
+using Vec = SpatialLibrary::Vec;
+Vec sub(const Vec& a, const Vec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec scale(const GiNaC::ex& s, const Vec& a) { return {s * a[0], s * a[1], s * a[2]}; }
+Vec neg(const Vec& a) { return scale(-1, a); }
+const Vec kZero{0, 0, 0};
+}  // namespace
+
+Vec SpatialLibrary::unit_axis(const End& a) const { return scale(1 / a.d_length, a.d); }
+
+Vec SpatialLibrary::angular_velocity(int node) const {
+  if (node == PlanarLibrary::kGround) return kZero;
+  return rigid3d::angular_velocity_in_space(m_, m_.nodes[static_cast<std::size_t>(node)]);
+}
+
+Vec SpatialLibrary::point_velocity(int node, const Vec& P) const {
+  if (node == PlanarLibrary::kGround) return kZero;
+  // v_P = v_G + omega x (P - x_G), G the mass centre (coordinates x, y, z; speeds u, v, w).
+  const Node& n = m_.nodes[static_cast<std::size_t>(node)];
+  Vec arm, vg;
+  for (std::size_t k = 0; k < 3; ++k) {
+    arm.push_back(P[k] - m_.coords[static_cast<std::size_t>(n.coords[k])].sym);
+    vg.push_back(m_.speeds[static_cast<std::size_t>(n.speeds[k])].sym);
+  }
+  const Vec w = rigid3d::cross(angular_velocity(node), arm);
+  return {vg[0] + w[0], vg[1] + w[1], vg[2] + w[2]};
+}
+
+void SpatialLibrary::apply_wrench(int node, const Vec& P, const Vec& F, const Vec& tau, const SourcePos& pos) {
+  if (node == PlanarLibrary::kGround) return;
+  const Vec v = point_velocity(node, P), w = angular_velocity(node);
+  for (int s : m_.nodes[static_cast<std::size_t>(node)].speeds) {
+    const GiNaC::symbol& u = m_.speeds[static_cast<std::size_t>(s)].sym;
+    GiNaC::ex q = 0;
+    for (std::size_t k = 0; k < 3; ++k) q += v[k].diff(u) * F[k] + w[k].diff(u) * tau[k];
+    if (!q.is_zero()) m_.forces.push_back(Force{s, q, pos});
+  }
+}
+
+bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::string& what, const End& a, const End& b) {
+  // Which options each kind takes: a torque about a joint axis the joint lets turn, a
+  // force along one it lets slide.
+  auto allowed = [&](const std::string& opt) {
+    if (opt == "torque") return e.kind == "revolute" || e.kind == "cylindrical";
+    if (opt == "force") return e.kind == "prismatic" || e.kind == "cylindrical";
+    return false;
+  };
+  const char* const takes = e.kind == "revolute"      ? "a revolute joint takes 'torque'"
+                            : e.kind == "prismatic"   ? "a prismatic joint takes 'force'"
+                            : e.kind == "cylindrical" ? "a cylindrical joint takes 'force' and 'torque'"
+                                                      : "only revolute (torque), prismatic (force) and cylindrical (both) "
+                                                        "spatial joints take an actuator";
+  for (const auto& [opt, pos] : {std::pair{e.option, e.option_pos}, std::pair{e.option2, e.option2_pos}}) {
+    if (opt.empty() || allowed(opt)) continue;
+    diags_.error(pos, fmt::format("{}: option '{}' is not available on a spatial {} joint ({})", what, opt, e.kind, takes));
+    return false;
+  }
+  if (!e.option2.empty() && e.option2 == e.option) {
+    diags_.error(e.option2_pos, fmt::format("{}: option '{}' given twice", what, e.option));
+    return false;
+  }
+  // The axis is the first end's (the second's is parallel to it while the joint holds).
+  const Vec n = unit_axis(a);
+  for (const auto& [opt, value, pos] : {std::tuple{e.option, e.value, e.option_pos}, std::tuple{e.option2, e.value2, e.option2_pos}}) {
+    if (opt.empty() || !value) continue;
+    if (opt == "torque") {  // tau n on the second body, -tau n on the first
+      apply_wrench(b.node, b.p, kZero, scale(*value, n), pos);
+      apply_wrench(a.node, b.p, kZero, scale(-*value, n), pos);
+    } else {  // F n at the second body's point, -F n on the first at the same place
+      apply_wrench(b.node, b.p, scale(*value, n), kZero, pos);
+      apply_wrench(a.node, b.p, scale(-*value, n), kZero, pos);
+    }
+  }
+  return true;
+}
+
+void SpatialLibrary::add_force_element(int owner, const PlanarLibrary::Element& e) {
+  const bool rotational = e.kind == "rotational_spring" || e.kind == "rotational_damper";
+  const bool spring = e.kind == "spring" || e.kind == "rotational_spring";
+  const std::string what = fmt::format("{} '{}'", spring ? "spring" : "damper", e.name);
+  // Ends: two points, or (rotational) two axes, e.g. those of a revolute joint.
+  const auto a = end(owner, e.end1, rotational, e.end1_pos, what);
+  const auto b = end(owner, e.end2, rotational, e.end2_pos, what);
+  if (!a || !b) return;
+  if (a->node == b->node) {
+    diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what,
+                                         a->node == PlanarLibrary::kGround ? std::string("ground") : m_.label(a->node)));
+    return;
+  }
+  const GiNaC::ex coef = *e.value;
+  if (rotational) {
+    // About the first axis n: the rate (omega_b - omega_a) . n and the angle from the first
+    // axis's reference normal n1 to the second's, turning about n.
+    const Vec n = unit_axis(*a);
+    const Vec wa = angular_velocity(a->node), wb = angular_velocity(b->node);
+    GiNaC::ex tau;
+    if (spring) {
+      const GiNaC::ex angle =
+          GiNaC::atan2(rigid3d::dot(n, rigid3d::cross(a->n1, b->n1)), rigid3d::dot(a->n1, b->n1));
+      const GiNaC::ex twist = angle - (e.length ? *e.length : GiNaC::ex(0));
+      tau = -coef * twist;
+      m_.nodes[static_cast<std::size_t>(owner)].potential += coef * twist * twist / 2;
+    } else {
+      tau = -coef * rigid3d::dot(sub(wb, wa), n);
+    }
+    apply_wrench(b->node, b->p, kZero, scale(tau, n), e.pos);
+    apply_wrench(a->node, b->p, kZero, scale(-tau, n), e.pos);
+    return;
+  }
+  // Along the line d = P_b - P_a. Spring: F_b = -k (L - L0) d / L, potential k (L - L0)^2 / 2
+  // (no rest length: F_b = -k d, k |d|^2 / 2, no square root). Damper: F_b = -c L' d / L
+  // with L' L = d . (v_b - v_a).
+  const Vec d = sub(b->p, a->p);
+  const GiNaC::ex d2 = rigid3d::dot(d, d);
+  GiNaC::ex along;  // F_b = along * d
+  if (spring && e.length) {
+    const GiNaC::ex L = GiNaC::sqrt(d2);
+    along = -coef * (L - *e.length) / L;
+    m_.nodes[static_cast<std::size_t>(owner)].potential += coef * GiNaC::pow(L - *e.length, 2) / 2;
+  } else if (spring) {
+    along = -coef;
+    m_.nodes[static_cast<std::size_t>(owner)].potential += coef * d2 / 2;
+  } else {
+    along = -coef * rigid3d::dot(d, sub(point_velocity(b->node, b->p), point_velocity(a->node, a->p))) / d2;
+  }
+  apply_wrench(b->node, b->p, scale(along, d), kZero, e.pos);
+  apply_wrench(a->node, a->p, neg(scale(along, d)), kZero, e.pos);
+}
+
+}  // namespace mbsc::model
