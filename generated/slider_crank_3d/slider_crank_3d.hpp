@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 46;
 inline constexpr int kPositionJacobianNnz = 59;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 3;
+inline constexpr int kNquaternions = 2;
 
 inline constexpr const char* kStateNames[] = {
     "crank.x",
@@ -221,6 +222,8 @@ inline constexpr int kPositionJacobianColIdx[] = {
     0, 1, 2, 3, 4, 5, 6, 3, 4, 5, 6, 0, 3, 4, 5, 6, 7, 10, 11, 1, 3, 4, 5, 6, 8, 10, 11, 2, 3, 4, 5,
     6, 9, 11, 7, 10, 11, 13, 8, 10, 11, 14, 9, 11, 15, 15, 14, 16, 17, 18, 19, 16, 17, 18, 19, 16,
     17, 18, 19};
+
+inline constexpr int kQuaternionIndices[] = {3, 4, 5, 6, 16, 17, 18, 19};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 271 adds, 571 muls, 2 divs, 6 calls, 81 solve flops, total 931.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 30;
 inline constexpr int kPositionJacobianNnz = 30;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 3;
+inline constexpr int kNquaternions = 0;
 
 inline constexpr const char* kStateNames[] = {
     "tip1.x",
@@ -159,6 +160,10 @@ inline constexpr int kPositionJacobianRowPtr[] = {0, 3, 9, 10, 11, 15, 17, 19, 2
 
 inline constexpr int kPositionJacobianColIdx[] = {
     0, 1, 2, 0, 1, 2, 3, 4, 5, 4, 5, 3, 4, 5, 12, 0, 6, 1, 7, 2, 8, 0, 3, 9, 1, 4, 10, 2, 5, 11};
+
+// kQuaternionIndices is empty: C++ has no zero-size arrays, so it holds one placeholder;
+// take the size from the count constant, not from the array.
+inline constexpr int kQuaternionIndices[1] = {0};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 64 adds, 148 muls, 0 divs, 2 calls, 23 solve flops, total 237.
