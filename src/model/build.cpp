@@ -248,6 +248,7 @@ class Builder {
         library_.add_failed(PlanarLibrary::kGround, s.name);
         continue;
       }
+      if (s.kind == Kind::Point || s.kind == Kind::Axis) spatial_.add_planar_ground_name(s.name);
       if (s.kind == Kind::Point) library_.add_point(PlanarLibrary::kGround, s.name, v[0], v[1], s.name_pos);
       else if (s.kind == Kind::Axis) library_.add_axis(PlanarLibrary::kGround, s.name, v[0], v[1], v[2], v[3], s.name_pos);
       else diags_.error(s.pos, "only 'point' and 'axis' statements belong in 'ground'");

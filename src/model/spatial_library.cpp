@@ -151,6 +151,13 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     const auto& table = axis ? ground_axes_ : ground_points_;
     const auto it = table.find(name);
     if (it == table.end() && failed_.count({PlanarLibrary::kGround, name})) return std::nullopt;
+    if (it == table.end() && planar_ground_.count(name)) {
+      diags_.error(pos, fmt::format("{}: {} '{}' of the ground is planar (two components); a spatial joint needs a "
+                                    "spatial one: {}",
+                                    what, noun, path,
+                                    axis ? "axis NAME (px, py, pz) (dx, dy, dz)" : "point NAME (x, y, z)"));
+      return std::nullopt;
+    }
     if (it == table.end()) {
       diags_.error(pos, fmt::format("{}: unknown {} '{}' of the ground{}", what, noun, path,
                                     (axis ? ground_points_ : ground_axes_).count(name)

@@ -45,6 +45,8 @@ class SpatialLibrary {
   void add_ground_axis(const std::string& name, const Vec& v, const SourcePos& pos);
   /// A point or axis whose declaration failed (reported): a joint naming it says no more.
   void add_failed(int node, const std::string& name) { failed_.insert({node, name}); }
+  /// A planar ground point or axis (two components): a spatial joint naming it is told so.
+  void add_planar_ground_name(const std::string& name) { planar_ground_.insert(name); }
   bool has_ground(const std::string& name) const { return ground_points_.count(name) || ground_axes_.count(name); }
 
   /// Whether a joint belongs here: a spatial-only kind, or an end on a rigid3d body or on
@@ -93,6 +95,7 @@ class SpatialLibrary {
   Diagnostics& diags_;
   std::map<std::string, Vec> ground_points_, ground_axes_;
   std::set<std::pair<int, std::string>> failed_;
+  std::set<std::string> planar_ground_;
   int unnamed_ = 0;
 };
 
