@@ -67,6 +67,8 @@
 #include "three_r_arm_joint_mult/three_r_arm_joint_mult.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "three_rrr_mult/three_rrr_mult.hpp"
+#include "whipple_bicycle/whipple_bicycle.hpp"
+#include "whipple_bicycle_mult/whipple_bicycle_mult.hpp"
 #include "whitworth/whitworth.hpp"
 #include "whitworth_mult/whitworth_mult.hpp"
 
@@ -532,7 +534,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 21);
+  REQUIRE(shipped.size() == 22);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {
