@@ -15,6 +15,8 @@
 /// spherical = coincide; revolute = coincide + parallel; universal = coincide +
 /// perpendicular; cylindrical = on_line + parallel; prismatic = cylindrical + no_twist;
 /// weld = coincide + same_axes; point_on_line = on_line; point_on_plane = on_plane.
+/// A disc rolling on a ground plane (`rolling PLANE DISC radius r`, spatial_rolling.cpp)
+/// adds one position row (.contact) and two velocity rows (.no_slip, .no_side_slip).
 #include <ginac/ginac.h>
 
 #include <map>
@@ -62,7 +64,11 @@ class SpatialLibrary {
   double at_defaults(const GiNaC::ex& e) const;
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
-  void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+  void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
+           Constraint::Level level = Constraint::Level::Position);
+  /// A disc (an axis of a rigid3d body: its centre and spin axis) rolling without slip
+  /// on a plane of the ground (spatial_rolling.cpp).
+  void add_rolling(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
 
   Model& m_;
   Diagnostics& diags_;

@@ -33,6 +33,7 @@
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "parallelogram_chain/parallelogram_chain.hpp"
 #include "ring_disc/ring_disc.hpp"
+#include "rolling_disc/rolling_disc.hpp"
 #include "ring_disc_joints/ring_disc_joints.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "spherical_pendulum_angles/spherical_pendulum_angles.hpp"
@@ -62,6 +63,7 @@ MBSC_GENERIC_MODEL(free_particle);
 MBSC_GENERIC_MODEL(massless_rod_pendulum);
 MBSC_GENERIC_MODEL(parallelogram_chain);
 MBSC_GENERIC_MODEL(ring_disc);
+MBSC_GENERIC_MODEL(rolling_disc);
 MBSC_GENERIC_MODEL(ring_disc_joints);
 MBSC_GENERIC_MODEL(slider_crank);
 MBSC_GENERIC_MODEL(spherical_pendulum_angles);
@@ -321,6 +323,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<massless_rod_pendulum_abi>(rng);
     check_model<parallelogram_chain_abi>(rng);
     check_model<ring_disc_abi>(rng);
+    check_model<rolling_disc_abi>(rng);
     check_model<ring_disc_joints_abi>(rng);
     check_model<slider_crank_abi>(rng);
     check_model<spherical_pendulum_angles_abi>(rng);
@@ -406,6 +409,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<massless_rod_pendulum_abi>(rng);
     check_sparse_jacobians<parallelogram_chain_abi>(rng);
     check_sparse_jacobians<ring_disc_abi>(rng);
+    check_sparse_jacobians<rolling_disc_abi>(rng);
     check_sparse_jacobians<ring_disc_joints_abi>(rng);
     check_sparse_jacobians<slider_crank_abi>(rng);
     check_sparse_jacobians<spherical_pendulum_angles_abi>(rng);

@@ -46,6 +46,8 @@
 #include "mbsc/runtime/rk4.hpp"
 #include "parallelogram_chain/parallelogram_chain.hpp"
 #include "parallelogram_chain_mult/parallelogram_chain_mult.hpp"
+#include "rolling_disc/rolling_disc.hpp"
+#include "rolling_disc_mult/rolling_disc_mult.hpp"
 #include "ring_disc/ring_disc.hpp"
 #include "ring_disc_joints/ring_disc_joints.hpp"
 #include "ring_disc_joints_mult/ring_disc_joints_mult.hpp"
@@ -516,6 +518,19 @@ std::vector<Case> shipped_models() {
                    {{"top.e0", 1.0}, {"top.z", 0.1}},
                    {{"top.e1", 0.1, 0.1}, {"top.e2", -0.1, 0.1}, {"top.e3", 0.2, 0.1}},
                    {{"top.wx", 1.0, 1.0}, {"top.wy", -0.5, 1.0}, {"top.wz", 30.0, 5.0}},
+                   {},
+                   {}});
+  // The rolling disc (spatial `rolling` joint): near upright (the spin axis near space y),
+  // the height placed by assembly; the independent speeds are the body-frame angular speeds.
+  cases.push_back({PAIR(rolling_disc),
+                   {{"disc.z", 0.3}},
+                   {{"disc.x", 0.0, 1.0},
+                    {"disc.y", 0.0, 1.0},
+                    {"disc.e0", 0.7071, 0.1},
+                    {"disc.e1", -0.7071, 0.1},
+                    {"disc.e2", 0.0, 0.2},
+                    {"disc.e3", 0.0, 0.2}},
+                   {{"disc.wx", 0.0, 1.0}, {"disc.wy", 0.0, 1.0}, {"disc.wz", 5.0, 2.0}},
                    {},
                    {}});
   return cases;
