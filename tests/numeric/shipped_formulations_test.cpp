@@ -533,6 +533,30 @@ std::vector<Case> shipped_models() {
                    {{"disc.wx", 0.0, 1.0}, {"disc.wy", 0.0, 1.0}, {"disc.wz", 5.0, 2.0}},
                    {},
                    {}});
+  // The Whipple bicycle: near upright (guesses at the reference pose, where every body's
+  // axes are the space axes), the rear contact, a lean, a steer and both wheels' angles
+  // given (through quaternion entries), the rest placed by assembly; riding at about 5 m/s.
+  cases.push_back({PAIR(whipple_bicycle),
+                   {{"rear_wheel.z", -0.3},
+                    {"rear_wheel.e0", 1.0},
+                    {"rear_frame.x", 0.3},
+                    {"rear_frame.z", -0.9},
+                    {"rear_frame.e0", 1.0},
+                    {"front_frame.x", 0.9},
+                    {"front_frame.z", -0.7},
+                    {"front_frame.e0", 1.0},
+                    {"front_wheel.x", 1.02},
+                    {"front_wheel.z", -0.35},
+                    {"front_wheel.e0", 1.0}},
+                   {{"rear_wheel.x", 0.0, 1.0},
+                    {"rear_wheel.y", 0.0, 1.0},
+                    {"rear_wheel.e2", 0.0, 0.5},
+                    {"rear_frame.e1", 0.0, 0.05},
+                    {"front_frame.e3", 0.0, 0.1},
+                    {"front_wheel.e2", 0.0, 0.5}},
+                   {{"rear_wheel.wy", -5.0 / 0.3, 3.0}, {"rear_frame.wx", 0.0, 1.0}, {"front_frame.wx", 0.0, 1.0}},
+                   {},
+                   {}});
   return cases;
 }
 
