@@ -314,7 +314,7 @@ int main(int argc, char** argv) {
                               s_z * (ref[at("front_frame.wz")] - ref[at("rear_frame.wz")])};
     double d = 0.0, sc = 0.0;
     for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(ud[k] - mb[k])), sc = std::max(sc, std::fabs(mb[k]));
-    std::printf("sympy_state=%.6f,%.6f,%.6f,%.6f\n", q[0], q[1], q[2], q[3]);
+    std::printf("sympy_state=%.17g,%.17g,%.17g,%.17g\n", q[0], q[1], q[2], q[3]);
     std::printf("sympy_acc=%.10g,%.10g,%.10g\nmbsc_acc=%.10g,%.10g,%.10g\n", ud[0], ud[1], ud[2], mb[0], mb[1], mb[2]);
     std::printf("sympy_rel_diff=%.3e\n", d / sc);
     // Exactly upright sympy's expressions divide 0 by 0 (its symbolic elimination of the

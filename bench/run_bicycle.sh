@@ -13,11 +13,12 @@
 # The peers are for comparison only, not dependencies of mbsc: /usr/bin/python3 with sympy
 # (Debian python3-sympy) and valgrind; as root the script installs what is missing with
 # apt-get, else it leaves those columns "n/a". SYMPY_TIMEOUT (default 600 s) bounds
-# sympy's derivation and code generation; NO_PEERS=1 measures mbsc alone.
+# sympy's derivation and code generation; NO_PEERS=1 measures mbsc alone; MBSC_BUILD=DIR
+# uses the mbsc of an existing Release build folder (only its `mbsc` target is built).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
-BUILD=build-bench
+BUILD=${MBSC_BUILD:-build-bench}
 WORK=bench/work/bicycle
 FLAGS="-std=c++17 -O2 -march=x86-64"
 PY=/usr/bin/python3
@@ -47,7 +48,7 @@ if [ -z "${NO_PEERS:-}" ]; then
 fi
 
 log "building mbsc (Release) in $BUILD"
-cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
+[ -n "${MBSC_BUILD:-}" ] || cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
 cmake --build "$BUILD" -j2 --target mbsc >/dev/null
 rm -rf "$WORK" && mkdir -p "$WORK" bench/results
 
