@@ -29,12 +29,22 @@
 #include "whipple_bicycle_min/whipple_bicycle_min.hpp"
 #include "whipple_bicycle_mult/whipple_bicycle_mult.hpp"
 #include "whipple_bicycle_sparse/whipple_bicycle_sparse.hpp"
+#ifdef WITH_EULER
+#include "whipple_bicycle_euler/whipple_bicycle_euler.hpp"
+#endif
 
 #ifdef WITH_SYMPY
 extern "C" {
 extern const int sympy_bicycle_nu;
 extern const double sympy_bicycle_pvalues[];
 void sympy_bicycle_mass_forcing(const double* q, const double* u, const double* p, double* M, double* F);
+#ifdef WITH_SYMPY_QUAD
+// The same C code with every double a __float128 (run_bicycle.sh rewrites it): what
+// sympy's expressions give without rounding error, to tell their cancellation from a
+// difference of the models.
+extern const __float128 sympy_bicycle_q_pvalues[];
+void sympy_bicycle_q_mass_forcing(const __float128* q, const __float128* u, const __float128* p, __float128* M, __float128* F);
+#endif
 }
 #endif
 
@@ -75,6 +85,15 @@ std::vector<double> upright(double v, double lr) {
   return x;
 }
 
+/// R(q) of a unit quaternion (e0 scalar): body to space, row-major.
+void rotation(const double* e, double* R) {
+  const double a = e[0], b = e[1], c = e[2], d = e[3];
+  const double r[9] = {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c),
+                       2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b),
+                       2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
+  std::copy(r, r + 9, R);
+}
+
 using Rhs = int (*)(const double*, double*);
 
 // The one function callgrind counts (--toggle-collect): a real call, not a tail jump.
@@ -109,6 +128,33 @@ double median(std::vector<double> v) {
 }
 
 #ifdef WITH_SYMPY
+/// Solves M x = F (n = 6) by LU with partial pivoting, in place; false when singular.
+template <class T>
+bool solve6(T* M, T* F, T* x) {
+  constexpr int n = 6;
+  for (int k = 0; k < n; ++k) {
+    int piv = k;
+    for (int i = k + 1; i < n; ++i)
+      if ((M[i * n + k] < 0 ? -M[i * n + k] : M[i * n + k]) > (M[piv * n + k] < 0 ? -M[piv * n + k] : M[piv * n + k])) piv = i;
+    if (M[piv * n + k] == 0) return false;
+    if (piv != k) {
+      for (int j = 0; j < n; ++j) std::swap(M[k * n + j], M[piv * n + j]);
+      std::swap(F[k], F[piv]);
+    }
+    for (int i = k + 1; i < n; ++i) {
+      const T l = M[i * n + k] / M[k * n + k];
+      for (int j = k; j < n; ++j) M[i * n + j] -= l * M[k * n + j];
+      F[i] -= l * F[k];
+    }
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    T s = F[i];
+    for (int j = i + 1; j < n; ++j) s -= M[i * n + j] * x[j];
+    x[i] = s / M[i * n + i];
+  }
+  return true;
+}
+
 /// sympy's accelerations: M u' = F by LU with partial pivoting (n = 6).
 int sympy_rhs(const double* q, const double* u, double* ud) {
   constexpr int n = 6;
@@ -139,15 +185,6 @@ int sympy_rhs(const double* q, const double* u, double* ud) {
 #endif
 
 #ifdef WITH_SYMPY
-/// R(q) of a unit quaternion (e0 scalar): body to space, row-major.
-void rotation(const double* e, double* R) {
-  const double a = e[0], b = e[1], c = e[2], d = e[3];
-  const double r[9] = {a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c),
-                       2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b),
-                       2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d};
-  std::copy(r, r + 9, R);
-}
-
 /// Columns: N.z, R.x, B.y in the rear frame's axes, so that omega_B = A (u1, u2, u4).
 void lean_pitch_matrix(double lean, double pitch, double* A) {
   const double sf = std::sin(lean), cf = std::cos(lean), st = std::sin(pitch), ct = std::cos(pitch);
@@ -242,6 +279,25 @@ int main(int argc, char** argv) {
                    pick(BN::kStateNames, BN::kNx), BN::kNx, {}});
   tools.push_back({"sparse", [](const double* s, double* o) { return BS::rhs(0.0, s, nullptr, BS::kParamDefaults, o); }, x, BS::kNx, {}});
   tools.push_back({"dense", [](const double* s, double* o) { return BD::rhs(0.0, s, nullptr, BD::kParamDefaults, o); }, x, BD::kNx, {}});
+#ifdef WITH_EULER
+  // The same bicycle with Euler angles (zxy: yaw, lean, pitch of each body) instead of
+  // quaternions, at the same state: R = Rz(phi) Rx(theta) Ry(psi).
+  namespace BE = mbsc_gen::whipple_bicycle_euler;
+  std::vector<double> xe(static_cast<std::size_t>(BE::kNx), 0.0);
+  for (int k = 0; k < BE::kNx; ++k) {
+    const std::string n = BE::kStateNames[k];
+    const auto dot = n.rfind('.');
+    const std::string body = n.substr(0, dot), var = n.substr(dot + 1);
+    if (var == "phi" || var == "theta" || var == "psi") {
+      double R[9];
+      rotation(&x[at(body + ".e0")], R);
+      xe[static_cast<std::size_t>(k)] = var == "phi" ? std::atan2(-R[1], R[4]) : var == "theta" ? std::asin(R[7]) : std::atan2(-R[6], R[8]);
+    } else {
+      xe[static_cast<std::size_t>(k)] = x[at(n)];
+    }
+  }
+  tools.push_back({"euler", [](const double* s, double* o) { return BE::rhs(0.0, s, nullptr, BE::kParamDefaults, o); }, xe, BE::kNx, {}});
+#endif
 #ifdef WITH_SYMPY
   if (sympy_bicycle_nu != 6) die("sympy's model has " + std::to_string(sympy_bicycle_nu) + " speeds, not 6");
   // sympy at a generic (not necessarily consistent) state: the cost does not depend on it.
@@ -279,7 +335,16 @@ int main(int argc, char** argv) {
     if (t.f(t.x.data(), out.data()) != 0) die(t.tag + ": rhs failed");
     double d = 0.0;
     const char* const* names = t.tag == "minimal" ? BN::kStateNames : B::kStateNames;
-    for (int k = 0; k < t.nout; ++k) d = std::max(d, std::fabs(out[static_cast<std::size_t>(k)] - ref[at(names[k])]));
+#ifdef WITH_EULER
+    if (t.tag == "euler") names = BE::kStateNames;
+#endif
+    for (int k = 0; k < t.nout; ++k) {
+      const std::string n = names[k];
+      if (n.size() > 4 && (n.compare(n.size() - 4, 4, ".phi") == 0 || n.compare(n.size() - 4, 4, ".psi") == 0 ||
+                           (n.size() > 6 && n.compare(n.size() - 6, 6, ".theta") == 0)))
+        continue;  // the Euler angles' rates: no counterpart in the quaternion state
+      d = std::max(d, std::fabs(out[static_cast<std::size_t>(k)] - ref[at(n)]));
+    }
     std::printf("%s_rel_diff=%.3e\n", t.tag.c_str(), d / scale);
   }
 #ifdef WITH_SYMPY
@@ -315,8 +380,23 @@ int main(int argc, char** argv) {
     double d = 0.0, sc = 0.0;
     for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(ud[k] - mb[k])), sc = std::max(sc, std::fabs(mb[k]));
     std::printf("sympy_state=%.17g,%.17g,%.17g,%.17g\n", q[0], q[1], q[2], q[3]);
+    std::printf("sympy_u=%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", u[0], u[1], u[2], u[3], u[4], u[5]);
     std::printf("sympy_acc=%.10g,%.10g,%.10g\nmbsc_acc=%.10g,%.10g,%.10g\n", ud[0], ud[1], ud[2], mb[0], mb[1], mb[2]);
     std::printf("sympy_rel_diff=%.3e\n", d / sc);
+#ifdef WITH_SYMPY_QUAD
+    {
+      __float128 qq[4], uq[6], Mq[36], Fq[6], xq[6];
+      for (int k = 0; k < 4; ++k) qq[k] = q[k];
+      for (int k = 0; k < 6; ++k) uq[k] = u[k];
+      sympy_bicycle_q_mass_forcing(qq, uq, sympy_bicycle_q_pvalues, Mq, Fq);
+      if (!solve6(Mq, Fq, xq)) die("sympy (quad) singular");
+      double dq = 0.0;
+      for (int k = 0; k < 3; ++k) dq = std::max(dq, std::fabs(static_cast<double>(xq[k]) - mb[k]));
+      std::printf("sympy_quad_acc=%.10g,%.10g,%.10g\n", static_cast<double>(xq[0]), static_cast<double>(xq[1]),
+                  static_cast<double>(xq[2]));
+      std::printf("sympy_quad_rel_diff=%.3e\n", dq / sc);
+    }
+#endif
     // Exactly upright sympy's expressions divide 0 by 0 (its symbolic elimination of the
     // dependent speeds pivots on an entry that vanishes there).
     const double q0[4] = {0, 0, 0, 0}, u0[6] = {0.5, -5.0 / param("rR"), 0, 0, 0, -5.0 / param("rF")};

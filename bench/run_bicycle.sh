@@ -65,6 +65,10 @@ log "mbsc generate: $gen_s s"
 "$BUILD/mbsc" generate "models/$M.mbs" -o "$WORK" --quiet --name ${M}_min --state minimal
 "$BUILD/mbsc" generate "models/$M.mbs" -o "$WORK" --quiet --name ${M}_sparse --solver sparse
 "$BUILD/mbsc" generate "models/$M.mbs" -o "$WORK" --quiet --name ${M}_dense --solver dense
+# Where the time goes: the same bicycle with Euler angles (zxy: yaw, lean, pitch; singular
+# only with a body's y axis vertical, a bicycle lying flat) instead of quaternions.
+sed "s/^  mass m\([RBHF]\)\$/  mass m\1\n  attitude euler zxy body/; /^initial.*e0 = 1/d" "models/$M.mbs" > "$WORK/${M}_euler.mbs"
+"$BUILD/mbsc" generate "$WORK/${M}_euler.mbs" -o "$WORK" --quiet --name ${M}_euler
 ops() { sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/$1/$1.cpp"; }
 "$BUILD/mbsc" print "models/$M.mbs" --stats > "$WORK/stats.txt" 2>&1 || true
 
@@ -85,6 +89,15 @@ print(d["derive_s"], d["codegen_s"], d["ops_mbsc_conv"])' "$WORK/sympy/sympy_bic
     gcc -O2 -march=x86-64 -c "$WORK/sympy/sympy_bicycle.c" -o "$WORK/sympy_bicycle.o"
     defs+=(-DWITH_SYMPY)
     objs+=("$WORK/sympy_bicycle.o")
+    # The same code in quadruple precision (GCC's __float128 and libquadmath), for the
+    # accuracy column only.
+    sed 's/#include <math.h>/#include <quadmath.h>/; s/\bdouble\b/__float128/g; s/\bsin(/sinq(/g; s/\bcos(/cosq(/g;
+         s/\bpow(/powq(/g; s/\bsqrt(/sqrtq(/g; s/sympy_bicycle_/sympy_bicycle_q_/g' \
+      "$WORK/sympy/sympy_bicycle.c" > "$WORK/sympy_bicycle_q.c"
+    if gcc -O1 -c "$WORK/sympy_bicycle_q.c" -o "$WORK/sympy_bicycle_q.o" 2> "$WORK/sympy_q.log"; then
+      defs+=(-DWITH_SYMPY_QUAD)
+      objs+=("$WORK/sympy_bicycle_q.o" -lquadmath)
+    fi
   elif [ $rc -eq 124 ]; then
     s_status="did not finish in $SYMPY_TIMEOUT s"
   else
@@ -96,8 +109,8 @@ fi
 # --- the driver ------------------------------------------------------------------------------
 log "driver"
 srcs=()
-for v in "$M" ${M}_mult ${M}_min ${M}_sparse ${M}_dense; do srcs+=("$WORK/$v/$v.cpp"); done
-g++ $FLAGS -I include -I "$WORK" "${defs[@]}" bench/bicycle_driver.cpp "${srcs[@]}" "${objs[@]}" -o "$WORK/driver"
+for v in "$M" ${M}_mult ${M}_min ${M}_sparse ${M}_dense ${M}_euler; do srcs+=("$WORK/$v/$v.cpp"); done
+g++ $FLAGS -I include -I "$WORK" -DWITH_EULER "${defs[@]}" bench/bicycle_driver.cpp "${srcs[@]}" "${objs[@]}" -o "$WORK/driver"
 "$WORK/driver" > "$WORK/driver.txt"
 val() { sed -n "s/^$1=//p" "$WORK/driver.txt"; }
 instr() {  # callgrind's instructions per rhs call of tool $1
@@ -125,6 +138,7 @@ out=bench/results/bicycle.md
   row multipliers ${M}_mult "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_mult/${M}_mult.hpp")"
   row minimal ${M}_min "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_min/${M}_min.hpp")"
   row sparse ${M}_sparse "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_sparse/${M}_sparse.hpp")"
+  row euler ${M}_euler "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_euler/${M}_euler.hpp")"
   row dense ${M}_dense "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_dense/${M}_dense.hpp")"
   if [ -n "$HAVE_SYMPY" ]; then
     if [ -z "$s_status" ]; then
@@ -137,7 +151,8 @@ out=bench/results/bicycle.md
   if [ -n "$HAVE_SYMPY" ] && [ -z "$s_status" ]; then
     echo "sympy $($PY -c 'import sympy; print(sympy.__version__)'): derivation $s_derive s, code generation (cse + C) $s_codegen s;" \
       "at the running state (yaw, lean, steer, pitch) = ($(val sympy_state)) its (lean, rear wheel, steer) accelerations" \
-      "$(val sympy_acc) against mbsc's $(val mbsc_acc); finite exactly upright: $(val sympy_upright_ok)"
+      "$(val sympy_acc) against mbsc's $(val mbsc_acc); the same sympy code in quadruple precision:" \
+      "$(val sympy_quad_acc) (relative difference to mbsc $(val sympy_quad_rel_diff)); finite exactly upright: $(val sympy_upright_ok)"
     echo
   fi
   echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, $(lscpu | sed -n 's/Model name: *//p'), g++ $FLAGS," \
