@@ -31,7 +31,8 @@ bool second_is_axis(const std::string& k) {
 
 const std::vector<std::string>& SpatialLibrary::kinds() {
   static const std::vector<std::string> k = {"spherical", "revolute",      "universal",     "cylindrical",
-                                             "prismatic", "weld",          "point_on_line", "point_on_plane"};
+                                             "prismatic", "weld",          "point_on_line", "point_on_plane",
+                                             "rolling"};
   return k;
 }
 
@@ -93,7 +94,8 @@ bool SpatialLibrary::claims(int owner, const PlanarLibrary::Element& e) const {
   const auto& k = kinds();
   const bool force = is_force_element(e.kind);
   if (!force && std::find(k.begin(), k.end(), e.kind) == k.end()) return false;
-  if (!force && e.kind != "revolute" && e.kind != "prismatic" && e.kind != "weld") return true;  // spatial only
+  if (!force && e.kind != "revolute" && e.kind != "prismatic" && e.kind != "weld" && e.kind != "rolling")
+    return true;  // spatial only
   // A rotational spring or damper is spatial when an end is an axis (BODY.NAME) of the
   // ground or of a rigid3d body; the planar one names two bodies.
   if (e.kind == "rotational_spring" || e.kind == "rotational_damper") {
@@ -209,11 +211,12 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
   return out;
 }
 
-void SpatialLibrary::row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos) {
+void SpatialLibrary::row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
+                         Constraint::Level level) {
   Constraint c;
   c.name = join(m_.nodes[owner].name, name);
   c.node = owner;
-  c.level = Constraint::Level::Position;
+  c.level = level;
   c.residual = residual;
   c.pos = pos;
   m_.nodes[owner].constraints.push_back(static_cast<int>(m_.constraints.size()));
@@ -225,6 +228,10 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
   const std::string what = fmt::format("joint '{}'", name);
   if (e.coordinate >= 0) {
     diags_.error(e.coordinate_pos, fmt::format("{}: a spatial joint takes no coordinate of its own", what));
+    return;
+  }
+  if (e.kind == "rolling") {
+    add_rolling(owner, e, name, what);
     return;
   }
   if (is_force_element(e.kind)) {

@@ -21,6 +21,9 @@
 /// dampers about a revolute axis. Each is a force F at a point P and a torque tau on a
 /// body, turned into generalized forces once, by the virtual power:
 /// Q_s = (d v_P / d s) . F + (d omega / d s) . tau over the body's speeds s.
+///
+/// A disc rolling on a ground plane (`rolling PLANE DISC radius r`, spatial_rolling.cpp)
+/// adds one position row (.contact) and two velocity rows (.no_slip, .no_side_slip).
 #include <ginac/ginac.h>
 
 #include <map>
@@ -74,7 +77,11 @@ class SpatialLibrary {
   double at_defaults(const GiNaC::ex& e) const;
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
-  void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos);
+  void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
+           Constraint::Level level = Constraint::Level::Position);
+  /// A disc (an axis of a rigid3d body: its centre and spin axis) rolling without slip
+  /// on a plane of the ground (spatial_rolling.cpp).
+  void add_rolling(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
 
   // ---- force elements (spatial_forces.cpp) ----
   /// The unit direction in space of an end's axis: R d / |d| with |d| taken in the body

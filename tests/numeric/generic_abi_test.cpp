@@ -35,6 +35,7 @@
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "parallelogram_chain/parallelogram_chain.hpp"
 #include "ring_disc/ring_disc.hpp"
+#include "rolling_disc/rolling_disc.hpp"
 #include "ring_disc_joints/ring_disc_joints.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "spherical_pendulum_angles/spherical_pendulum_angles.hpp"
@@ -44,6 +45,7 @@
 #include "three_r_arm/three_r_arm.hpp"
 #include "three_r_arm_joint/three_r_arm_joint.hpp"
 #include "three_rrr/three_rrr.hpp"
+#include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whitworth/whitworth.hpp"
 
 MBSC_GENERIC_MODEL(chaplygin_sleigh);
@@ -65,6 +67,7 @@ MBSC_GENERIC_MODEL(free_particle);
 MBSC_GENERIC_MODEL(massless_rod_pendulum);
 MBSC_GENERIC_MODEL(parallelogram_chain);
 MBSC_GENERIC_MODEL(ring_disc);
+MBSC_GENERIC_MODEL(rolling_disc);
 MBSC_GENERIC_MODEL(ring_disc_joints);
 MBSC_GENERIC_MODEL(slider_crank);
 MBSC_GENERIC_MODEL(spherical_pendulum_angles);
@@ -74,6 +77,7 @@ MBSC_GENERIC_MODEL(stiff_spring_damper);
 MBSC_GENERIC_MODEL(three_r_arm);
 MBSC_GENERIC_MODEL(three_r_arm_joint);
 MBSC_GENERIC_MODEL(three_rrr);
+MBSC_GENERIC_MODEL(whipple_bicycle);
 MBSC_GENERIC_MODEL(whitworth);
 
 using mbsc_test::Arguments;
@@ -309,7 +313,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 23);
+  REQUIRE(shipped == 25);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -325,6 +329,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<massless_rod_pendulum_abi>(rng);
     check_model<parallelogram_chain_abi>(rng);
     check_model<ring_disc_abi>(rng);
+    check_model<rolling_disc_abi>(rng);
     check_model<ring_disc_joints_abi>(rng);
     check_model<slider_crank_abi>(rng);
     check_model<spherical_pendulum_angles_abi>(rng);
@@ -334,6 +339,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<three_r_arm_abi>(rng);
     check_model<three_r_arm_joint_abi>(rng);
     check_model<three_rrr_abi>(rng);
+    check_model<whipple_bicycle_abi>(rng);
     check_model<whitworth_abi>(rng);
   }
 }
@@ -411,6 +417,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<massless_rod_pendulum_abi>(rng);
     check_sparse_jacobians<parallelogram_chain_abi>(rng);
     check_sparse_jacobians<ring_disc_abi>(rng);
+    check_sparse_jacobians<rolling_disc_abi>(rng);
     check_sparse_jacobians<ring_disc_joints_abi>(rng);
     check_sparse_jacobians<slider_crank_abi>(rng);
     check_sparse_jacobians<spherical_pendulum_angles_abi>(rng);
@@ -419,6 +426,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<stiff_spring_damper_abi>(rng);
     check_sparse_jacobians<three_r_arm_abi>(rng);
     check_sparse_jacobians<three_rrr_abi>(rng);
+    check_sparse_jacobians<whipple_bicycle_abi>(rng);
     check_sparse_jacobians<whitworth_abi>(rng);
     // --state minimal (evaluated at the rebuilt full state), the multipliers form, and a
     // model without constraints (empty patterns).

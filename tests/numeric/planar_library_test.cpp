@@ -11,7 +11,7 @@
 
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/rk4.hpp"
-#include "rolling_disc/rolling_disc.hpp"
+#include "planar_rolling_disc/planar_rolling_disc.hpp"
 #include "seesaw_disc/seesaw_disc.hpp"
 #include "seesaw_disc_invariants/seesaw_disc_invariants.hpp"
 #include "slider_crank/slider_crank.hpp"
@@ -143,7 +143,7 @@ TEST_CASE("planar library: pin-in-slot, gear, rotational spring and damper equal
 }
 
 TEST_CASE("planar library: a disc rolling down an incline accelerates at 2/3 g sin(alpha)", "[numeric][planar]") {
-  namespace R = mbsc_gen::rolling_disc;
+  namespace R = mbsc_gen::planar_rolling_disc;
   REQUIRE(R::kNdof == 1);
   auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(R::kStateNames, R::kNx, n)); };
   auto par = [](const char* n) { return R::kParamDefaults[index_of(R::kParamNames, R::kNp, n)]; };

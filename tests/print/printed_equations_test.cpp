@@ -233,9 +233,10 @@ TEST_CASE("printed M and h of every shipped model evaluate to the pipeline's num
             if (w.solved) check_close(mbsc_test::eval(read_back(w.value), shown), mbsc_test::eval(w.value, shown));
       }
       // Numeric complements: closed forms everywhere but where a block is too large (the
-      // parallelogram chain's 6 x 6 block, the 3-D slider-crank's 7 x 7 one).
+      // parallelogram chain's 6 x 6 block, the 3-D slider-crank's 7 x 7 one, the Whipple
+      // bicycle's 12 x 12 one).
       const std::string name = path.stem().string();
-      const bool large_blocks = name == "parallelogram_chain" || name == "slider_crank_3d";
+      const bool large_blocks = name == "parallelogram_chain" || name == "slider_crank_3d" || name == "whipple_bicycle";
       if (expand) {
         CHECK(p.all_closed == !large_blocks);
         if (name == "slider_crank_3d") {  // its 7 x 7 block stays numeric, the other rows are closed
