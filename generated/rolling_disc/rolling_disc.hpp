@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 13;
 inline constexpr int kPositionJacobianNnz = 5;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 1;
 
 inline constexpr const char* kStateNames[] = {
     "disc.x",
@@ -111,6 +112,8 @@ inline constexpr int kConstraintJacobianColIdx[] = {2, 3, 4, 5, 0, 1, 3, 4, 5, 0
 inline constexpr int kPositionJacobianRowPtr[] = {0, 5};
 
 inline constexpr int kPositionJacobianColIdx[] = {2, 3, 4, 5, 6};
+
+inline constexpr int kQuaternionIndices[] = {3, 4, 5, 6};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 303 adds, 987 muls, 5 divs, 5 calls, 30 solve flops, total 1330.

@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 116;
 inline constexpr int kPositionJacobianNnz = 124;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 2;
+inline constexpr int kNquaternions = 4;
 
 inline constexpr const char* kStateNames[] = {
     "rear_wheel.x",
@@ -290,6 +291,9 @@ inline constexpr int kPositionJacobianColIdx[] = {
     19, 20, 9, 10, 11, 12, 13, 16, 17, 18, 19, 20, 10, 11, 12, 13, 17, 18, 19, 20, 10, 11, 12, 13,
     17, 18, 19, 20, 14, 17, 18, 19, 20, 21, 15, 17, 18, 19, 20, 22, 16, 17, 18, 19, 20, 23, 17, 18,
     19, 20, 24, 25, 26, 27, 17, 18, 19, 20, 24, 25, 26, 27, 2, 3, 4, 5, 6, 23, 24, 25, 26, 27};
+
+inline constexpr int kQuaternionIndices[] = {
+    3, 4, 5, 6, 10, 11, 12, 13, 17, 18, 19, 20, 24, 25, 26, 27};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 2741 adds, 6099 muls, 13 divs, 14 calls, 942 solve flops, total 9809.
