@@ -4,6 +4,8 @@
 // point and a torque on each of its two bodies (equal and opposite), and every one turns
 // into generalized forces the same way, by the virtual power of apply_wrench: the
 // partial velocities of the point and the partial angular velocities of the body.
+#include <stdexcept>
+
 #include <fmt/format.h>
 
 #include "mbsc/model/rigid3d.hpp"
@@ -19,7 +21,12 @@ Vec neg(const Vec& a) { return scale(-1, a); }
 const Vec kZero{0, 0, 0};
 }  // namespace
 
-Vec SpatialLibrary::unit_axis(const End& a) const { return scale(1 / a.d_length, a.d); }
+Vec SpatialLibrary::unit_axis(const End& a) const {
+  // Only an axis end has a direction (a point end's d is empty and d_length 0).
+  if (a.d.size() != 3 || a.d_length.is_zero())
+    throw std::logic_error("unit_axis asked for the direction of a point end (not an axis)");
+  return scale(1 / a.d_length, a.d);
+}
 
 Vec SpatialLibrary::angular_velocity(int node) const {
   if (node == PlanarLibrary::kGround) return kZero;
