@@ -94,6 +94,7 @@ class Builder {
                  m_.nodes.size());
       fill_node(static_cast<int>(n));
     }
+    spatial_.finish();  // checks that need every element (a rotational spring's joint)
     if (diags_.has_errors()) return std::nullopt;
     solve_coordinate_rates();
     if (diags_.has_errors()) return std::nullopt;

@@ -4,6 +4,8 @@
 // point and a torque on each of its two bodies (equal and opposite), and every one turns
 // into generalized forces the same way, by the virtual power of apply_wrench: the
 // partial velocities of the point and the partial angular velocities of the body.
+#include <stdexcept>
+
 #include <fmt/format.h>
 
 #include "mbsc/model/rigid3d.hpp"
@@ -19,7 +21,12 @@ Vec neg(const Vec& a) { return scale(-1, a); }
 const Vec kZero{0, 0, 0};
 }  // namespace
 
-Vec SpatialLibrary::unit_axis(const End& a) const { return scale(1 / a.d_length, a.d); }
+Vec SpatialLibrary::unit_axis(const End& a) const {
+  // Only an axis end has a direction (a point end's d is empty and d_length 0).
+  if (a.d.size() != 3 || a.d_length.is_zero())
+    throw std::logic_error("unit_axis asked for the direction of a point end (not an axis)");
+  return scale(1 / a.d_length, a.d);
+}
 
 Vec SpatialLibrary::angular_velocity(int node) const {
   if (node == PlanarLibrary::kGround) return kZero;
@@ -92,25 +99,32 @@ void SpatialLibrary::add_force_element(int owner, const PlanarLibrary::Element& 
   const bool spring = e.kind == "spring" || e.kind == "rotational_spring";
   const std::string what = fmt::format("{} '{}'", spring ? "spring" : "damper", e.name);
   // Ends: two points, or (rotational) two axes, e.g. those of a revolute joint.
-  const auto a = end(owner, e.end1, rotational, e.end1_pos, what);
-  const auto b = end(owner, e.end2, rotational, e.end2_pos, what);
+  const char* const noun = spring ? "spring" : "damper";
+  const auto a = end(owner, e.end1, rotational, e.end1_pos, what, noun);
+  const auto b = end(owner, e.end2, rotational, e.end2_pos, what, noun);
   if (!a || !b) return;
   if (a->node == b->node) {
     diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what,
                                          a->node == PlanarLibrary::kGround ? std::string("ground") : m_.label(a->node)));
     return;
   }
+  // Its joint is looked for once every element is in (finish(): it may come later).
+  if (rotational) rotational_.push_back({what, noun, e.end1, e.end2, e.pos, *axis_key(owner, e.end1), *axis_key(owner, e.end2)});
   const GiNaC::ex coef = *e.value;
   if (rotational) {
-    // About the first axis n: the rate (omega_b - omega_a) . n and the angle from the first
-    // axis's reference normal n1 to the second's, turning about n.
+    // About the first axis n: the rate (omega_b - omega_a) . n and the angle theta from the
+    // first axis's reference normal n1 to the second's, turning about n: theta = atan2(y, x).
+    // The spring needs theta - theta0, taken in (-pi, pi] around the rest angle (the
+    // normal n1 of the second end turned back by theta0), so that it wraps opposite the
+    // rest angle, not at theta = +-pi: a rest angle near pi swings smoothly across pi.
     const Vec n = unit_axis(*a);
     const Vec wa = angular_velocity(a->node), wb = angular_velocity(b->node);
     GiNaC::ex tau;
     if (spring) {
-      const GiNaC::ex angle =
-          GiNaC::atan2(rigid3d::dot(n, rigid3d::cross(a->n1, b->n1)), rigid3d::dot(a->n1, b->n1));
-      const GiNaC::ex twist = angle - (e.length ? *e.length : GiNaC::ex(0));
+      const GiNaC::ex x = rigid3d::dot(a->n1, b->n1), y = rigid3d::dot(n, rigid3d::cross(a->n1, b->n1));
+      const GiNaC::ex th0 = e.length ? *e.length : GiNaC::ex(0);
+      const GiNaC::ex twist =
+          GiNaC::atan2(y * GiNaC::cos(th0) - x * GiNaC::sin(th0), x * GiNaC::cos(th0) + y * GiNaC::sin(th0));
       tau = -coef * twist;
       m_.nodes[static_cast<std::size_t>(owner)].potential += coef * twist * twist / 2;
     } else {

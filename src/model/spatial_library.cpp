@@ -136,12 +136,27 @@ std::pair<Vec, Vec> SpatialLibrary::normals(const Vec& d) const {
   return {n1, rigid3d::cross(d, n1)};
 }
 
+std::optional<SpatialLibrary::AxisKey> SpatialLibrary::axis_key(int owner, const std::string& path) const {
+  const auto dot = path.rfind('.');
+  if (dot == std::string::npos) return std::nullopt;
+  const auto b = body(owner, path.substr(0, dot));
+  if (!b) return std::nullopt;
+  return AxisKey{*b, path.substr(dot + 1)};
+}
+
 std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::string& path, bool axis, const SourcePos& pos,
-                                                       const std::string& what) {
+                                                       const std::string& what, const char* element) {
   const char* const noun = axis ? "axis" : "point";
   const auto dot = path.rfind('.');
   const auto b = dot == std::string::npos ? std::nullopt : body(owner, path.substr(0, dot));
   if (!b) {
+    // A body named alone (a particle3d, which has no points of its own) is not an end.
+    if (const auto whole = body(owner, path); whole && *whole != PlanarLibrary::kGround) {
+      diags_.error(pos, fmt::format("{}: '{}' is a {} body, not a {}; a spatial {} connects {}s (BODY.NAME) of rigid3d "
+                                    "bodies and the ground",
+                                    what, path, to_string(m_.nodes[*whole].kind), noun, element, noun));
+      return std::nullopt;
+    }
     diags_.error(pos, fmt::format("{}: unknown {} '{}' (BODY.NAME on a rigid3d body or the ground)", what, noun, path));
     return std::nullopt;
   }
@@ -154,9 +169,9 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     const auto it = table.find(name);
     if (it == table.end() && failed_.count({PlanarLibrary::kGround, name})) return std::nullopt;
     if (it == table.end() && planar_ground_.count(name)) {
-      diags_.error(pos, fmt::format("{}: {} '{}' of the ground is planar (two components); a spatial joint needs a "
+      diags_.error(pos, fmt::format("{}: {} '{}' of the ground is planar (two components); a spatial {} needs a "
                                     "spatial one: {}",
-                                    what, noun, path,
+                                    what, noun, path, element,
                                     axis ? "axis NAME (px, py, pz) (dx, dy, dz)" : "point NAME (x, y, z)"));
       return std::nullopt;
     }
@@ -181,8 +196,8 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
   }
   const Node& node = m_.nodes[*b];
   if (node.kind != LeafKind::Rigid3d) {
-    diags_.error(pos, fmt::format("{}: '{}' is on {} body '{}'; a spatial joint connects rigid3d bodies and the ground", what,
-                                  path, to_string(node.kind), node.name));
+    diags_.error(pos, fmt::format("{}: '{}' is on {} body '{}'; a spatial {} connects rigid3d bodies and the ground", what,
+                                  path, to_string(node.kind), node.name, element));
     return std::nullopt;
   }
   if (node.rigid3d.rotation.empty()) return std::nullopt;  // its variables failed (reported)
@@ -238,12 +253,19 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     add_force_element(owner, e);
     return;
   }
+  // A revolute or cylindrical joint keeps its axes parallel: a rotational spring or damper
+  // may act between them. Noted before the ends are checked, so that a joint whose end is
+  // wrong (reported there) does not make its spring an error too.
+  if (e.kind == "revolute" || e.kind == "cylindrical") {
+    const auto a = axis_key(owner, e.end1), b = axis_key(owner, e.end2);
+    if (a && b) hinged_.insert(std::minmax(*a, *b));
+  }
   if (!e.end3.empty()) {
     diags_.error(e.end3_pos, fmt::format("{} has two ends", what));
     return;
   }
-  const auto a = end(owner, e.end1, first_is_axis(e.kind), e.end1_pos, what);
-  const auto b = end(owner, e.end2, second_is_axis(e.kind), e.end2_pos, what);
+  const auto a = end(owner, e.end1, first_is_axis(e.kind), e.end1_pos, what, "joint");
+  const auto b = end(owner, e.end2, second_is_axis(e.kind), e.end2_pos, what, "joint");
   if (!a || !b) return;
   if (a->node == b->node) {
     diags_.error(e.end2_pos, fmt::format("{} connects '{}' to itself", what,
@@ -277,6 +299,18 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     put("rz", rigid3d::dot(a->ex, b->ey));
   }
   if (!e.option.empty()) add_actuators(e, what, *a, *b);
+}
+
+void SpatialLibrary::finish() {
+  // A rotational element's torque is -dV/dtheta only while its two axes stay parallel
+  // (theta' = (omega_b - omega_a) . n needs it: docs/formulation.md "Force elements in space").
+  for (const Rotational& r : rotational_) {
+    if (hinged_.count(std::minmax(r.a, r.b))) continue;
+    diags_.error(r.pos, fmt::format("{}: a rotational {} in space needs a revolute or cylindrical joint between its axes "
+                                    "'{}' and '{}' (none joins them), which keeps them parallel",
+                                    r.what, r.noun, r.end1, r.end2));
+  }
+  rotational_.clear();
 }
 
 }  // namespace mbsc::model

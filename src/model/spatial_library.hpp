@@ -63,6 +63,10 @@ class SpatialLibrary {
   /// The joint kinds this library knows.
   static const std::vector<std::string>& kinds();
 
+  /// After every element: each rotational spring or damper must have its two axes joined
+  /// by a revolute or cylindrical joint (reported at the element otherwise).
+  void finish();
+
  private:
   struct End {  // a resolved point or axis, in space
     int node = PlanarLibrary::kGround;
@@ -73,7 +77,12 @@ class SpatialLibrary {
   };
   std::optional<int> body(int owner, const std::string& path) const;
   /// The end named `path`; `axis` asks for an axis (else a point).
-  std::optional<End> end(int owner, const std::string& path, bool axis, const SourcePos& pos, const std::string& what);
+  /// `element` is the element's noun (joint, spring, damper) for the messages.
+  std::optional<End> end(int owner, const std::string& path, bool axis, const SourcePos& pos, const std::string& what,
+                         const char* element);
+  /// An axis as a body and a name, for matching a rotational element to its joint.
+  using AxisKey = std::pair<int, std::string>;
+  std::optional<AxisKey> axis_key(int owner, const std::string& path) const;
   double at_defaults(const GiNaC::ex& e) const;
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
@@ -103,6 +112,15 @@ class SpatialLibrary {
   std::map<std::string, Vec> ground_points_, ground_axes_;
   std::set<std::pair<int, std::string>> failed_;
   std::set<std::string> planar_ground_;
+  // Axis pairs joined by a revolute or cylindrical joint (ordered pair, smaller first),
+  // and the rotational springs and dampers waiting for finish() to find theirs.
+  std::set<std::pair<AxisKey, AxisKey>> hinged_;
+  struct Rotational {
+    std::string what, noun, end1, end2;
+    SourcePos pos;
+    AxisKey a, b;
+  };
+  std::vector<Rotational> rotational_;
   int unnamed_ = 0;
 };
 

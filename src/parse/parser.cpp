@@ -631,7 +631,7 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // 'joint' [IDENT ':'] IDENT PATH PATH [IDENT expr]
+  // 'joint' [IDENT ':'] IDENT PATH PATH [IDENT expr [IDENT expr]]
   void parse_joint(std::vector<StatementPtr>& out, const Token& kw) {
     Statement st = begin(Statement::Kind::Joint, kw);
     Token kind = expect_name("joint kind (revolute, prismatic, weld) or 'NAME :' after 'joint'");

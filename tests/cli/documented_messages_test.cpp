@@ -63,6 +63,14 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
       {"check " + bad + "joint_coordinate_placed_twice.mbs",
        "joint 'again': body 'b' is already placed by joint 'elbow' (at 5:1); a body is the second end of at most one "
        "joint with a coordinate (close a loop with a joint without one)"},
+      {"check " + bad + "spatial_spring_particle3d.mbs",
+       "spring 's': 'ball' is a particle3d body, not a point; a spatial spring connects points (BODY.NAME) of rigid3d "
+       "bodies and the ground"},
+      {"check " + bad + "spatial_spring_planar_body.mbs",
+       "spring 's': 'plate.P' is on rigid2d body 'plate'; a spatial spring connects rigid3d bodies and the ground"},
+      {"check " + bad + "spatial_rotational_spring_without_joint.mbs",
+       "spring 's': a rotational spring in space needs a revolute or cylindrical joint between its axes 'a.h' and 'b.h' "
+       "(none joins them), which keeps them parallel"},
   };
   for (const auto& q : quotes) {
     INFO("mbsc " << q.arguments);
