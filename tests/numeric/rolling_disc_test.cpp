@@ -11,6 +11,9 @@
 //    threshold and eps sin(mu t) / mu above it, with
 //    (A + m r^2) lambda^2 = m g r - C (C + m r^2) Omega^2 / A = -(A + m r^2) mu^2;
 //    runs at 0.9 and 1.1 Omega_c follow those curves.
+//  - on the incline of models/rolling_disc_incline.mbs made thin (h = 0), upright rolling
+//    straight down the slope is exact with the centre accelerating at g sin(alpha) /
+//    (1 + C / (m r^2)) = 2/3 g sin(alpha).
 // Both formulations agree at random assembled states in shipped_formulations_test.cpp.
 #include <catch2/catch.hpp>
 
@@ -23,6 +26,7 @@
 #include "mbsc/runtime/dop853.hpp"
 #include "mbsc/runtime/simulate.hpp"
 #include "rolling_disc/rolling_disc.hpp"
+#include "rolling_disc_incline/rolling_disc_incline.hpp"
 #include "rolling_disc_min/rolling_disc_min.hpp"
 #include "test_support.hpp"
 
@@ -31,6 +35,8 @@ namespace M = mbsc_gen::rolling_disc_min;
 using mbsc_test::index_of;
 
 namespace {
+
+constexpr double kQuarterTurn = 3.14159265358979323846 / 4;  // half of the -pi/2 turn about x
 
 struct Params {
   double m, g, r, A, C;
@@ -214,4 +220,50 @@ TEST_CASE("rolling disc: upright rolling is stable above the closed-form spin", 
       CHECK(h[static_cast<std::size_t>(k)] == Approx(linear).margin(0.03 * eps / mu));
     }
   }
+}
+
+TEST_CASE("rolling disc on the incline: thin and upright, it rolls straight down at 2/3 g sin(alpha)",
+          "[numeric][spatial_rolling]") {
+  namespace I = mbsc_gen::rolling_disc_incline;
+  std::vector<double> p(I::kParamDefaults, I::kParamDefaults + I::kNp);
+  auto param = [&](const char* name) -> double& {
+    return p[static_cast<std::size_t>(index_of(I::kParamNames, I::kNp, name))];
+  };
+  param("h") = 0.0;  // thin: the contact circle is the mass centre's
+  const double m = param("m"), g = param("g"), r = param("r"), alpha = param("alpha");
+  const double C = m * r * r / 2, a = g * std::sin(alpha) / (1 + C / (m * r * r));
+  REQUIRE(a == Approx(2.0 / 3.0 * g * std::sin(alpha)));
+  auto at = [](std::vector<double>& x, const char* name) -> double& {
+    return x[static_cast<std::size_t>(index_of(I::kStateNames, I::kNx, name))];
+  };
+  // Upright: Ry(alpha) Rx(-pi/2), the spin axis along y, the centre at r n above the
+  // origin, moving downhill along t = (cos alpha, 0, -sin alpha) at V0 with spin V0 / r.
+  const double V0 = 1.5, ca = std::cos(alpha / 2), sa = std::sin(alpha / 2), cb = std::cos(-kQuarterTurn),
+               sb = std::sin(-kQuarterTurn);
+  std::vector<double> x(static_cast<std::size_t>(I::kNx), 0.0);
+  at(x, "coin.e0") = ca * cb, at(x, "coin.e1") = ca * sb, at(x, "coin.e2") = sa * cb, at(x, "coin.e3") = -sa * sb;
+  at(x, "coin.x") = r * std::sin(alpha), at(x, "coin.z") = r * std::cos(alpha);
+  at(x, "coin.u") = V0 * std::cos(alpha), at(x, "coin.w") = -V0 * std::sin(alpha);
+  at(x, "coin.wz") = V0 / r;
+  std::vector<double> xd(x.size());
+  REQUIRE(I::rhs(0.0, x.data(), nullptr, p.data(), xd.data()) == 0);
+  CHECK(at(xd, "coin.u") == Approx(a * std::cos(alpha)).margin(1e-12));
+  CHECK(at(xd, "coin.v") == Approx(0.0).margin(1e-12));
+  CHECK(at(xd, "coin.w") == Approx(-a * std::sin(alpha)).margin(1e-12));
+  CHECK(at(xd, "coin.wx") == Approx(0.0).margin(1e-12));
+  CHECK(at(xd, "coin.wy") == Approx(0.0).margin(1e-12));
+  CHECK(at(xd, "coin.wz") == Approx(a / r).margin(1e-12));
+  // And it stays so: after 1 s the centre has moved V0 + a/2 along the slope.
+  mbsc::runtime::StepperOptions o;
+  o.rtol = o.atol = 1e-12;
+  auto rhs = [&p](double t, const double* s, double* sd) { return I::rhs(t, s, nullptr, p.data(), sd); };
+  mbsc::runtime::Dop853 stepper(rhs, I::kNx, o);
+  REQUIRE(stepper.reset(0.0, x) == mbsc::runtime::Stepper::Status::Ok);
+  while (stepper.t() < 1.0) REQUIRE(stepper.step(1.0) == mbsc::runtime::Stepper::Status::Ok);
+  stepper.interpolate(1.0, x);
+  const double along = V0 + a / 2;
+  CHECK(at(x, "coin.x") == Approx(r * std::sin(alpha) + along * std::cos(alpha)).margin(1e-9));
+  CHECK(at(x, "coin.y") == Approx(0.0).margin(1e-9));
+  CHECK(at(x, "coin.z") == Approx(r * std::cos(alpha) - along * std::sin(alpha)).margin(1e-9));
+  CHECK(at(x, "coin.wz") == Approx((V0 + a) / r).margin(1e-9));
 }
