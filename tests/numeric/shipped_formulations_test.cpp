@@ -52,6 +52,8 @@
 #include "parallelogram_chain_mult/parallelogram_chain_mult.hpp"
 #include "rolling_disc/rolling_disc.hpp"
 #include "rolling_disc_mult/rolling_disc_mult.hpp"
+#include "rolling_disc_incline/rolling_disc_incline.hpp"
+#include "rolling_disc_incline_mult/rolling_disc_incline_mult.hpp"
 #include "ring_disc/ring_disc.hpp"
 #include "ring_disc_joints/ring_disc_joints.hpp"
 #include "ring_disc_joints_mult/ring_disc_joints_mult.hpp"
@@ -579,6 +581,19 @@ std::vector<Case> shipped_models() {
                    {{"rear_wheel.wy", -5.0 / 0.3, 3.0}, {"rear_frame.wx", 0.0, 1.0}, {"front_frame.wx", 0.0, 1.0}},
                    {},
                    {}});
+  // The thick disc on the incline: near its start attitude (leaning 0.25 rad), the
+  // height placed by assembly.
+  cases.push_back({PAIR(rolling_disc_incline),
+                   {{"coin.z", 0.25}},
+                   {{"coin.x", 0.0, 1.0},
+                    {"coin.y", 0.0, 1.0},
+                    {"coin.e0", 0.6104, 0.05},
+                    {"coin.e1", -0.7858, 0.05},
+                    {"coin.e2", 0.0612, 0.05},
+                    {"coin.e3", 0.0788, 0.05}},
+                   {{"coin.wx", 0.0, 1.0}, {"coin.wy", 0.0, 1.0}, {"coin.wz", 12.0, 2.0}},
+                   {},
+                   {}});
   return cases;
 }
 
@@ -595,7 +610,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 25);
+  REQUIRE(shipped.size() == 26);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {
