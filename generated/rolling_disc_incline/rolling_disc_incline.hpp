@@ -48,6 +48,7 @@ inline constexpr int kConstraintJacobianNnz = 17;
 inline constexpr int kPositionJacobianNnz = 6;
 inline constexpr int kNpartitions = 1;
 inline constexpr int kNblocks = 0;
+inline constexpr int kNquaternions = 1;
 
 inline constexpr const char* kStateNames[] = {
     "coin.x",
@@ -112,6 +113,8 @@ inline constexpr int kConstraintJacobianColIdx[] = {
 inline constexpr int kPositionJacobianRowPtr[] = {0, 6};
 
 inline constexpr int kPositionJacobianColIdx[] = {0, 2, 3, 4, 5, 6};
+
+inline constexpr int kQuaternionIndices[] = {3, 4, 5, 6};
 
 /// state derivative: xdot = (q0 rates, q1 rates)
 /// OUT: xdot, kNx values (row-major). Cost: 537 adds, 1634 muls, 4 divs, 10 calls, 33 solve flops, total 2218.

@@ -55,8 +55,8 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
     diags_.error(e.option_pos, fmt::format("{}: the radius must be positive (it is {})", what, rv));
     return;
   }
-  const auto plane = end(owner, e.end1, true, e.end1_pos, what + " (the plane)");
-  const auto disc = end(owner, e.end2, true, e.end2_pos, what + " (the disc)");
+  const auto plane = end(owner, e.end1, true, e.end1_pos, what + " (the plane)", "joint");
+  const auto disc = end(owner, e.end2, true, e.end2_pos, what + " (the disc)", "joint");
   if (!plane || !disc) return;
   if (plane->node != PlanarLibrary::kGround) {
     diags_.error(e.end1_pos, fmt::format("{}: the plane '{}' must be an axis of the ground (its point on the plane, its "
