@@ -9,7 +9,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -93,7 +95,16 @@ void consistent_speeds(const mbsc::model::Model& m, const mbsc::sym::Eom& eom, e
       B.push_back(-mbsc_test::eval(gi, at));
     }
     const auto dx = solve(n, 1, A, B);
-    for (int i = 0; i < n; ++i) x[i] += dx[i];
+    double step = 0.0, size = 1.0;
+    for (int i = 0; i < n; ++i) {
+      x[i] += dx[i];
+      // A speed that converges to 0 would shrink into subnormal numbers, which GiNaC's
+      // numbers refuse (CLN's floating-point underflow): flush them.
+      if (std::abs(x[i]) < 1e-200) x[i] = 0.0;
+      step = std::max(step, std::abs(dx[i]));
+      size = std::max(size, std::abs(x[i]));
+    }
+    if (step <= 1e-15 * size) break;  // converged
   }
   for (int i = 0; i < n; ++i) v[m.speeds[unknowns[i]].sym] = x[i];
 }
