@@ -497,6 +497,7 @@ class Builder {
       if (s->kind == Kind::Speed) add_variable(id, join(prefix, s->name), s->name_pos, false);
       if (s->kind == Kind::Let) declare_let(id, join(prefix, s->name), *s);
       if (s->kind == Kind::Joint && !s->joint_coordinate.text.empty()) declare_joint_coordinate(id, prefix, *s);
+      if (s->kind == Kind::Joint && s->kind_name == "rolling_sphere") declare_contact_coordinates(id, prefix, *s);
     }
     return id;
   }
@@ -571,6 +572,43 @@ class Builder {
     table_[join(prefix, speed)].what = "the speed of " + joint;
     builtin_rates_[q] = m_.speeds[static_cast<std::size_t>(u)].sym;
     joint_variables_[{id, &s}] = {q, u};
+  }
+
+  /// `joint NAME : rolling_sphere ...`: the contact point's x and y on the surface are two
+  /// coordinates NAME.xc, NAME.yc of the node the joint is written at, with their rates
+  /// NAME.xc_dot, NAME.yc_dot as speeds (formulation.md, "A sphere rolling on a surface").
+  void declare_contact_coordinates(int id, const std::string& prefix, const Statement& s) {
+    const std::string joint = s.name.empty() ? std::string("rolling_sphere") : s.name;
+    const SourcePos pos = s.name.empty() ? s.kind_pos : s.name_pos;
+    std::vector<int> qs;
+    for (const char* c : {"xc", "yc"}) {
+      const std::string q_name = join(prefix, joint + "." + c);
+      const int q = add_variable(id, q_name, pos, /*coordinate=*/true);
+      const int u = add_variable(id, q_name + "_dot", pos, /*coordinate=*/false);
+      if (q < 0 || u < 0) return;  // reported: a name declared twice
+      table_[q_name].what = fmt::format("a contact coordinate of joint '{}'", joint);
+      table_[q_name + "_dot"].what = fmt::format("a contact speed of joint '{}'", joint);
+      builtin_rates_[q] = m_.speeds[static_cast<std::size_t>(u)].sym;
+      qs.push_back(q);
+    }
+    contact_coordinates_[{id, &s}] = qs;
+  }
+
+  /// A rolling_sphere's surface gamma(x, y): the names x and y are the contact point's
+  /// coordinates, any other name is looked up as usual (parameters; the joint checks that
+  /// nothing else of the state is read).
+  std::optional<GiNaC::ex> convert_surface(int node, const ast::ExprPtr& e, const std::vector<int>& contact) {
+    allow_speeds_ = allow_coord_rate_ = allow_speed_rate_ = false;
+    ExprConverter conv = converter(node);
+    const GiNaC::ex xc = m_.coords[static_cast<std::size_t>(contact[0])].sym;
+    const GiNaC::ex yc = m_.coords[static_cast<std::size_t>(contact[1])].sym;
+    auto outer = conv.lookup;
+    conv.lookup = [outer, xc, yc](const std::string& path, const SourcePos& pos, bool primed) -> std::optional<GiNaC::ex> {
+      if (!primed && path == "x") return xc;
+      if (!primed && path == "y") return yc;
+      return outer(path, pos, primed);
+    };
+    return conv.convert(*e);
   }
 
   /// "unknown kind", with the close name if any, the leaf kinds and the components.
@@ -1041,6 +1079,28 @@ class Builder {
             if (jv == joint_variables_.end()) break;  // its declaration failed (reported)
             e.coordinate = jv->second.first;
             e.coordinate_pos = s.joint_coordinate.pos;
+          }
+          if (s.kind == Kind::Joint && s.kind_name == "rolling_sphere") {
+            const auto cc = contact_coordinates_.find({id, &s});
+            if (cc == contact_coordinates_.end()) break;  // its declaration failed (reported)
+            e.contact = cc->second;
+            // The surface expression reads x and y (the contact point); the radius is a constant.
+            bool ok = true;
+            if (s.value) {
+              auto v = s.level == "surface" ? convert_surface(id, s.value, e.contact) : convert(id, s.value, false, false, false);
+              if (v) e.value = *v;
+              else ok = false;
+            }
+            if (!s.exprs.empty()) {
+              e.option2 = s.option2.text;
+              e.option2_pos = s.option2.pos;
+              auto v = s.option2.text == "surface" ? convert_surface(id, s.exprs[0], e.contact)
+                                                   : convert(id, s.exprs[0], false, false, false);
+              if (v) e.value2 = *v;
+              else ok = false;
+            }
+            if (ok) spatial_.add_element(id, e);
+            break;
           }
           // Actuator values may read the state and inputs; spring and damper data are constants.
           const bool actuator = s.kind == Kind::Joint && s.level != "angle" && s.level != "ratio" && s.level != "radius" &&
@@ -1599,6 +1659,7 @@ class Builder {
   std::map<int, SourcePos> rigid3d_inertia_pos_;  // rigid3d bodies' inertia statements
   std::map<int, SourcePos> rigid3d_com_pos_;      // rigid3d bodies' com statements
   std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
+  std::map<std::pair<int, const Statement*>, std::vector<int>> contact_coordinates_;  // rolling_sphere -> (xc, yc)
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;
   std::set<int> has_mass_;

@@ -550,7 +550,7 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
   if (!joint && e.kind != "spring" && e.kind != "damper" && e.kind != "rotational_spring" && e.kind != "rotational_damper") {
     const std::vector<std::string> kinds = {"revolute", "prismatic", "pin_in_slot", "weld",
                                             "gear",     "rolling",   "rolling_inside", "knife_edge",
-                                            "spherical", "universal", "cylindrical", "point_on_line", "point_on_plane"};
+                                            "spherical", "universal", "cylindrical", "point_on_line", "point_on_plane", "rolling_sphere"};
     diags_.error(e.kind_pos, fmt::format("unknown joint kind '{}'{} (known: {})", e.kind, did_you_mean(e.kind, kinds),
                                          fmt::join(kinds, ", ")));
     return;

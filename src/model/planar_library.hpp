@@ -58,6 +58,7 @@ class PlanarLibrary {
     std::optional<GiNaC::ex> value2;
     int coordinate = -1;  // revolute, prismatic: `coordinate q`, the joint's own coordinate (index), or -1
     SourcePos coordinate_pos;
+    std::vector<int> contact;  // rolling_sphere: the contact point's coordinates (xc, yc), indices
   };
   void add_element(int owner, const Element& e);
   /// A rigid2d_nodal body, once its points, mass centre, mass and inertia are known: its

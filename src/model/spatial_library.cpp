@@ -32,7 +32,7 @@ bool second_is_axis(const std::string& k) {
 const std::vector<std::string>& SpatialLibrary::kinds() {
   static const std::vector<std::string> k = {"spherical", "revolute",      "universal",     "cylindrical",
                                              "prismatic", "weld",          "point_on_line", "point_on_plane",
-                                             "rolling"};
+                                             "rolling",   "rolling_sphere"};
   return k;
 }
 
@@ -241,6 +241,10 @@ void SpatialLibrary::row(int owner, const std::string& name, const GiNaC::ex& re
 void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
   const std::string name = e.name.empty() ? fmt::format("{}{}", e.kind, ++unnamed_) : e.name;
   const std::string what = fmt::format("joint '{}'", name);
+  if (e.kind == "rolling_sphere" && e.coordinate < 0) {
+    add_rolling_sphere(owner, e, name, what);
+    return;
+  }
   if (e.coordinate >= 0) {
     diags_.error(e.coordinate_pos, fmt::format("{}: a spatial joint takes no coordinate of its own", what));
     return;

@@ -24,6 +24,8 @@
 ///
 /// A disc rolling on a ground plane (`rolling PLANE DISC radius r`, spatial_rolling.cpp)
 /// adds one position row (.contact) and two velocity rows (.no_slip, .no_side_slip).
+/// A sphere rolling on a surface z = gamma(x, y) (`rolling_sphere BODY radius r surface
+/// (gamma)`, spatial_rolling_sphere.cpp) adds three position rows and two velocity rows.
 #include <ginac/ginac.h>
 
 #include <map>
@@ -91,6 +93,9 @@ class SpatialLibrary {
   /// A disc (an axis of a rigid3d body: its centre and spin axis) rolling without slip
   /// on a plane of the ground (spatial_rolling.cpp).
   void add_rolling(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
+  /// A sphere (a rigid3d body) rolling without slip on a surface z = gamma(x, y) of the
+  /// ground (spatial_rolling_sphere.cpp).
+  void add_rolling_sphere(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
 
   // ---- force elements (spatial_forces.cpp) ----
   /// The unit direction in space of an end's axis: R d / |d| with |d| taken in the body

@@ -644,8 +644,14 @@ class Parser {
     st.kind_pos = kind.pos;
     const std::string what = "joint" + (st.name.empty() ? std::string() : " '" + st.name + "'");
     if (st.kind_name == "knife_edge") return parse_knife_edge(out, std::move(st), what);
-    st.paths.push_back(parse_path("first point or axis of " + what));
-    st.paths.push_back(parse_path("second point of " + what));
+    if (st.kind_name == "rolling_sphere") {
+      // 'rolling_sphere' BODY 'radius' r 'surface' (gamma): one end, the sphere's body.
+      st.paths.push_back(parse_path("body (the sphere) of " + what));
+      st.paths.push_back(ast::Path{"", kind.pos});
+    } else {
+      st.paths.push_back(parse_path("first point or axis of " + what));
+      st.paths.push_back(parse_path("second point of " + what));
+    }
     parse_joint_coordinate(st, what);
     // An option word ("force" is also a statement keyword, so test it before the end).
     const Token& opt = peek();

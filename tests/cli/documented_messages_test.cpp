@@ -53,7 +53,7 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
        "particle2d body)"},
       {"check " + bad + "joint_kind_typo.mbs",
        "unknown joint kind 'revolut' (did you mean 'revolute'?) (known: revolute, prismatic, pin_in_slot, weld, gear, "
-       "rolling, rolling_inside, knife_edge, spherical, universal, cylindrical, point_on_line, point_on_plane)"},
+       "rolling, rolling_inside, knife_edge, spherical, universal, cylindrical, point_on_line, point_on_plane, rolling_sphere)"},
       {"check " + bad + "coordinate_clashes_parameter.mbs", "coordinate 'th' is already declared as a parameter at 2:11"},
       {"check " + bad + "duplicate_subsystem.mbs", "body 'b' is already declared as a body at 2:6"},
       {"check " + bad + "coordinate_clashes_builtin.mbs",

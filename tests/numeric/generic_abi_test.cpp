@@ -37,6 +37,7 @@
 #include "ring_disc/ring_disc.hpp"
 #include "rolling_disc/rolling_disc.hpp"
 #include "rolling_disc_incline/rolling_disc_incline.hpp"
+#include "sphere_trough/sphere_trough.hpp"
 #include "ring_disc_joints/ring_disc_joints.hpp"
 #include "slider_crank/slider_crank.hpp"
 #include "spherical_pendulum_angles/spherical_pendulum_angles.hpp"
@@ -70,6 +71,7 @@ MBSC_GENERIC_MODEL(parallelogram_chain);
 MBSC_GENERIC_MODEL(ring_disc);
 MBSC_GENERIC_MODEL(rolling_disc);
 MBSC_GENERIC_MODEL(rolling_disc_incline);
+MBSC_GENERIC_MODEL(sphere_trough);
 MBSC_GENERIC_MODEL(ring_disc_joints);
 MBSC_GENERIC_MODEL(slider_crank);
 MBSC_GENERIC_MODEL(spherical_pendulum_angles);
@@ -315,7 +317,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 26);
+  REQUIRE(shipped == 27);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -333,6 +335,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<ring_disc_abi>(rng);
     check_model<rolling_disc_abi>(rng);
     check_model<rolling_disc_incline_abi>(rng);
+    check_model<sphere_trough_abi>(rng);
     check_model<ring_disc_joints_abi>(rng);
     check_model<slider_crank_abi>(rng);
     check_model<spherical_pendulum_angles_abi>(rng);
@@ -422,6 +425,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<ring_disc_abi>(rng);
     check_sparse_jacobians<rolling_disc_abi>(rng);
     check_sparse_jacobians<rolling_disc_incline_abi>(rng);
+    check_sparse_jacobians<sphere_trough_abi>(rng);
     check_sparse_jacobians<ring_disc_joints_abi>(rng);
     check_sparse_jacobians<slider_crank_abi>(rng);
     check_sparse_jacobians<spherical_pendulum_angles_abi>(rng);
