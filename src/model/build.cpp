@@ -578,8 +578,14 @@ class Builder {
   /// coordinates NAME.xc, NAME.yc of the node the joint is written at, with their rates
   /// NAME.xc_dot, NAME.yc_dot as speeds (formulation.md, "A sphere rolling on a surface").
   void declare_contact_coordinates(int id, const std::string& prefix, const Statement& s) {
-    const std::string joint = s.name.empty() ? std::string("rolling_sphere") : s.name;
-    const SourcePos pos = s.name.empty() ? s.kind_pos : s.name_pos;
+    if (s.name.empty()) {
+      // Its contact coordinates are named after it (and `initial` places them by name).
+      diags_.error(s.kind_pos, "a rolling_sphere joint needs a name (`joint NAME : rolling_sphere ...`): its contact "
+                               "coordinates are NAME.xc and NAME.yc");
+      return;
+    }
+    const std::string& joint = s.name;
+    const SourcePos pos = s.name_pos;
     std::vector<int> qs;
     for (const char* c : {"xc", "yc"}) {
       const std::string q_name = join(prefix, joint + "." + c);

@@ -75,6 +75,17 @@ double SpatialLibrary::at_defaults(const GiNaC::ex& e) const {
   }
 }
 
+bool SpatialLibrary::varies(const GiNaC::ex& e, const std::vector<int>& except) const {
+  if (e.has(m_.time)) return true;
+  for (std::size_t k = 0; k < m_.coords.size(); ++k)
+    if (std::find(except.begin(), except.end(), static_cast<int>(k)) == except.end() && e.has(m_.coords[k].sym)) return true;
+  for (const auto& s : m_.speeds)
+    if (e.has(s.sym)) return true;
+  for (const auto& u : m_.inputs)
+    if (e.has(u.sym)) return true;
+  return false;
+}
+
 std::optional<int> SpatialLibrary::body(int owner, const std::string& path) const {
   if (path == "ground") return PlanarLibrary::kGround;
   for (int n = owner; n >= 0; n = m_.nodes[n].parent) {

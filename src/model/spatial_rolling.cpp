@@ -12,7 +12,7 @@
 //   * the disc's material point at P moves with v_P = v_C + w x (r k); it has no velocity
 //     along the line where the disc's plane meets the ground's, t = (d^ x n^) / s, nor
 //     across it within the ground's plane, b = n^ x t = (d^ - c n^) / s. Since
-//     k x t = -s d^ and k x b = s t, the two rows reduce to
+//     k x t = -d^ and k x b = s t, the two rows reduce to
 //       .no_slip       t . v_C - r w . d^ = 0                       (velocity)
 //       .no_side_slip  b . v_C + r s w . t = 0                      (velocity)
 // (the normal component n^ . v_P is the contact row's rate, so it is not repeated).
@@ -51,6 +51,12 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
     return;
   }
   const GiNaC::ex r = *e.value;
+  if (varies(r)) {
+    diags_.error(e.option_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads the state, an "
+                                           "input or t)",
+                                           what));
+    return;
+  }
   if (const double rv = at_defaults(r); !std::isnan(rv) && !(rv > 0.0)) {
     diags_.error(e.option_pos, fmt::format("{}: the radius must be positive (it is {})", what, rv));
     return;
@@ -66,8 +72,8 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
   }
   for (const auto* v : {&plane->p, &plane->d})
     for (const GiNaC::ex& x : *v)
-      if (x.has(m_.time)) {
-        diags_.error(e.end1_pos, fmt::format("{}: the plane '{}' moves (it depends on t); the rolling rows need a fixed plane",
+      if (varies(x)) {
+        diags_.error(e.end1_pos, fmt::format("{}: the plane '{}' moves (it depends on t or an input); the rolling rows need a fixed plane",
                                              what, e.end1));
         return;
       }

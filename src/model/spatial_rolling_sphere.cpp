@@ -50,12 +50,22 @@ void SpatialLibrary::add_rolling_sphere(int owner, const PlanarLibrary::Element&
     return;
   }
   const GiNaC::ex r = *radius;
+  if (varies(r)) {
+    diags_.error(radius_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads the state, an "
+                                         "input or t)",
+                                         what));
+    return;
+  }
   if (const double rv = at_defaults(r); !std::isnan(rv) && !(rv > 0.0)) {
     diags_.error(radius_pos, fmt::format("{}: the radius must be positive (it is {})", what, rv));
     return;
   }
   const auto node = body(owner, e.end1);
-  if (!node || *node == PlanarLibrary::kGround || m_.nodes[*node].kind != LeafKind::Rigid3d) {
+  if (!node) {
+    diags_.error(e.end1_pos, fmt::format("{}: unknown body '{}' (the sphere: a rigid3d body)", what, e.end1));
+    return;
+  }
+  if (*node == PlanarLibrary::kGround || m_.nodes[*node].kind != LeafKind::Rigid3d) {
     diags_.error(e.end1_pos, fmt::format("{}: the sphere '{}' must be a rigid3d body (its mass centre is the "
                                          "sphere's centre)",
                                          what, e.end1));
@@ -65,13 +75,9 @@ void SpatialLibrary::add_rolling_sphere(int owner, const PlanarLibrary::Element&
   const GiNaC::symbol yc = GiNaC::ex_to<GiNaC::symbol>(m_.coords[static_cast<std::size_t>(e.contact[1])].sym);
   // The surface is fixed: it reads x, y and parameters only.
   const GiNaC::ex gamma = *surface;
-  bool moves = gamma.has(m_.time);
-  for (std::size_t k = 0; k < m_.coords.size(); ++k)
-    if (static_cast<int>(k) != e.contact[0] && static_cast<int>(k) != e.contact[1]) moves = moves || gamma.has(m_.coords[k].sym);
-  for (const auto& s : m_.speeds) moves = moves || gamma.has(s.sym);
-  if (moves) {
+  if (varies(gamma, {e.contact[0], e.contact[1]})) {
     diags_.error(surface_pos, fmt::format("{}: the surface must be a function of x, y and parameters only (it reads "
-                                          "the state or t)",
+                                          "the state, an input or t)",
                                           what));
     return;
   }
