@@ -163,6 +163,7 @@ ex read_back(const ex& e) {
   const std::string text = canonical_text(e, false);
   std::string plain;
   symtab table;
+  table["pi"] = GiNaC::Pi;  // the printer writes the constant as pi (sphere_trough's field)
   for (std::size_t i = 0; i < text.size();) {
     const char c = text[i];
     if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
