@@ -27,15 +27,12 @@
 #include "slider_crank_3d_mult/slider_crank_3d_mult.hpp"
 #include "test_support.hpp"
 
-using mbsc::runtime::ModelTable;
 using mbsc_test::index_of;
 
 namespace {
 
 namespace C = mbsc_gen::slider_crank_3d;
 namespace CM = mbsc_gen::slider_crank_3d_mult;
-const ModelTable kC = MBSC_MODEL_TABLE(C);
-const ModelTable kM = MBSC_MODEL_TABLE_MULTIPLIERS(CM);
 
 double par(const char* n) { return C::kParamDefaults[index_of(C::kParamNames, C::kNp, n)]; }
 const double l1 = par("l1"), l2 = par("l2"), g2 = par("gamma2"), mu = par("mu");
