@@ -64,13 +64,20 @@ class Deriver {
     return v;
   }
 
+  /// A checkpoint of the time budget and --progress while subsystem n is derived: at its
+  /// start and within its long steps (rows, entries of B, blocks), so that one large
+  /// subsystem cannot run on past the budget between two subsystems.
+  void still_deriving(int n) const {
+    checkpoint("deriving", fmt::format("subsystem '{}'", m_.label(n)), m_.nodes[static_cast<std::size_t>(n)].pos,
+               static_cast<std::size_t>(n), m_.nodes.size());
+  }
+
   std::optional<Eom> run() {
     eom_.nodes.resize(m_.nodes.size());
     const std::vector<int> clone_from =
         eom_.options.reuse_components ? component_clones() : std::vector<int>(m_.nodes.size(), -1);
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
-      checkpoint("deriving", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))), m_.nodes[n].pos, n,
-                 m_.nodes.size());
+      still_deriving(static_cast<int>(n));
       if (clone_from[n] >= 0) {
         clone(static_cast<int>(n), clone_from[n]);
       } else if (!process(static_cast<int>(n))) {
@@ -156,6 +163,7 @@ class Deriver {
     std::vector<GiNaC::ex> rows;
     std::map<int, GiNaC::ex> memo;
     for (int ci : node.constraints) {
+      still_deriving(n);
       const auto& c = m_.constraints[ci];
       GiNaC::ex g = fz(c.residual);
       if (c.level == model::Constraint::Level::Position) g = time_derivative(m_, g);
@@ -207,7 +215,10 @@ class Deriver {
     for (int j = 0; j < ny; ++j) zero[m_.speed_dots[r.y[j]]] = 0;
     for (int i = 0; i < nr; ++i) {
       const SymbolSet in_row(rows[i]);
-      for (int j = 0; j < ny; ++j) r.B(i, j) = in_row.diff(rows[i], m_.speed_dots[r.y[j]]);
+      for (int j = 0; j < ny; ++j) {
+        still_deriving(n);
+        r.B(i, j) = in_row.diff(rows[i], m_.speed_dots[r.y[j]]);
+      }
       r.b(i, 0) = rows[i].subs(zero, GiNaC::subs_options::no_pattern);
     }
     ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
@@ -233,6 +244,7 @@ class Deriver {
     std::vector<GiNaC::symbol> independent_dots;
     for (int s : r.independent) independent_dots.push_back(m_.speed_dots[s]);
     for (int s : r.dependent) {
+      still_deriving(n);
       const std::vector<GiNaC::ex> row = linear_gradient(sol[s], independent_dots);
       for (int j = 0; j < nd; ++j) r.C(col[s], j) = row[static_cast<std::size_t>(j)];
     }
@@ -652,7 +664,9 @@ class Deriver {
       row.rest = r.b(i, 0);
       for (int j = 0; j < ni; ++j) row.rest += r.B(i, col.at(r.independent[j])) * m_.speed_dots[r.independent[j]];
     }
+    still_deriving(n);
     const Elimination elim = eliminate_state_free_pivots(std::move(rows), m_, probe_);
+    still_deriving(n);
     const std::vector<int>& core_vars = elim.core_vars;
     std::map<int, GiNaC::ex> value;  // dependent index -> rate
     if (!core_vars.empty()) {
@@ -674,6 +688,7 @@ class Deriver {
         solve.k = ni + 1;
         solve.gains = ni;
         for (int i : block.rows) {
+          still_deriving(n);
           const LinearRow& row = elim.rows[static_cast<std::size_t>(i)];
           for (int j : block.vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
           for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));

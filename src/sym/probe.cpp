@@ -8,7 +8,10 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
+#include <utility>
+#include <vector>
 
 namespace mbsc::sym {
 
@@ -45,56 +48,87 @@ void Probe::bind_parameters(const model::Model& model, const std::map<std::strin
 
 namespace {
 
-/// e in double precision at `values`, walking the tree without building expressions:
+/// e in double precision at `values`, walking the expression without building new ones:
 /// false when it meets something it does not know (then GiNaC evaluates). Used to see a
 /// division by zero before GiNaC does: GiNaC throws from inside its constructors there
 /// and leaks the half-built object (LeakSanitizer sees it at the reference configuration
 /// of a quaternion body, where every entry of e vanishes).
-bool double_value(const GiNaC::ex& e, const GiNaC::exmap& values, double& out) {
-  using namespace GiNaC;
-  if (is_a<numeric>(e)) {
-    const numeric& n = ex_to<numeric>(e);
-    if (!n.is_real()) return false;
-    out = n.to_double();
-    return true;
-  }
-  if (is_a<symbol>(e)) {
-    const auto it = values.find(e);
-    if (it == values.end() || !is_a<numeric>(it->second) || !ex_to<numeric>(it->second).is_real()) return false;
-    out = ex_to<numeric>(it->second).to_double();
-    return true;
-  }
-  if (is_a<add>(e) || is_a<mul>(e)) {
-    double acc = is_a<add>(e) ? 0.0 : 1.0;
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      double v = 0.0;
-      if (!double_value(e.op(i), values, v)) return false;
-      acc = is_a<add>(e) ? acc + v : acc * v;
+///
+/// Expressions are DAGs (subexpressions shared after substitutions), so every node's
+/// value is remembered by address for the duration of one walk (a tree walk would be
+/// exponential in the depth of the sharing); op(i) of a sum or product may build a
+/// temporary, so every remembered node is kept alive until the walk ends.
+class DoubleWalk {
+ public:
+  explicit DoubleWalk(const GiNaC::exmap& values) : values_(values) {}
+
+  bool value(const GiNaC::ex& e, double& out) {
+    using namespace GiNaC;
+    if (is_a<numeric>(e) || is_a<symbol>(e)) return leaf(e, out);
+    const basic* key = &ex_to<basic>(e);
+    if (const auto it = seen_.find(key); it != seen_.end()) {
+      out = it->second.second;
+      return it->second.first;
     }
-    out = acc;
+    const bool known = inner(e, out);
+    seen_.emplace(key, std::make_pair(known, out));
+    pinned_.push_back(e);  // alive while remembered: a freed temporary's address is reused
+    return known;
+  }
+
+ private:
+  bool leaf(const GiNaC::ex& e, double& out) const {
+    using namespace GiNaC;
+    const ex* n = &e;
+    if (is_a<symbol>(e)) {
+      const auto it = values_.find(e);
+      if (it == values_.end()) return false;
+      n = &it->second;
+    }
+    if (!is_a<numeric>(*n) || !ex_to<numeric>(*n).is_real()) return false;
+    out = ex_to<numeric>(*n).to_double();
     return true;
   }
-  if (is_a<power>(e)) {
-    double b = 0.0, x = 0.0;
-    if (!double_value(e.op(0), values, b) || !double_value(e.op(1), values, x)) return false;
-    out = std::pow(b, x);
-    return true;
+
+  bool inner(const GiNaC::ex& e, double& out) {
+    using namespace GiNaC;
+    if (is_a<add>(e) || is_a<mul>(e)) {
+      const bool sum = is_a<add>(e);
+      double acc = sum ? 0.0 : 1.0;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        double v = 0.0;
+        if (!value(e.op(i), v)) return false;
+        acc = sum ? acc + v : acc * v;
+      }
+      out = acc;
+      return true;
+    }
+    if (is_a<power>(e)) {
+      double b = 0.0, x = 0.0;
+      if (!value(e.op(0), b) || !value(e.op(1), x)) return false;
+      out = std::pow(b, x);
+      return true;
+    }
+    if (is_a<function>(e) && e.nops() == 1) {
+      double a = 0.0;
+      if (!value(e.op(0), a)) return false;
+      const std::string name = ex_to<function>(e).get_name();
+      if (name == "sin") out = std::sin(a);
+      else if (name == "cos") out = std::cos(a);
+      else if (name == "tan") out = std::tan(a);
+      else if (name == "exp") out = std::exp(a);
+      else if (name == "log") out = std::log(a);
+      else if (name == "abs") out = std::fabs(a);
+      else return false;
+      return true;
+    }
+    return false;
   }
-  if (is_a<function>(e) && e.nops() == 1) {
-    double a = 0.0;
-    if (!double_value(e.op(0), values, a)) return false;
-    const std::string name = ex_to<function>(e).get_name();
-    if (name == "sin") out = std::sin(a);
-    else if (name == "cos") out = std::cos(a);
-    else if (name == "tan") out = std::tan(a);
-    else if (name == "exp") out = std::exp(a);
-    else if (name == "log") out = std::log(a);
-    else if (name == "abs") out = std::fabs(a);
-    else return false;
-    return true;
-  }
-  return false;
-}
+
+  const GiNaC::exmap& values_;
+  std::unordered_map<const GiNaC::basic*, std::pair<bool, double>> seen_;
+  std::vector<GiNaC::ex> pinned_;
+};
 
 }  // namespace
 
@@ -103,9 +137,12 @@ double Probe::eval(const GiNaC::ex& e) const {
     const auto& n = GiNaC::ex_to<GiNaC::numeric>(e);
     if (n.is_zero()) return 0.0;
   }
-  // Not finite in double precision (a division by zero, a root of a negative number):
-  // NaN without asking GiNaC, which would throw (and leak) on the way.
-  if (double d = 0.0; double_value(e, values_, d) && !std::isfinite(d)) return std::numeric_limits<double>::quiet_NaN();
+  // Double precision first: no expression is built (GiNaC's substitution and evalf cost
+  // far more, and throw from inside constructors, leaking, where a division by zero
+  // meets them). Not finite (a division by zero, a root of a negative number): NaN.
+  if (double d = 0.0; DoubleWalk(values_).value(e, d))
+    return std::isfinite(d) ? d : std::numeric_limits<double>::quiet_NaN();
+  // Something the walk does not know (another function, a complex value): GiNaC.
   try {
     // Only the symbols e holds (model::subs_present): linear in the model's size.
     GiNaC::ex v = GiNaC::evalf(model::subs_present(e, values_));

@@ -246,7 +246,9 @@ TEST_CASE("sparse elimination agrees with the dense rhs on every shipped model",
       const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
       INFO(file << (v.multipliers ? " multipliers" : " complement") << (v.minimal ? " minimal" : " full")
                 << ": relative errors against 32 digits: dense " << dense_error << ", sparse " << sparse_error);
-      CHECK(sparse_error < 1e-12);
+      // In double, as the generated code computes: most models agree to 1e-14; the
+      // bicycle's sparse forms reach 4e-13 to 1.1e-12 (its dense complement 8e-12).
+      CHECK(sparse_error < 5e-12);
       ++trees;
     }
   }
@@ -362,7 +364,10 @@ TEST_CASE("a loop of massive bodies is eliminated speeds first: only constraint 
     REQUIRE(sparse);
     const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
     INFO("relative errors against 32 digits: dense " << dense_error << ", sparse " << sparse_error);
-    CHECK(sparse_error < 1e-12);
+    // Evaluated in double, as the generated code is: 1.8-2.0e-12 for the sparse form and
+    // up to 1e-12 for the dense multipliers form on this 40-window loop (the summation
+    // order of a term follows GiNaC's, which changes from run to run).
+    CHECK(sparse_error < 5e-12);
     auto binds = mbsc::driver::bindings(*d.m, *d.eom);
     binds.push_back({gains.alpha, "p[100]", true});  // the multipliers' gains (any free slot)
     binds.push_back({gains.beta, "p[101]", true});
