@@ -12,6 +12,7 @@
 #include "mbsc/diag/limits.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/model/varying_part.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "mbsc/model/rigid3d.hpp"
 #include "named_expressions.hpp"
@@ -1334,16 +1335,9 @@ class Builder {
     const Variable& v = var->first ? m_.coords[var->second] : m_.speeds[var->second];
     const auto e = convert(node, s.value, false, false, false);
     if (!e) return;
-    auto reads = [&](const std::vector<Variable>& vars) -> const Variable* {
-      for (const auto& w : vars)
-        if (e->has(w.sym)) return &w;
-      return nullptr;
-    };
-    const Variable* bad = reads(m_.coords);
-    if (!bad) bad = reads(m_.inputs);
-    if (bad || e->has(m_.time)) {
+    if (const std::string varying = varying_part(*e); !varying.empty()) {
       diags_.error(s.value->pos, fmt::format("initial value of '{}' reads {}; it must be a constant of the parameters",
-                                             v.name, bad ? fmt::format("'{}'", bad->name) : std::string("the time t")));
+                                             v.name, varying));
       return;
     }
     const bool guess = s.level == "guess";
@@ -1525,16 +1519,7 @@ class Builder {
 
   /// What makes e vary with the motion: "coordinate 'q'", "speed 'b.u'", "input 'F'",
   /// "the time t"; "" when e holds parameters and numbers only.
-  std::string varying_part(const GiNaC::ex& e) const {
-    for (const auto& q : m_.coords)
-      if (e.has(q.sym)) return fmt::format("coordinate '{}'", q.name);
-    for (const auto& u : m_.speeds)
-      if (e.has(u.sym)) return fmt::format("speed '{}'", u.name);
-    for (const auto& in : m_.inputs)
-      if (e.has(in.sym)) return fmt::format("input '{}'", in.name);
-    if (e.has(m_.time)) return "the time t";
-    return "";
-  }
+  std::string varying_part(const GiNaC::ex& e) const { return model::varying_part(m_, e); }
 
   /// Masses and inertias are constants: a body's inertia forces are m v' and J w', which
   /// lack the terms of dm/dt when m changes with the motion. So they read parameters

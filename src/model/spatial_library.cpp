@@ -12,6 +12,7 @@
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "mbsc/model/rigid3d.hpp"
+#include "mbsc/model/varying_part.hpp"
 
 namespace mbsc::model {
 
@@ -75,15 +76,8 @@ double SpatialLibrary::at_defaults(const GiNaC::ex& e) const {
   }
 }
 
-bool SpatialLibrary::varies(const GiNaC::ex& e, const std::vector<int>& except) const {
-  if (e.has(m_.time)) return true;
-  for (std::size_t k = 0; k < m_.coords.size(); ++k)
-    if (std::find(except.begin(), except.end(), static_cast<int>(k)) == except.end() && e.has(m_.coords[k].sym)) return true;
-  for (const auto& s : m_.speeds)
-    if (e.has(s.sym)) return true;
-  for (const auto& u : m_.inputs)
-    if (e.has(u.sym)) return true;
-  return false;
+std::string SpatialLibrary::varies(const GiNaC::ex& e, const std::vector<int>& except) const {
+  return varying_part(m_, e, except);
 }
 
 std::optional<int> SpatialLibrary::body(int owner, const std::string& path) const {

@@ -86,9 +86,10 @@ class SpatialLibrary {
   using AxisKey = std::pair<int, std::string>;
   std::optional<AxisKey> axis_key(int owner, const std::string& path) const;
   double at_defaults(const GiNaC::ex& e) const;
-  /// Whether e reads t, an input, a speed or a coordinate (other than those in `except`):
-  /// what a radius, a plane or a surface of the rolling joints may not do.
-  bool varies(const GiNaC::ex& e, const std::vector<int>& except = {}) const;
+  /// What in e changes with the motion (t, an input, a speed or a coordinate other than
+  /// those in `except`), named, or "": what a radius, a plane or a surface of the rolling
+  /// joints may not read (model::varying_part).
+  std::string varies(const GiNaC::ex& e, const std::vector<int>& except = {}) const;
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
   void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,

@@ -51,10 +51,8 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
     return;
   }
   const GiNaC::ex r = *e.value;
-  if (varies(r)) {
-    diags_.error(e.option_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads the state, an "
-                                           "input or t)",
-                                           what));
+  if (const std::string varying = varies(r); !varying.empty()) {
+    diags_.error(e.option_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads {})", what, varying));
     return;
   }
   if (const double rv = at_defaults(r); !std::isnan(rv) && !(rv > 0.0)) {
@@ -72,9 +70,9 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
   }
   for (const auto* v : {&plane->p, &plane->d})
     for (const GiNaC::ex& x : *v)
-      if (varies(x)) {
-        diags_.error(e.end1_pos, fmt::format("{}: the plane '{}' moves (it depends on t or an input); the rolling rows need a fixed plane",
-                                             what, e.end1));
+      if (const std::string varying = varies(x); !varying.empty()) {
+        diags_.error(e.end1_pos, fmt::format("{}: the plane '{}' moves (it reads {}); the rolling rows need a fixed plane",
+                                             what, e.end1, varying));
         return;
       }
   if (disc->node == PlanarLibrary::kGround) {

@@ -50,10 +50,8 @@ void SpatialLibrary::add_rolling_sphere(int owner, const PlanarLibrary::Element&
     return;
   }
   const GiNaC::ex r = *radius;
-  if (varies(r)) {
-    diags_.error(radius_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads the state, an "
-                                         "input or t)",
-                                         what));
+  if (const std::string varying = varies(r); !varying.empty()) {
+    diags_.error(radius_pos, fmt::format("{}: the radius must be a constant (parameters only; it reads {})", what, varying));
     return;
   }
   if (const double rv = at_defaults(r); !std::isnan(rv) && !(rv > 0.0)) {
@@ -75,10 +73,9 @@ void SpatialLibrary::add_rolling_sphere(int owner, const PlanarLibrary::Element&
   const GiNaC::symbol yc = GiNaC::ex_to<GiNaC::symbol>(m_.coords[static_cast<std::size_t>(e.contact[1])].sym);
   // The surface is fixed: it reads x, y and parameters only.
   const GiNaC::ex gamma = *surface;
-  if (varies(gamma, {e.contact[0], e.contact[1]})) {
-    diags_.error(surface_pos, fmt::format("{}: the surface must be a function of x, y and parameters only (it reads "
-                                          "the state, an input or t)",
-                                          what));
+  if (const std::string varying = varies(gamma, {e.contact[0], e.contact[1]}); !varying.empty()) {
+    diags_.error(surface_pos, fmt::format("{}: the surface must be a function of x, y and parameters only (it reads {})",
+                                          what, varying));
     return;
   }
   const Node& ball = m_.nodes[*node];
