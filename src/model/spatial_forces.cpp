@@ -74,6 +74,12 @@ bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::s
                                                         "spatial joints take an actuator";
   for (const auto& [opt, pos] : {std::pair{e.option, e.option_pos}, std::pair{e.option2, e.option2_pos}}) {
     if (opt.empty() || allowed(opt)) continue;
+    if (opt == "friction") {
+      diags_.error(pos, fmt::format("{}: 'friction' is available on a spatial prismatic joint only (a {} joint has no "
+                                    "single slide with a normal reaction)",
+                                    what, e.kind));
+      return false;
+    }
     diags_.error(pos, fmt::format("{}: option '{}' is not available on a spatial {} joint ({})", what, opt, e.kind, takes));
     return false;
   }
