@@ -13,6 +13,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/multipliers.hpp"
