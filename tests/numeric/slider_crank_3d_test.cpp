@@ -14,6 +14,13 @@
 //  - the thesis's inverse dynamics with the prescribed slide (k): over one period of the
 //    slide the actuator's work equals the energy friction dissipates, and u1 jumps where
 //    the slider reverses (the discontinuity the thesis points out).
+// Those close the law here on the reference model with the friction force as an input
+// (tests/data/friction/slider_crank_3d_input.mbs). The shipped model's `friction mu` closes
+// it in the generated code; checked against the reference:
+//  - its rhs (complement, multipliers, --state minimal) equals the outside closure's;
+//  - the force read back from its accelerations has |F| = mu |N| with its own N, opposes
+//    v, and is 0 at rest; a jamming mu gives status 1, never NaN;
+//  - E(t) - E(0) = integral of (u1 w - mu |N| |v|) dt over a run of its rhs alone.
 #include <catch2/catch.hpp>
 #include <array>
 #include <cmath>
