@@ -23,7 +23,7 @@ constexpr FuncInfo kFuncs[] = {
     {"sin", "std::sin", 1},     {"cos", "std::cos", 1},     {"tan", "std::tan", 1},   {"exp", "std::exp", 1},
     {"log", "std::log", 1},     {"sqrt", "std::sqrt", 1},   {"abs", "std::abs", 1},   {"atan2", "std::atan2", 2},
     {"asin", "std::asin", 1},   {"acos", "std::acos", 1},   {"atan", "std::atan", 1}, {"sinh", "std::sinh", 1},
-    {"cosh", "std::cosh", 1},   {"tanh", "std::tanh", 1},
+    {"cosh", "std::cosh", 1},   {"tanh", "std::tanh", 1},   {"csgn", "", 1},
 };
 
 std::uint64_t double_bits(double v) {

@@ -26,7 +26,8 @@ enum class NodeKind : std::uint8_t {
 };
 
 /// The functions a Call node may name (fixed table: its order is part of the canonical order).
-enum class Func : std::uint8_t { Sin, Cos, Tan, Exp, Log, Sqrt, Abs, Atan2, Asin, Acos, Atan, Sinh, Cosh, Tanh };
+/// Sign: GiNaC's csgn of a real argument, -1, 0 or 1 (a Coulomb friction's direction).
+enum class Func : std::uint8_t { Sin, Cos, Tan, Exp, Log, Sqrt, Abs, Atan2, Asin, Acos, Atan, Sinh, Cosh, Tanh, Sign };
 
 /// GiNaC name of a function ("sin") and its C++ spelling ("std::sin").
 const char* func_name(Func f);

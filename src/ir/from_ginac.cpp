@@ -97,7 +97,7 @@ GinacConverter::GinacConverter(Dag& dag, const FunctionSpec& spec, const std::ve
     }
   }
   // GiNaC's serial of each supported function (sqrt is a power in GiNaC, not a function).
-  for (int f = 0; f <= static_cast<int>(Func::Tanh); ++f) {
+  for (int f = 0; f <= static_cast<int>(Func::Sign); ++f) {
     try {
       const unsigned serial = GiNaC::function::find_function(func_name(static_cast<Func>(f)),
                                                              static_cast<unsigned>(func_arity(static_cast<Func>(f))));

@@ -368,6 +368,9 @@ class Printer {
     std::vector<std::string> args;
     for (std::int32_t i = 0; i < n.nchild; ++i) args.push_back(ref(dag_.child(id, i)).s);
     ++ops_.calls;
+    // sign(a) in {-1, 0, 1} without a helper: copysign(1 or 0, a) (a = -0 gives -0).
+    if (static_cast<Func>(n.func) == Func::Sign)
+      return {"std::copysign(static_cast<double>(" + args[0] + " != 0.0), " + args[0] + ")", kPrimary};
     return {std::string(func_cpp(static_cast<Func>(n.func))) + "(" + join(args, ", ") + ")", kPrimary};
   }
 

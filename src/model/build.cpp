@@ -1119,7 +1119,8 @@ class Builder {
           }
           if (!s.exprs.empty()) {
             // A second actuator (a cylindrical joint's force and torque) may read the state too.
-            const bool actuator2 = s.kind == Kind::Joint && (s.option2.text == "torque" || s.option2.text == "force");
+            const bool actuator2 = s.kind == Kind::Joint && (s.option2.text == "torque" || s.option2.text == "force" ||
+                                                                 s.option2.text == "friction");
             auto v = convert(id, s.exprs[0], actuator2, false, false);
             if (!v) break;
             if (s.kind == Kind::Joint) {

@@ -57,21 +57,29 @@ void SpatialLibrary::apply_wrench(int node, const Vec& P, const Vec& F, const Ve
   }
 }
 
-bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::string& what, const End& a, const End& b) {
+bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::string& what, const std::string& rows,
+                                   const End& a, const End& b) {
   // Which options each kind takes: a torque about a joint axis the joint lets turn, a
   // force along one it lets slide.
   auto allowed = [&](const std::string& opt) {
     if (opt == "torque") return e.kind == "revolute" || e.kind == "cylindrical";
     if (opt == "force") return e.kind == "prismatic" || e.kind == "cylindrical";
+    if (opt == "friction") return e.kind == "prismatic";
     return false;
   };
   const char* const takes = e.kind == "revolute"      ? "a revolute joint takes 'torque'"
-                            : e.kind == "prismatic"   ? "a prismatic joint takes 'force'"
+                            : e.kind == "prismatic"   ? "a prismatic joint takes 'force' and 'friction'"
                             : e.kind == "cylindrical" ? "a cylindrical joint takes 'force' and 'torque'"
                                                       : "only revolute (torque), prismatic (force) and cylindrical (both) "
                                                         "spatial joints take an actuator";
   for (const auto& [opt, pos] : {std::pair{e.option, e.option_pos}, std::pair{e.option2, e.option2_pos}}) {
     if (opt.empty() || allowed(opt)) continue;
+    if (opt == "friction") {
+      diags_.error(pos, fmt::format("{}: 'friction' is available on a spatial prismatic joint only (a {} joint has no "
+                                    "single slide with a normal reaction)",
+                                    what, e.kind));
+      return false;
+    }
     diags_.error(pos, fmt::format("{}: option '{}' is not available on a spatial {} joint ({})", what, opt, e.kind, takes));
     return false;
   }
@@ -83,7 +91,9 @@ bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::s
   const Vec n = unit_axis(a);
   for (const auto& [opt, value, pos] : {std::tuple{e.option, e.value, e.option_pos}, std::tuple{e.option2, e.value2, e.option2_pos}}) {
     if (opt.empty() || !value) continue;
-    if (opt == "torque") {  // tau n on the second body, -tau n on the first
+    if (opt == "friction") {
+      add_friction(what, rows, *value, pos, a, b);
+    } else if (opt == "torque") {  // tau n on the second body, -tau n on the first
       apply_wrench(b.node, b.p, kZero, scale(*value, n), pos);
       apply_wrench(a.node, b.p, kZero, scale(-*value, n), pos);
     } else {  // F n at the second body's point, -F n on the first at the same place
@@ -92,6 +102,43 @@ bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::s
     }
   }
   return true;
+}
+
+void SpatialLibrary::add_friction(const std::string& what, const std::string& rows, const GiNaC::ex& mu,
+                                  const SourcePos& pos, const End& a, const End& b) {
+  // The coefficient is a constant: the generated code solves the law at each state with
+  // mu fixed, and a negative one would push the slider along its motion.
+  if (varies(mu)) {
+    diags_.error(pos, fmt::format("{}: the friction coefficient must be a constant (parameters only; it reads the state, "
+                                  "an input or t)",
+                                  what));
+    return;
+  }
+  if (const double v = at_defaults(mu); !std::isnan(v) && v < 0.0) {
+    diags_.error(pos, fmt::format("{}: the friction coefficient must not be negative (it is {})", what, v));
+    return;
+  }
+  if (!m_.frictions.empty()) {
+    diags_.error(pos, fmt::format("{}: only one joint of a model may have friction (joint '{}' has it already)", what,
+                                  m_.frictions.front().joint));
+    return;
+  }
+  // The force F n on the second end at its point, -F n on the first, like the actuator;
+  // the slide's rate is that point's velocity on b relative to the same place on a.
+  Friction f;
+  f.joint = rows;
+  f.pos = pos;
+  f.force = GiNaC::symbol(rows + ".friction");
+  f.mu = mu;
+  const Vec n = unit_axis(a);
+  f.slide_velocity = rigid3d::dot(n, sub(point_velocity(b.node, b.p), point_velocity(a.node, b.p)));
+  f.weight1 = rigid3d::dot(a.n1, a.n1);
+  f.weight2 = rigid3d::dot(a.n2, a.n2);
+  f.row1 = rows + ".n1";
+  f.row2 = rows + ".n2";
+  apply_wrench(b.node, b.p, scale(f.force, n), kZero, pos);
+  apply_wrench(a.node, b.p, scale(-f.force, n), kZero, pos);
+  m_.frictions.push_back(f);
 }
 
 void SpatialLibrary::add_force_element(int owner, const PlanarLibrary::Element& e) {

@@ -307,7 +307,10 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     put("ry", rigid3d::dot(a->ez, b->ex));
     put("rz", rigid3d::dot(a->ex, b->ey));
   }
-  if (!e.option.empty()) add_actuators(e, what, *a, *b);
+  if (!e.option.empty()) {
+    const std::string& prefix = m_.nodes[static_cast<std::size_t>(owner)].name;
+    add_actuators(e, what, prefix.empty() ? name : prefix + "." + name, *a, *b);
+  }
 }
 
 void SpatialLibrary::finish() {

@@ -113,7 +113,13 @@ class SpatialLibrary {
   /// tau (space) on it: Q_s = (d v_P / d s) . F + (d omega / d s) . tau.
   void apply_wrench(int node, const Vec& P, const Vec& F, const Vec& tau, const SourcePos& pos);
   /// A joint's actuators (options torque / force); false when one does not apply (reported).
-  bool add_actuators(const PlanarLibrary::Element& e, const std::string& what, const End& a, const End& b);
+  /// `rows`: the joint's full name, which its rows' names begin with.
+  bool add_actuators(const PlanarLibrary::Element& e, const std::string& what, const std::string& rows, const End& a,
+                     const End& b);
+  /// `friction mu` on a prismatic joint: the friction force along the slide, a symbol the
+  /// generated code defines from the joint's normal reaction (Model::frictions).
+  void add_friction(const std::string& what, const std::string& rows, const GiNaC::ex& mu, const SourcePos& pos, const End& a,
+                    const End& b);
   void add_force_element(int owner, const PlanarLibrary::Element& e);
 
   Model& m_;

@@ -121,6 +121,17 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     return out;
   };
   if (!m.full_state_layout()) return bad("mbsc inverse: error: the model must be generated with the full state (--state full)");
+  // The solve below reads the inputs off rhs, which it takes for affine in them. A model
+  // whose own inverse_dynamics is not defined (status 4 without computing: Coulomb
+  // friction closed inside rhs, or a forcing not affine in the inputs) breaks that.
+  if (m.inverse_dynamics != nullptr && m.nin > 0 && m.ndof > 0) {
+    std::vector<double> x0(static_cast<std::size_t>(m.nx), 0.0), zdot(static_cast<std::size_t>(m.ndof), 0.0),
+        u0(static_cast<std::size_t>(m.nin), 0.0);
+    if (m.inverse_dynamics(0.0, x0.data(), zdot.data(), m.param_defaults, u0.data()) == 4)
+      return bad(fmt::format("mbsc inverse: error: model {} is not affine in its inputs (Coulomb friction closed in its "
+                             "rhs, or a forcing not affine in them): its inverse dynamics is not defined",
+                             model_label));
+  }
   if (!(opt.dt_out > 0.0) || !std::isfinite(opt.dt_out)) return bad("--dt-out: error: must be a positive number");
   if (!(opt.t_end > opt.t_start) || !std::isfinite(opt.t_end) || !std::isfinite(opt.t_start))
     return bad("--t-end: error: must be a number after the start time");

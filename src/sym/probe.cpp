@@ -119,6 +119,7 @@ class DoubleWalk {
       else if (name == "exp") out = std::exp(a);
       else if (name == "log") out = std::log(a);
       else if (name == "abs") out = std::fabs(a);
+      else if (name == "csgn") out = a > 0.0 ? 1.0 : a < 0.0 ? -1.0 : 0.0;
       else return false;
       return true;
     }

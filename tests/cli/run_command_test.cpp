@@ -316,6 +316,13 @@ TEST_CASE("mbsc inverse: the thesis's Whitworth run from the command line, and i
     CHECK(r.output.find(k.expect) != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "bad.csv"));
   }
+  // A model whose rhs closes Coulomb friction is not affine in its inputs: refused.
+  r = run(run_in(dir, "inverse " + quote(std::string(MBSC_SOURCE_DIR) + "/models/slider_crank_3d.mbs") +
+                          " --prescribe 'crank.e1=0.1*t' -o " + quote((dir / "bad.csv").string())));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("is not affine in its inputs") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "bad.csv"));
   fs::remove_all(dir);
 }
 

@@ -192,17 +192,23 @@ void check_model(std::mt19937& rng, bool reduced = true) {
       zdot[static_cast<std::size_t>(j)] = xdot.values[static_cast<std::size_t>(find_name(M::kStateNames, M::kNx, M::kDofNames[j]))];
     const Result inv = call(M::inverse_dynamics, M::kNin, a.t, a.x, zdot.data(), a.p);
     REQUIRE(inv.guard_intact);
-    require_ok(inv, "inverse_dynamics");
-    if (M::kNin > M::kNdof && reduced) {
-      const Result again = call(M::rhs, M::kNx, a.t, a.x, inv.values.data(), a.p);
-      require_ok(again, "rhs at the inverse's inputs");
-      for (int j = 0; j < M::kNdof; ++j) {
-        const auto s = static_cast<std::size_t>(find_name(M::kStateNames, M::kNx, M::kDofNames[j]));
-        REQUIRE(again.values[s] == Approx(xdot.values[s]).margin(1e-8 * scale(xdot.values)));
-      }
+    if (inv.status == 4) {
+      // Not defined for this model (Coulomb friction: the inputs and the friction are one
+      // coupled problem): NaN, never a number.
+      for (double v : inv.values) REQUIRE(std::isnan(v));
     } else {
-      for (int k = 0; k < M::kNin && reduced && M::kNdof > 0; ++k)
-        REQUIRE(inv.values[static_cast<std::size_t>(k)] == Approx(a.u[static_cast<std::size_t>(k)]).margin(1e-8));
+      require_ok(inv, "inverse_dynamics");
+      if (M::kNin > M::kNdof && reduced) {
+        const Result again = call(M::rhs, M::kNx, a.t, a.x, inv.values.data(), a.p);
+        require_ok(again, "rhs at the inverse's inputs");
+        for (int j = 0; j < M::kNdof; ++j) {
+          const auto s = static_cast<std::size_t>(find_name(M::kStateNames, M::kNx, M::kDofNames[j]));
+          REQUIRE(again.values[s] == Approx(xdot.values[s]).margin(1e-8 * scale(xdot.values)));
+        }
+      } else {
+        for (int k = 0; k < M::kNin && reduced && M::kNdof > 0; ++k)
+          REQUIRE(inv.values[static_cast<std::size_t>(k)] == Approx(a.u[static_cast<std::size_t>(k)]).margin(1e-8));
+      }
     }
   }
 

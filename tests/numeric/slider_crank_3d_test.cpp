@@ -14,6 +14,13 @@
 //  - the thesis's inverse dynamics with the prescribed slide (k): over one period of the
 //    slide the actuator's work equals the energy friction dissipates, and u1 jumps where
 //    the slider reverses (the discontinuity the thesis points out).
+// Those close the law here on the reference model with the friction force as an input
+// (tests/data/friction/slider_crank_3d_input.mbs). The shipped model's `friction mu` closes
+// it in the generated code; checked against the reference:
+//  - its rhs (complement, multipliers, --state minimal) equals the outside closure's;
+//  - the force read back from its accelerations has |F| = mu |N| with its own N, opposes
+//    v, and is 0 at rest; a jamming mu gives status 1, never NaN;
+//  - E(t) - E(0) = integral of (u1 w - mu |N| |v|) dt over a run of its rhs alone.
 #include <catch2/catch.hpp>
 #include <array>
 #include <cmath>
@@ -24,6 +31,9 @@
 #include "mbsc/runtime/dop853.hpp"
 #include "mbsc/runtime/model_table.hpp"
 #include "slider_crank_3d/slider_crank_3d.hpp"
+#include "slider_crank_3d_input/slider_crank_3d_input.hpp"
+#include "slider_crank_3d_input_mult/slider_crank_3d_input_mult.hpp"
+#include "slider_crank_3d_min/slider_crank_3d_min.hpp"
 #include "slider_crank_3d_mult/slider_crank_3d_mult.hpp"
 #include "test_support.hpp"
 
@@ -31,8 +41,14 @@ using mbsc_test::index_of;
 
 namespace {
 
+// The shipped model closes the friction itself (C, CM, CS); the reference R, RM takes the
+// friction force as the input Ff (tests/data/friction/slider_crank_3d_input.mbs) and the
+// law is closed here, outside the generated code.
 namespace C = mbsc_gen::slider_crank_3d;
 namespace CM = mbsc_gen::slider_crank_3d_mult;
+namespace CS = mbsc_gen::slider_crank_3d_min;
+namespace R = mbsc_gen::slider_crank_3d_input;
+namespace RM = mbsc_gen::slider_crank_3d_input_mult;
 
 double par(const char* n) { return C::kParamDefaults[index_of(C::kParamNames, C::kNp, n)]; }
 const double l1 = par("l1"), l2 = par("l2"), g2 = par("gamma2"), mu = par("mu");
@@ -86,11 +102,11 @@ std::vector<double> state(double chi, double w, double theta) {
 
 /// The slider's normal force (the multipliers of guide.n1, guide.n2) at inputs (u1, Ff).
 std::array<double, 2> normal_force(const std::vector<double>& x, double u1, double Ff) {
-  std::vector<double> lam(static_cast<std::size_t>(CM::kNc));
+  std::vector<double> lam(static_cast<std::size_t>(RM::kNc));
   const double u[2] = {u1, Ff};
-  REQUIRE(CM::multipliers(0.0, x.data(), u, CM::kParamDefaults, lam.data()) == 0);
-  return {lam[static_cast<std::size_t>(index_of(CM::kConstraintNames, CM::kNc, "guide.n1"))],
-          lam[static_cast<std::size_t>(index_of(CM::kConstraintNames, CM::kNc, "guide.n2"))]};
+  REQUIRE(RM::multipliers(0.0, x.data(), u, RM::kParamDefaults, lam.data()) == 0);
+  return {lam[static_cast<std::size_t>(index_of(RM::kConstraintNames, RM::kNc, "guide.n1"))],
+          lam[static_cast<std::size_t>(index_of(RM::kConstraintNames, RM::kNc, "guide.n2"))]};
 }
 
 /// Ff = -mu sigma |N0 + Ff N1|, sigma = sign(v): (1 - mu^2 |N1|^2) F^2 - 2 mu^2 (N0.N1) F -
@@ -141,7 +157,7 @@ TEST_CASE("slider-crank 3-D: the thesis's kinematics satisfy every row", "[numer
   }
 }
 
-TEST_CASE("slider-crank 3-D: both formulations agree with the Coulomb friction closed", "[numeric][slider_crank_3d]") {
+TEST_CASE("slider-crank 3-D: both formulations agree with the Coulomb friction closed outside", "[numeric][slider_crank_3d]") {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(-1, 1);
   int sliding = 0;
@@ -156,8 +172,8 @@ TEST_CASE("slider-crank 3-D: both formulations agree with the Coulomb friction c
     sliding += std::fabs(Ff) > 1e-3;
     const double in[2] = {u1, Ff};
     std::vector<double> a(x.size()), b(x.size());
-    REQUIRE(C::rhs(0.0, x.data(), in, C::kParamDefaults, a.data()) == 0);
-    REQUIRE(CM::rhs(0.0, x.data(), in, CM::kParamDefaults, b.data()) == 0);
+    REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, a.data()) == 0);
+    REQUIRE(RM::rhs(0.0, x.data(), in, RM::kParamDefaults, b.data()) == 0);
     for (std::size_t i = 0; i < a.size(); ++i) {
       INFO("trial " << trial << " " << C::kStateNames[i]);
       CHECK(std::fabs(a[i] - b[i]) < 1e-9 * (1 + std::fabs(a[i])));
@@ -166,7 +182,7 @@ TEST_CASE("slider-crank 3-D: both formulations agree with the Coulomb friction c
   CHECK(sliding >= 15);  // the friction is really there
 }
 
-TEST_CASE("slider-crank 3-D: energy balance with Coulomb friction over a run", "[numeric][slider_crank_3d]") {
+TEST_CASE("slider-crank 3-D: energy balance with Coulomb friction closed outside over a run", "[numeric][slider_crank_3d]") {
   const double u1 = 0.3;
   // The state, then the works of the torque and of the friction: Wu' = u1 w, Wf' = Ff v.
   const std::size_t iu = static_cast<std::size_t>(C::kNx), iff = iu + 1;
@@ -174,7 +190,7 @@ TEST_CASE("slider-crank 3-D: energy balance with Coulomb friction over a run", "
     const std::vector<double> x(s, s + C::kNx);
     const double Ff = friction(x, u1);
     const double in[2] = {u1, Ff};
-    const int st = C::rhs(t, s, in, C::kParamDefaults, sd);
+    const int st = R::rhs(t, s, in, R::kParamDefaults, sd);
     sd[iu] = u1 * s[ix("crank.wx")];
     sd[iff] = Ff * s[ix("slider.u")];
     return st;
@@ -229,7 +245,7 @@ TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the pres
     auto accel = [&](double u1, double Ff) {
       std::vector<double> xd(x.size());
       const double in[2] = {u1, Ff};
-      REQUIRE(C::rhs(0.0, x.data(), in, C::kParamDefaults, xd.data()) == 0);
+      REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, xd.data()) == 0);
       return xd[ix("crank.wx")];
     };
     const double a0 = accel(0, 0), au = accel(1, 0) - a0, aF = accel(0, 1) - a0;
@@ -260,4 +276,144 @@ TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the pres
   INFO("u1 at the reversal: " << before.u1 << " -> " << after.u1 << ", Ff " << before.Ff << " -> " << after.Ff);
   CHECK(before.Ff * after.Ff < 0);
   CHECK(std::fabs(before.u1 - after.u1) > 1e-3);
+}
+
+// ---- The friction closed by the generated code (the joint's `friction mu`) ----
+
+namespace {
+
+/// The normal force the shipped multipliers form reports with its own friction closed.
+std::array<double, 2> closed_normal_force(const std::vector<double>& x, double u1) {
+  std::vector<double> lam(static_cast<std::size_t>(CM::kNc));
+  REQUIRE(CM::multipliers(0.0, x.data(), &u1, CM::kParamDefaults, lam.data()) == 0);
+  return {lam[static_cast<std::size_t>(index_of(CM::kConstraintNames, CM::kNc, "guide.n1"))],
+          lam[static_cast<std::size_t>(index_of(CM::kConstraintNames, CM::kNc, "guide.n2"))]};
+}
+
+/// The minimal state (kept coordinates, the crank's rate) of a full state, by name.
+std::vector<double> minimal(const std::vector<double>& x) {
+  std::vector<double> z(static_cast<std::size_t>(CS::kNx));
+  for (int i = 0; i < CS::kNx; ++i) z[static_cast<std::size_t>(i)] = x[ix(CS::kStateNames[i])];
+  return z;
+}
+
+}  // namespace
+
+TEST_CASE("slider-crank 3-D friction in the generated code: rhs equals the outside closure",
+          "[numeric][slider_crank_3d][friction]") {
+  CHECK(C::kNin == 1);  // the friction force is no input
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto x = state(3.1 * u(rng), 4 * u(rng), 2 * u(rng));
+    const double u1 = 2 * u(rng);
+    const double in[2] = {u1, friction(x, u1)};
+    std::vector<double> ref(x.size()), refm(x.size()), a(x.size()), b(x.size()), s(static_cast<std::size_t>(CS::kNx));
+    REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, ref.data()) == 0);
+    REQUIRE(RM::rhs(0.0, x.data(), in, RM::kParamDefaults, refm.data()) == 0);
+    REQUIRE(C::rhs(0.0, x.data(), &u1, C::kParamDefaults, a.data()) == 0);
+    REQUIRE(CM::rhs(0.0, x.data(), &u1, CM::kParamDefaults, b.data()) == 0);
+    const auto z = minimal(x);
+    REQUIRE(CS::rhs(0.0, z.data(), &u1, CS::kParamDefaults, s.data()) == 0);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      INFO("trial " << trial << " " << C::kStateNames[i]);
+      CHECK(std::fabs(a[i] - ref[i]) < 1e-10 * (1 + std::fabs(ref[i])));
+      CHECK(std::fabs(b[i] - refm[i]) < 1e-10 * (1 + std::fabs(refm[i])));
+      CHECK(std::fabs(a[i] - b[i]) < 1e-9 * (1 + std::fabs(a[i])));  // complement vs multipliers
+    }
+    for (int i = 0; i < CS::kNx; ++i) {
+      INFO("trial " << trial << " minimal " << CS::kStateNames[i]);
+      const double full = a[ix(CS::kStateNames[i])];
+      CHECK(std::fabs(s[static_cast<std::size_t>(i)] - full) < 1e-9 * (1 + std::fabs(full)));
+    }
+  }
+}
+
+TEST_CASE("slider-crank 3-D friction in the generated code: |F| = mu |N|, F opposite v, 0 at rest",
+          "[numeric][slider_crank_3d][friction]") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int sliding = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto x = state(3.1 * u(rng), 4 * u(rng), 2 * u(rng));
+    const double u1 = 2 * u(rng), v = x[ix("slider.u")];
+    // F read back from the generated accelerations: they are affine in Ff in the reference.
+    std::vector<double> a(x.size()), r0(x.size()), r1(x.size());
+    REQUIRE(C::rhs(0.0, x.data(), &u1, C::kParamDefaults, a.data()) == 0);
+    const double in0[2] = {u1, 0}, in1[2] = {u1, 1};
+    REQUIRE(R::rhs(0.0, x.data(), in0, R::kParamDefaults, r0.data()) == 0);
+    REQUIRE(R::rhs(0.0, x.data(), in1, R::kParamDefaults, r1.data()) == 0);
+    const std::size_t k = ix("crank.wx");
+    const double F = (a[k] - r0[k]) / (r1[k] - r0[k]);
+    const auto N = closed_normal_force(x, u1);  // the multipliers form's own reaction
+    INFO("trial " << trial << " v " << v << " F " << F << " |N| " << std::hypot(N[0], N[1]));
+    CHECK(std::fabs(std::fabs(F) - mu * std::hypot(N[0], N[1])) < 1e-8 * (1 + std::fabs(F)));
+    CHECK(F * v <= 0);
+    sliding += std::fabs(F) > 1e-3;
+  }
+  CHECK(sliding >= 15);
+  // At rest (v = 0) the law gives 0 (the thesis's sign(0)): the accelerations of Ff = 0.
+  const auto x = state(0.7, 0.0, 0.3);
+  REQUIRE(x[ix("slider.u")] == 0.0);
+  const double u1 = 1.5, in[2] = {u1, 0};
+  std::vector<double> a(x.size()), ref(x.size());
+  REQUIRE(C::rhs(0.0, x.data(), &u1, C::kParamDefaults, a.data()) == 0);
+  REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, ref.data()) == 0);
+  for (std::size_t i = 0; i < x.size(); ++i) CHECK(std::fabs(a[i] - ref[i]) < 1e-12 * (1 + std::fabs(ref[i])));
+}
+
+TEST_CASE("slider-crank 3-D friction in the generated code: a jamming coefficient returns status 1, never NaN",
+          "[numeric][slider_crank_3d][friction]") {
+  // mu so large that 1 - mu^2 |N1|^2 <= 0 (Painleve): no friction force satisfies the law.
+  std::vector<double> p(C::kParamDefaults, C::kParamDefaults + C::kNp), pm(CM::kParamDefaults, CM::kParamDefaults + CM::kNp);
+  p[static_cast<std::size_t>(index_of(C::kParamNames, C::kNp, "mu"))] = 1e4;
+  pm[static_cast<std::size_t>(index_of(CM::kParamNames, CM::kNp, "mu"))] = 1e4;
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int jammed = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto x = state(3.1 * u(rng), 4 * u(rng), 2 * u(rng));
+    const double u1 = 2 * u(rng);
+    std::vector<double> a(x.size()), b(x.size());
+    const int st = C::rhs(0.0, x.data(), &u1, p.data(), a.data());
+    const int stm = CM::rhs(0.0, x.data(), &u1, pm.data(), b.data());
+    CHECK(st == stm);
+    jammed += st == 1;
+    if (st == 0)
+      for (double v : a) CHECK(std::isfinite(v));
+  }
+  CHECK(jammed >= 18);
+}
+
+TEST_CASE("slider-crank 3-D friction in the generated code: E(t) - E(0) = integral of (u1 w - mu |N| |v|)",
+          "[numeric][slider_crank_3d][friction]") {
+  const double u1 = 0.3;
+  const std::size_t iu = static_cast<std::size_t>(C::kNx), iff = iu + 1;
+  auto rhs = [&](double t, const double* s, double* sd) {
+    const int st = C::rhs(t, s, &u1, C::kParamDefaults, sd);
+    const std::vector<double> x(s, s + C::kNx);
+    const auto N = closed_normal_force(x, u1);
+    sd[iu] = u1 * s[ix("crank.wx")];
+    sd[iff] = -mu * std::hypot(N[0], N[1]) * std::fabs(s[ix("slider.u")]);
+    return st;
+  };
+  std::vector<double> y = state(0.4, 6.0, 0.2);
+  y.push_back(0.0), y.push_back(0.0);
+  std::array<double, 3> e0{}, e{};
+  REQUIRE(C::energy(0.0, y.data(), &u1, C::kParamDefaults, e0.data()) == 0);
+  mbsc::runtime::StepperOptions o;
+  o.rtol = o.atol = 1e-11;
+  mbsc::runtime::Dop853 stepper(rhs, C::kNx + 2, o);
+  REQUIRE(stepper.reset(0.0, y) == mbsc::runtime::Stepper::Status::Ok);
+  double worst = 0;
+  std::vector<double> s(y.size());
+  while (stepper.t() < 1.5) {
+    REQUIRE(stepper.step(1.5) == mbsc::runtime::Stepper::Status::Ok);
+    stepper.interpolate(stepper.t(), s);
+    REQUIRE(C::energy(stepper.t(), s.data(), &u1, C::kParamDefaults, e.data()) == 0);
+    worst = std::max(worst, std::fabs(e[2] - e0[2] - s[iu] - s[iff]));
+  }
+  INFO("energy balance error " << worst << ", torque work " << s[iu] << ", friction work " << s[iff]);
+  CHECK(worst < 1e-8);
+  CHECK(s[iff] < -0.05);  // friction dissipated a fair share of the energy
 }

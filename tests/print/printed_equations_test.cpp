@@ -120,6 +120,7 @@ exmap reference_values(const mbsc::model::Model& m, const mbsc::sym::Eom& eom, s
   for (const auto& s : m.speeds) v[s.sym] = angle(rng);
   for (const auto& p : m.params) v[p.sym] = param(rng);
   for (const auto& u : m.inputs) v[u.sym] = angle(rng);
+  for (const auto& f : m.frictions) v[f.force] = angle(rng);  // printed as a symbol, like an input
   consistent_speeds(m, eom, v);
   for (const auto& step : eom.pre_steps) {
     if (const auto* d = std::get_if<mbsc::ir::Define>(&step)) {
@@ -146,6 +147,7 @@ exmap printed_values(const mbsc::model::Model& m, const mbsc::driver::PrintedEqu
   for (const auto& s : m.speeds) v[s.sym] = ref.at(s.sym);
   for (const auto& q : m.params) v[q.sym] = ref.at(q.sym);
   for (const auto& u : m.inputs) v[u.sym] = ref.at(u.sym);
+  for (const auto& f : m.frictions) v[f.force] = ref.at(f.force);
   for (const auto& w : p.where) v[w.sym] = w.solved ? mbsc_test::eval(w.value, v) : ref.at(w.sym);
   return v;
 }

@@ -52,6 +52,12 @@ struct BaumgarteGains {
   static constexpr double kDefault = 10.0;  // 1/s: critically damped, f ~ exp(-10 t)
 };
 
+/// A model with Coulomb friction (model::Model::frictions): every function that reads a
+/// friction force gets the steps that solve the friction law for it (friction_closure.cpp);
+/// inverse_dynamics becomes undefined. `multipliers`: the reactions carry Baumgarte terms.
+void close_friction(const model::Model& m, const sym::Eom& eom, bool multipliers, const BaumgarteGains& gains,
+                    std::vector<ir::FunctionSpec>& specs);
+
 /// rhs, multipliers and reaction_forces of the multipliers formulation.
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                                const BaumgarteGains& gains, Diagnostics& diags);

@@ -83,6 +83,20 @@ struct Force {
   SourcePos pos;
 };
 
+/// Coulomb friction on a spatial prismatic joint (`friction mu`, docs/formulation.md
+/// "Coulomb friction on a reaction"): the force `force` (a symbol the generated code
+/// defines) acts along the slide on the second end, -force on the first; the law
+/// force = -mu sign(slide_velocity) |N| closes it, N the reaction of the joint's rows
+/// `row1`, `row2` (normal to the slide), |N|^2 = weight1 lambda1^2 + weight2 lambda2^2
+/// (the rows' gradients are orthogonal, of squared lengths weight1, weight2).
+struct Friction {
+  std::string joint;  // the joint's name
+  SourcePos pos;      // of the option word `friction`
+  GiNaC::symbol force;
+  GiNaC::ex mu, slide_velocity, weight1, weight2;
+  std::string row1, row2;  // constraint names (Constraint::name)
+};
+
 struct NamedExpr {
   std::string name;
   GiNaC::ex value;
@@ -137,6 +151,7 @@ struct Model {
   std::vector<GiNaC::ex> coord_rates;
   std::vector<Constraint> constraints;
   std::vector<Force> forces;
+  std::vector<Friction> frictions;  // closed in the generated code, never an input
   std::vector<NamedExpr> outputs;
   bool output_energy = false;
   std::vector<Variable> params;

@@ -85,6 +85,7 @@ std::vector<double> evaluate_precise(const mbsc::ir::FunctionSpec& f, const mbsc
   for (const auto& v : m.params) put(v.sym);
   put(gains.alpha);
   put(gains.beta);
+  for (const auto& fr : m.frictions) put(fr.force);
   auto value = [&](const GiNaC::ex& e) { return e.subs(vals).evalf(); };
   for (const auto& step : f.steps) {
     if (const auto* d = std::get_if<mbsc::ir::Define>(&step)) {
@@ -164,6 +165,9 @@ std::pair<double, double> errors(const Loaded& d, const mbsc::ir::FunctionSpec& 
     for (auto* p : {&pa, &pb}) {
       p->bind(gains.alpha, 7.0);
       p->bind(gains.beta, 5.0);
+      // A friction force (slider_crank_3d) as a given value, like an input: the rhs
+      // specs here are the solves before generate closes the friction law on them.
+      for (const auto& fr : d.m->frictions) p->bind(fr.force, 0.3);
     }
     const mbsc::sym::Probe state = pa;
     const auto ref = evaluate_precise(dense, *d.m, state, gains);
