@@ -159,3 +159,25 @@ TEST_CASE("sum rewrites: the result does not depend on construction order", "[ir
   const NodeId b = build(f2, true);
   CHECK(f1.d.node(a).hash == f2.d.node(b).hash);
 }
+
+TEST_CASE("sum rewrites: a sum factor is distributed when its terms cancel others", "[ir][sum_rewrites]") {
+  Fixture f;
+  Dag& d = f.d;
+  const NodeId s = d.make_call(Func::Sin, {f.x0}), c = d.make_call(Func::Cos, {f.x0});
+  const NodeId x2sq = d.make_pow(f.x2, f.two);
+  // p0 c (p0 p1 s x2^2 - 2 x1)/4 - p0^2 p1 s c x2^2/4 = -p0 c x1/2 (the four-bar's forcing):
+  // distributed, the first product is p0*p0*... and must meet p0^2 to cancel.
+  const NodeId inner = d.make_add({d.make_mul({f.p0, f.p1, s, x2sq}), d.make_mul({d.make_number(-2.0), f.x1})});
+  const NodeId t1 = d.make_mul({d.make_number(0.25), f.p0, c, inner});
+  const NodeId t2 = d.make_mul({d.make_number(-0.25), d.make_pow(f.p0, f.two), f.p1, s, c, x2sq});
+  const NodeId sum = d.make_add({t1, t2});
+  CHECK(sum == d.make_mul({d.make_number(-0.5), f.p0, c, f.x1}));
+  for (const auto& pt : random_points(20)) {
+    const double direct = -0.5 * pt.at("p[0]") * std::cos(pt.at("x[0]")) * pt.at("x[1]");
+    CHECK(eval(d, sum, pt) == Approx(direct).epsilon(1e-13).margin(1e-13));
+  }
+  // Only one of three distributed terms would merge: the product stays factored.
+  const NodeId inner3 = d.make_add({d.make_mul({f.p0, f.p1, s, x2sq}), f.x1, f.x2});
+  const NodeId kept = d.make_add({d.make_mul({d.make_number(0.25), f.p0, c, inner3}), t2});
+  CHECK(d.node(kept).nchild == 2);
+}
