@@ -12,6 +12,8 @@
 # (angles, rates) like sympy's) or STATE=full (all 6N coordinates and speeds); SYMPY_TIMEOUT (default 300 s);
 # SYMPY_MAX_N (default 64: larger N skip sympy); MBSC_TIMEOUT (default 900 s, generation);
 # MBSC_GEN_FLAGS (extra flags of `mbsc generate`, e.g. "--solver sparse");
+# MBSC_BIN: an mbsc binary to measure instead of building one in build-bench/ (before/after
+# comparisons); OUT_NAME: the result files' name instead of chain / chain_full.
 # SDFAST_SRC: a checkout of SD/FAST's open source release (Apache-2.0; built here with
 # CMake into build-sdfast/, never part of mbsc); without it the SD/FAST peer is skipped
 # with a message. CALLGRIND=0 skips the instruction counts.
@@ -37,6 +39,7 @@ cd "$ROOT"
 NS=${NS:-"2 4 8 16 32 64"}
 STATE=${STATE:-minimal}
 OUT=chain; [ "$STATE" = full ] && OUT=chain_full   # result files: bench/results/$OUT.{csv,md}, ${OUT}_env.txt
+OUT=${OUT_NAME:-$OUT}   # OUT_NAME=chain_small: other result files (a partial run keeps the committed ones)
 SYMPY_TIMEOUT=${SYMPY_TIMEOUT:-300}
 SYMPY_MAX_N=${SYMPY_MAX_N:-64}
 MBSC_TIMEOUT=${MBSC_TIMEOUT:-900}
@@ -51,7 +54,7 @@ SDFAST_BUILD=build-sdfast
 WORK=bench/work
 RES=bench/results
 BUILD=build-bench
-MBSC=$BUILD/mbsc
+MBSC=${MBSC_BIN:-$BUILD/mbsc}   # MBSC_BIN=path: measure that binary (before/after a change), nothing built
 
 log() { echo "[run_chain $(date +%T)] $*" >&2; }
 now() { date +%s.%N; }
@@ -87,9 +90,11 @@ else
   [ -x "$SDFAST" ] || { echo "run_chain: no $SDFAST after the build" >&2; exit 1; }
 fi
 
-log "building mbsc (Release) in $BUILD"
-cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
-cmake --build "$BUILD" -j2 --target mbsc >/dev/null
+if [ -z "${MBSC_BIN:-}" ]; then
+  log "building mbsc (Release) in $BUILD"
+  cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
+  cmake --build "$BUILD" -j2 --target mbsc >/dev/null
+fi
 
 rm -rf "$WORK"
 mkdir -p "$WORK" "$RES"

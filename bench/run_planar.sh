@@ -13,7 +13,9 @@
 # sympy (Debian python3-sympy) and MuJoCo (Debian libmujoco-dev). When one is missing
 # the script installs it with apt-get if it runs as root, else it leaves that peer's
 # columns "n/a" and says so. SYMPY_TIMEOUT (default 300 s) bounds sympy's derivation and
-# code generation per mechanism; NO_PEERS=1 measures mbsc alone.
+# code generation per mechanism; NO_PEERS=1 measures mbsc alone; MBSC_BIN=path measures
+# that mbsc binary instead of building one in build-bench/; RESULT (default
+# bench/results/planar.md) names the result file.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
@@ -46,11 +48,14 @@ if [ -z "${NO_PEERS:-}" ]; then
   fi
 fi
 
-log "building mbsc (Release) in $BUILD"
-cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
-cmake --build "$BUILD" -j2 --target mbsc >/dev/null
+MBSC=${MBSC_BIN:-$BUILD/mbsc}   # MBSC_BIN=path: measure that binary, nothing built
+if [ -z "${MBSC_BIN:-}" ]; then
+  log "building mbsc (Release) in $BUILD"
+  cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
+  cmake --build "$BUILD" -j2 --target mbsc >/dev/null
+fi
 rm -rf "$WORK" && mkdir -p "$WORK" bench/results
-out=bench/results/planar.md
+out=${RESULT:-bench/results/planar.md}
 speed=$WORK/speed.md
 acc=$WORK/accuracy.md
 {
@@ -69,9 +74,9 @@ run() {  # model, guesses, drivers, MuJoCo joint map, MuJoCo inputs[, sympy vari
   local m=$1 guess=$2 drivers=$3 mjmap=$4 mjin=$5 sv=${6:-$1} label=$1
   if [ "$sv" != "$m" ]; then label="$m (sympy: $sv)"; fi
   log "$m: mbsc generate (complement, multipliers)"
-  "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" >/dev/null
-  "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" --name "${m}_mult" --formulation multipliers >/dev/null
-  "$BUILD/mbsc" generate "models/$m.mbs" -o "$WORK" --name "${m}_min" --state minimal >/dev/null
+  "$MBSC" generate "models/$m.mbs" -o "$WORK" >/dev/null
+  "$MBSC" generate "models/$m.mbs" -o "$WORK" --name "${m}_mult" --formulation multipliers >/dev/null
+  "$MBSC" generate "models/$m.mbs" -o "$WORK" --name "${m}_min" --state minimal >/dev/null
   local oc om on dof
   oc=$(sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/$m/$m.cpp")
   om=$(sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/${m}_mult/${m}_mult.cpp")

@@ -138,9 +138,9 @@ NodeId Dag::make_add(std::vector<NodeId> ops) {
   ops.erase(std::remove_if(ops.begin(), ops.end(),
                            [this](NodeId c) { return node(c).kind == NodeKind::Number && node(c).value == 0.0; }),
             ops.end());
+  if (ops.size() >= 2) simplify_sum_terms(ops);  // sorts them too
   if (ops.empty()) return make_number(0.0);
   if (ops.size() == 1) return ops[0];
-  std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
   Node n;
   n.kind = NodeKind::Add;
   n.hash = kind_seed(n.kind, 0);

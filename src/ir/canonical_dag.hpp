@@ -92,6 +92,26 @@ class Dag {
   NodeId make_invariant_product(std::vector<NodeId> factors);
   NodeId make_flat_mul(std::vector<NodeId> ops);
 
+  // Rewrites of a sum's terms before the sum is made (sum_rewrites.cpp).
+  /// Applies the rewrites below until none fires (a few rounds at most); leaves `terms`
+  /// sorted canonically.
+  void simplify_sum_terms(std::vector<NodeId>& terms);
+  /// c1*F + c2*F -> (c1 + c2)*F (numbers are terms with F = 1); true when one fired.
+  bool collect_like_terms(std::vector<NodeId>& terms);
+  /// F*sin(u)^2 + F*cos(u)^2 -> F; true when one fired.
+  bool fold_pythagorean_pairs(std::vector<NodeId>& terms);
+  /// c*(a1 + ... + am)*G -> c*a1*G + ... + c*am*G when all but at most one of those
+  /// terms are like terms of others in the sum (so they merge or cancel); true when fired.
+  bool distribute_into_like_terms(std::vector<NodeId>& terms);
+  /// The product of `factors` (no numbers among them) times `coef`, with equal bases
+  /// merged into one power (x * x^2 -> x^3).
+  NodeId make_product_merging_powers(const std::vector<NodeId>& factors, double coef);
+  /// A term's numeric coefficient and the rest of it (-1 for a plain number).
+  NodeId split_coefficient(NodeId term, double& coef);
+  /// Appends the non-numeric factors of a product (nested products flattened) to
+  /// `factors` and multiplies its numbers into `coef`.
+  void flatten_factors(NodeId term, std::vector<NodeId>& factors, double& coef) const;
+
   std::vector<Node> nodes_;
   std::vector<NodeId> children_;
   std::vector<std::string> texts_;        // Input texts by id
