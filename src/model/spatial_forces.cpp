@@ -108,10 +108,9 @@ void SpatialLibrary::add_friction(const std::string& what, const std::string& ro
                                   const SourcePos& pos, const End& a, const End& b) {
   // The coefficient is a constant: the generated code solves the law at each state with
   // mu fixed, and a negative one would push the slider along its motion.
-  if (varies(mu)) {
-    diags_.error(pos, fmt::format("{}: the friction coefficient must be a constant (parameters only; it reads the state, "
-                                  "an input or t)",
-                                  what));
+  if (const std::string varying = varies(mu); !varying.empty()) {
+    diags_.error(pos, fmt::format("{}: the friction coefficient must be a constant (parameters only; it reads {})", what,
+                                  varying));
     return;
   }
   if (const double v = at_defaults(mu); !std::isnan(v) && v < 0.0) {
