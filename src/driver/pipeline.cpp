@@ -439,7 +439,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     const sym::NodeResult& root = eom.nodes[static_cast<std::size_t>(m.root())];
     if (nd > 0 && (opt.mass_matrix == MassMatrixForm::Factors ||
                    (opt.mass_matrix == MassMatrixForm::Auto &&
-                    congruence_products(root.C, root.My) > kFactorFormMinProducts)))
+                    std::max(congruence_products(root.C, root.My), static_cast<long>(nd) * nd) > kFactorFormMinWork)))
       factors = mass_matrix_from_factors(m, eom, with_rebuild(solve_steps(m, eom)), fin);
     if (factors) {
       specs.push_back(std::move(*factors));

@@ -35,15 +35,16 @@ enum class Solver {
 
 /// How the mass_matrix output is formed.
 enum class MassMatrixForm {
-  Auto,      // Factors when the product C^T My C needs more than kFactorFormMinProducts products
+  Auto,      // Factors when the product C^T My C or M itself is big (kFactorFormMinWork)
   Symbolic,  // every entry of M = C^T My C formed symbolically, lowered with CSE
   Factors,   // the nonzeros of C and My, and a loop forming C^T My C in the generated code
 };
 
-/// Above this many products (upper triangle of C^T My C, what the loop does) auto forms
-/// mass_matrix from its factors: a chain of about 40 links and longer. No shipped model
-/// comes near it, so their generated code keeps the symbolic form.
-inline constexpr long kFactorFormMinProducts = 20000;
+/// Above this many products (upper triangle of C^T My C, what the loop does) or entries
+/// of M (ndof^2: each formed, finalized and lowered in the symbolic form), auto forms
+/// mass_matrix from its factors: a chain of about 40 links, 150 free particles and
+/// bigger. No shipped model comes near it, so their generated code keeps the symbolic form.
+inline constexpr long kFactorFormMinWork = 20000;
 
 /// "auto", "symbolic" or "factors" (the CLI has checked the name).
 MassMatrixForm mass_matrix_form_named(const std::string& name);
