@@ -5,7 +5,9 @@
 // M(a, b) = sum over the nonzeros My(r, s) of My(r, s) C(r, a) C(s, b). The loop visits
 // each nonzero of My and, for it, each pair of nonzeros of rows r and s of C, adding
 // only to the upper triangle (b >= a); the lower triangle is then copied from it, so
-// the result is exactly symmetric (a Cholesky factorisation can rely on it).
+// the result is exactly symmetric (a Cholesky factorisation can rely on it). The rows
+// of C are stored by increasing column, so for a diagonal My(r, r) the pairs with
+// b >= a start at a itself.
 #include <string>
 
 #include "program_ir.hpp"
@@ -48,7 +50,7 @@ std::string congruence_loop(const CongruenceProduct& c, OpCount& ops) {
   out += "    for (int i_ = c_row_ptr_[r_]; i_ < c_row_ptr_[r_ + 1]; ++i_) {\n";
   out += "      const int a_ = c_col_[i_];\n";
   out += "      const double mc_ = m_ * factor_[c_value_[i_]];\n";
-  out += "      for (int j_ = c_row_ptr_[s_]; j_ < c_row_ptr_[s_ + 1]; ++j_)\n";
+  out += "      for (int j_ = r_ == s_ ? i_ : c_row_ptr_[s_]; j_ < c_row_ptr_[s_ + 1]; ++j_)\n";
   out += "        if (c_col_[j_] >= a_) OUT[a_ * " + nd + " + c_col_[j_]] += mc_ * factor_[c_value_[j_]];\n";
   out += "    }\n  }\n";
   out += "  for (int a_ = 0; a_ < " + nd + "; ++a_)\n";
@@ -60,7 +62,7 @@ std::string congruence_loop(const CongruenceProduct& c, OpCount& ops) {
     const auto r = static_cast<std::size_t>(c.my_row[k]), s = static_cast<std::size_t>(c.my_col[k]);
     for (int i = c.c_row_ptr[r]; i < c.c_row_ptr[r + 1]; ++i) {
       ops.muls += 1;
-      for (int j = c.c_row_ptr[s]; j < c.c_row_ptr[s + 1]; ++j)
+      for (int j = r == s ? i : c.c_row_ptr[s]; j < c.c_row_ptr[s + 1]; ++j)
         if (c.c_col[static_cast<std::size_t>(j)] >= c.c_col[static_cast<std::size_t>(i)]) {
           ops.muls += 1;
           ops.adds += 1;
