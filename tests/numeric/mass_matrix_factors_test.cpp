@@ -39,7 +39,7 @@ Agreement compare(MassFn factors, MassFn symbolic, int nx, int nd, const double*
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> val(-1.5, 1.5);
   const std::vector<double> p(defaults, defaults + np);
-  const std::vector<double> u(8, 0.0);
+  const std::vector<double> u(64, 0.0);  // more than any of these models has inputs
   Agreement out;
   for (int trial = 0; trial < trials; ++trial) {
     std::vector<double> x(static_cast<std::size_t>(nx)), mf(static_cast<std::size_t>(nd * nd)), ms(mf.size());
