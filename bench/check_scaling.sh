@@ -9,8 +9,9 @@
 # when
 #   rhs instructions per call grow faster than N^RHS_MAX   (default 1.1), or
 #   generation CPU time grows faster than N^GEN_MAX        (default 1.3).
-# Not a ctest entry: about 40 minutes on 2 cores today, nearly all of it g++ on the
-# N = 128 file of the dense rhs (the O(N) rhs is meant to bring that under a minute).
+# Not a ctest entry: a few minutes on 2 cores (valgrind and g++; the default file of
+# N = 128, every function with mass_matrix formed from its factors, compiles in about
+# 14 s of CPU; it took 183 s with the symbolic mass_matrix, `--mass-matrix symbolic`).
 #
 #   bash bench/check_scaling.sh                          (from the repository root)
 #   MBSC_GEN_FLAGS="--solver sparse" bash bench/check_scaling.sh

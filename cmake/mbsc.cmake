@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 # mbsc_add_model(<target> MODEL <file.mbs> [NAME name] [STATE full|minimal]
-#                [FORMULATION complement|multipliers] [SOLVER auto|dense|sparse] [OUTPUTS fn...] [FREEZE name=value...])
+#                [FORMULATION complement|multipliers] [SOLVER auto|dense|sparse]
+#                [MASS_MATRIX auto|symbolic|factors] [OUTPUTS fn...] [FREEZE name=value...])
 #
 # Runs the mbsc compiler at build time and adds the generated C++ to <target>.
 # The generated header is included as "<name>/<name>.hpp", namespace mbsc_gen::<name>.
@@ -46,7 +47,7 @@ function(_mbsc_model_name path out_var)
 endfunction()
 
 function(mbsc_add_model target)
-  cmake_parse_arguments(ARG "" "MODEL;NAME;STATE;FORMULATION;SOLVER" "OUTPUTS;FREEZE" ${ARGN})
+  cmake_parse_arguments(ARG "" "MODEL;NAME;STATE;FORMULATION;SOLVER;MASS_MATRIX" "OUTPUTS;FREEZE" ${ARGN})
   if(NOT ARG_MODEL)
     message(FATAL_ERROR "mbsc_add_model: MODEL is required")
   endif()
@@ -77,6 +78,9 @@ function(mbsc_add_model target)
   endif()
   if(ARG_SOLVER)
     list(APPEND args --solver ${ARG_SOLVER})
+  endif()
+  if(ARG_MASS_MATRIX)
+    list(APPEND args --mass-matrix ${ARG_MASS_MATRIX})
   endif()
   if(ARG_OUTPUTS)
     string(REPLACE ";" "," outs "${ARG_OUTPUTS}")

@@ -181,6 +181,12 @@ int main(int argc, char** argv) {
                 "for a tree of bodies when it is cheaper)")
       ->check(CLI::IsMember({"auto", "dense", "sparse"}))
       ->default_val("auto");
+  g->add_option("--mass-matrix", gen.mass_matrix,
+                "how mass_matrix forms M = C^T My C: symbolic (every entry, simplified and shared), factors (the "
+                "nonzeros of C and My and a loop in the generated code: linear code size for long chains), auto "
+                "(factors when the product is big)")
+      ->check(CLI::IsMember({"auto", "symbolic", "factors"}))
+      ->default_val("auto");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
   g->add_flag("--python", gen.python,

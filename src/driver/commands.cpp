@@ -336,6 +336,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.multipliers = a.multipliers;
     opt.minimal_state = a.minimal_state;
     opt.solver = solver_named(a.solver);
+    opt.mass_matrix = mass_matrix_form_named(a.mass_matrix);
     opt.frozen = a.frozen;
     opt.name = a.name;
     g = generate(*m, *eom, opt, diags);

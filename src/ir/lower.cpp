@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // ir::lower: FunctionSpec -> canonical DAG -> scheduled Program -> printed body.
+#include <algorithm>
 #include <cctype>
 #include <memory>
 #include <stdexcept>
@@ -85,10 +86,13 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
   for (std::size_t i = 0; i < outputs.size(); ++i)
     prog->roots.push_back({Root::Kind::Output, static_cast<int>(i), outputs[i]});
   prog->nout = static_cast<int>(outputs.size());
+  if (spec.congruence) prog->out_array = "factor_";  // the factors' values; OUT is formed from them
 
   // Names a Define's temporary must avoid: the parameters, the loop index, std, lu_solve,
   // and every identifier the bindings' texts use.
   std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2"};
+  if (spec.congruence)
+    for (const char* n : {"factor_", "c_row_ptr_", "c_col_", "c_value_", "my_row_", "my_col_", "my_value_"}) reserved.push_back(n);
   for (const Binding& b : bindings) add_identifiers(b.cpp, reserved);
 
   schedule(*prog, define_names, reserved);
@@ -100,6 +104,16 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
   out.out_shape = spec.out_shape;
   out.nout = prog->nout;
   out.body = print_program(*prog, out.ops);
+  if (spec.congruence) {
+    // The values first (into factor_), then the loop over the pattern in place of `return 0;`.
+    const std::string tail = "  return 0;";
+    if (out.body.size() < tail.size() || out.body.compare(out.body.size() - tail.size(), tail.size(), tail) != 0)
+      throw std::logic_error("lower: a function body that does not end with its status");
+    out.body.resize(out.body.size() - tail.size());
+    out.body = "  double factor_[" + std::to_string(std::max(prog->nout, 1)) + "];\n" + out.body +
+               congruence_loop(*spec.congruence, out.ops) + tail;
+    out.nout = spec.congruence->nd * spec.congruence->nd;
+  }
   out.used_args = prog->used_args;
   out.third_arg = spec.third_arg;
   return out;

@@ -72,7 +72,7 @@ class Printer {
                       std::to_string(prog_.live_inputs.size()) + ");\n  };");
     for (const Statement& st : prog_.statements) {
       if (fill && st.kind == Statement::Kind::Output && !filled) {
-        lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) + "; ++i) OUT[i] = 0.0;  // " +
+        lines.push_back("  for (int i = 0; i < " + std::to_string(prog_.nout) + "; ++i) " + prog_.out_array + "[i] = 0.0;  // " +
                         std::to_string(zeros) + " of the " + std::to_string(prog_.nout) + " entries are zero");
         filled = true;
       }
@@ -85,12 +85,12 @@ class Printer {
           solve(prog_.solves[static_cast<std::size_t>(st.index)], lines);
           break;
         case Statement::Kind::Output:
-          lines.push_back("  OUT[" + std::to_string(st.index) + "] = " + ref(st.node).s + ";");
+          lines.push_back("  " + prog_.out_array + "[" + std::to_string(st.index) + "] = " + ref(st.node).s + ";");
           break;
       }
     }
     if (prog_.nout > 0)
-      lines.push_back("  if (!all_finite(OUT, " + std::to_string(prog_.nout) + ")) return 2;");
+      lines.push_back("  if (!all_finite(" + prog_.out_array + ", " + std::to_string(prog_.nout) + ")) return 2;");
     else
       lines.push_back("  (void)OUT;");
     lines.push_back("  return 0;");

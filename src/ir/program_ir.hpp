@@ -53,6 +53,7 @@ struct Program {
   std::vector<NodeId> define_ref_value;
   std::vector<Statement> statements;
   int nout = 0;
+  std::string out_array = "OUT";  // where the outputs go (a local array when OUT is formed from them)
   std::vector<std::string> used_args;  // subset of t, x, u, p, in that order
   std::vector<std::string> live_inputs;  // texts of the inputs the function reads ("x[3]", "p[0]"), sorted
 };
@@ -65,6 +66,10 @@ void schedule(Program& prog, const std::vector<std::string>& define_names, const
 /// Prints the statements as the function body (2-space indent, ends with `return 0;`)
 /// and counts the operations it prints.
 std::string print_program(const Program& prog, OpCount& ops);
+
+/// The static pattern tables and the loop forming OUT = C^T My C from the local array
+/// factor_ (the function's outputs), then OUT's finiteness check; counts what it adds.
+std::string congruence_loop(const CongruenceProduct& product, OpCount& ops);
 
 /// Largest integer exponent printed as repeated multiplication (x*x*x*x).
 inline constexpr int kMaxRepeatedPower = 4;

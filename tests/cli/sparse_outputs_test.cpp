@@ -132,3 +132,31 @@ TEST_CASE("--outputs with only a values function writes no dense twin", "[cli][s
   REQUIRE(header.find("kConstraintJacobianNnz") == std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("mass_matrix of a long chain is formed from its factors by a loop; a short one stays symbolic",
+          "[cli][sparse][mass_matrix_factors]") {
+  // The pendulum chain: at N = 60 the product C^T My C takes about 2 N^3 / 6 = 72 000
+  // products (auto: factors); at N = 8 about 350 (auto: symbolic). The factor form's
+  // function holds the distinct values (two per link and the mass), not N^2 entries.
+  const std::string chain = quote(std::string(MBSC_SOURCE_DIR) + "/tests/data/chain/pendulum_chain.mbs");
+  auto mass_matrix_lines = [&](int n, const std::string& extra) {
+    const auto dir = fresh_dir("mass_matrix_factors");
+    const auto r = run(kMbsc + " generate " + chain + " --freeze N=" + std::to_string(n) +
+                       " --state minimal --outputs mass_matrix --quiet -o " + quote(dir.string()) + extra);
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    return function_lines(slurp(dir / "pendulum_chain" / "pendulum_chain.cpp"), "mass_matrix");
+  };
+  const auto long_auto = mass_matrix_lines(60, "");
+  CHECK(count_prefix(long_auto, "  // OUT = C^T My C (60x60)") == 1);
+  CHECK(count_prefix(long_auto, "  OUT[") == 0);  // no entry written one by one
+  CHECK(count_prefix(long_auto, "  factor_[") <= 2 * 60 + 2);
+  const auto long_symbolic = mass_matrix_lines(60, " --mass-matrix symbolic");
+  CHECK(2 * long_auto.size() < long_symbolic.size());  // C's 3 720 nonzeros: tables of 20 a line
+  CHECK(count_prefix(long_symbolic, "  // OUT = C^T My C") == 0);
+  CHECK(count_prefix(long_symbolic, "  OUT[") >= 60 * 61 / 2);
+  const auto short_auto = mass_matrix_lines(8, "");
+  CHECK(count_prefix(short_auto, "  // OUT = C^T My C") == 0);
+  const auto short_factors = mass_matrix_lines(8, " --mass-matrix factors");
+  CHECK(count_prefix(short_factors, "  // OUT = C^T My C (8x8)") == 1);
+}

@@ -52,6 +52,7 @@ struct GenerateArgs {
   bool minimal_state = false;       // --state minimal
   bool multipliers = false;         // --formulation multipliers
   std::string solver = "auto";      // --solver auto|dense|sparse (GenerateOptions::solver)
+  std::string mass_matrix = "auto";  // --mass-matrix auto|symbolic|factors (GenerateOptions::mass_matrix)
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
   std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)

@@ -33,6 +33,25 @@ enum class Solver {
   Sparse,  // block elimination of the sparse system over all speeds, in a tree order
 };
 
+/// How the mass_matrix output is formed.
+enum class MassMatrixForm {
+  Auto,      // Factors when the product C^T My C or M itself is big (kFactorFormMinWork)
+  Symbolic,  // every entry of M = C^T My C formed symbolically, lowered with CSE
+  Factors,   // the nonzeros of C and My, and a loop forming C^T My C in the generated code
+};
+
+/// Above this many products (upper triangle of C^T My C, what the loop does) or entries
+/// of M (ndof^2: each formed, finalized and lowered in the symbolic form), auto forms
+/// mass_matrix from its factors: a chain of about 40 links, 150 free particles and
+/// bigger. No shipped model comes near it, so their generated code keeps the symbolic form.
+inline constexpr long kFactorFormMinWork = 20000;
+
+/// "auto", "symbolic" or "factors" (the CLI has checked the name).
+MassMatrixForm mass_matrix_form_named(const std::string& name);
+
+/// The products the loop of the factor form does for M = C^T My C (upper triangle).
+long congruence_products(const GiNaC::matrix& C, const GiNaC::matrix& My);
+
 /// "auto", "dense" or "sparse" (the CLI has checked the name).
 Solver solver_named(const std::string& name);
 
@@ -43,6 +62,7 @@ struct GenerateOptions {
   bool minimal_state = false;             // --state minimal: x = (kept q0, z), see sym/minimal_state.hpp
   bool multipliers = false;               // --formulation multipliers (sym/multipliers.hpp)
   Solver solver = Solver::Auto;           // --solver
+  MassMatrixForm mass_matrix = MassMatrixForm::Auto;  // --mass-matrix
 };
 
 /// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]

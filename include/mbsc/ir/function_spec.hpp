@@ -6,6 +6,7 @@
 /// dropped) and prints it; it never simplifies the mathematics.
 #include <ginac/ginac.h>
 
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -61,6 +62,18 @@ struct Solve {
 
 using Step = std::variant<Define, Solve>;
 
+/// A dense symmetric output formed in the generated code as M = C^T My C from the
+/// nonzeros of its sparse factors (a reduced mass matrix of a long chain: N^2 entries of
+/// O(N) terms each, where C and My hold O(N^2) and O(N) short entries). The function's
+/// `outputs` are then the distinct values of those nonzeros (into a local array); each
+/// nonzero names its value by index, and a loop over the nonzeros forms OUT.
+struct CongruenceProduct {
+  int ny = 0;  // rows of C (and of My)
+  int nd = 0;  // columns of C: OUT is nd x nd, row-major
+  std::vector<int> c_row_ptr, c_col, c_value;  // C in compressed rows; c_value indexes `outputs`
+  std::vector<int> my_row, my_col, my_value;   // My's nonzeros (both triangles), my_value indexes `outputs`
+};
+
 /// One emitted function:
 ///   int NAME(double t, const double* x, const double* u, const double* p, double* OUT)
 /// OUT[i] = outputs[i] (row-major for matrices). Returns 0, 1 (singular solve) or
@@ -78,6 +91,8 @@ struct FunctionSpec {
   /// When set, the function cannot be computed for this model: it is emitted returning 4
   /// with NaN outputs, and this sentence in its documentation.
   std::string undefined_reason{};
+  /// When set, OUT is formed from the outputs by this product (CongruenceProduct).
+  std::optional<CongruenceProduct> congruence{};
 };
 
 }  // namespace mbsc::ir
