@@ -83,20 +83,23 @@ std::vector<ir::Step> closure_steps(const model::Model& m, const sym::Eom& eom, 
   const GiNaC::ex n00 = w1 * pow(lambda(r1, 0), 2) + w2 * pow(lambda(r2, 0), 2);
   const GiNaC::ex n11 = w1 * pow(lambda(r1, 1), 2) + w2 * pow(lambda(r2, 1), 2);
   const GiNaC::ex n01 = w1 * lambda(r1, 0) * lambda(r1, 1) + w2 * lambda(r2, 0) * lambda(r2, 1);
+  // sigma first: at rest (sigma = 0) the law gives F = 0 whatever N, and the lead below
+  // is 1, so a joint at rest never reports a jam.
+  const GiNaC::symbol sigma("friction_sign"), root("friction_root");
   ir::Solve lead;
   lead.label = fmt::format("friction of joint '{}': 1 - mu^2 |N1|^2 > 0, else the joint jams (status 1)", fr.joint);
   lead.n = 1;
   lead.k = 1;
   lead.spd = true;
   lead.reported = false;
-  lead.A.push_back(1 - mu * mu * n11);
+  lead.A.push_back(1 - sigma * sigma * mu * mu * n11);
   lead.B.push_back(1);
   const GiNaC::symbol inverse("friction_inverse_lead");
   lead.X.push_back(inverse);
   const GiNaC::ex b = -2 * mu * mu * n01, c = -mu * mu * n00;
-  const GiNaC::symbol sigma("friction_sign"), root("friction_root");
-  std::vector<ir::Step> steps{s, lead};
+  std::vector<ir::Step> steps{s};
   steps.push_back(ir::Define{sigma, GiNaC::csgn(fin(fr.slide_velocity)), false});
+  steps.push_back(lead);
   // b^2 - 4 a c >= b^2 >= 0 since a > 0 and c <= 0.
   steps.push_back(ir::Define{root, GiNaC::sqrt(b * b - 4 * c / inverse), false});
   steps.push_back(ir::Define{fr.force, -(sigma * sigma * b + sigma * root) * inverse / 2, true});

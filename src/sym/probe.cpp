@@ -23,6 +23,8 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
   for (const auto& q : model.coords) values_[q.sym] = next(-1.3, 1.3);
   for (const auto& u : model.speeds) values_[u.sym] = next(-1.3, 1.3);
   for (const auto& in : model.inputs) values_[in.sym] = next(-1.0, 1.0);
+  // A friction force is given like an input until the generated code closes its law.
+  for (const auto& f : model.frictions) values_[f.force] = next(-1.0, 1.0);
   bind_parameters(model, param_values);
 }
 
@@ -32,6 +34,7 @@ Probe Probe::reference(const model::Model& model, const std::map<std::string, do
   for (const auto& q : model.coords) p.values_[q.sym] = 0.0;
   for (const auto& u : model.speeds) p.values_[u.sym] = 0.0;
   for (const auto& in : model.inputs) p.values_[in.sym] = 0.0;
+  for (const auto& f : model.frictions) p.values_[f.force] = 0.0;
   p.bind_parameters(model, param_values);
   return p;
 }

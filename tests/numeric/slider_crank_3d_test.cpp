@@ -19,7 +19,7 @@
 // it in the generated code; checked against the reference:
 //  - its rhs (complement, multipliers, --state minimal) equals the outside closure's;
 //  - the force read back from its accelerations has |F| = mu |N| with its own N, opposes
-//    v, and is 0 at rest; a jamming mu gives status 1, never NaN;
+//    v, and is 0 at rest; a jamming mu gives status 1, never NaN (but not at rest);
 //  - E(t) - E(0) = integral of (u1 w - mu |N| |v|) dt over a run of its rhs alone.
 #include <catch2/catch.hpp>
 #include <array>
@@ -383,6 +383,14 @@ TEST_CASE("slider-crank 3-D friction in the generated code: a jamming coefficien
       for (double v : a) CHECK(std::isfinite(v));
   }
   CHECK(jammed >= 18);
+  // At rest the law gives F = 0 whatever mu: no jam, the accelerations of Ff = 0.
+  const auto x = state(0.7, 0.0, 0.3);
+  REQUIRE(x[ix("slider.u")] == 0.0);
+  const double u1 = 1.5, in[2] = {u1, 0};
+  std::vector<double> a(x.size()), ref(x.size());
+  REQUIRE(C::rhs(0.0, x.data(), &u1, p.data(), a.data()) == 0);
+  REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, ref.data()) == 0);
+  for (std::size_t i = 0; i < x.size(); ++i) CHECK(std::fabs(a[i] - ref[i]) < 1e-12 * (1 + std::fabs(ref[i])));
 }
 
 TEST_CASE("slider-crank 3-D friction in the generated code: E(t) - E(0) = integral of (u1 w - mu |N| |v|)",
