@@ -3,6 +3,8 @@
 // multipliers and reaction_forces from one (nu + nc) solve, over the full state.
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/multipliers.hpp"
 #include "mbsc/sym/probe.hpp"
@@ -129,13 +131,13 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
   std::vector<ir::FunctionSpec> specs;
   if (wanted("rhs")) {
     ir::FunctionSpec f{"rhs", rhs_doc, "xdot", "kNx", steps, rhs_outputs};
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("multipliers") && nc > 0) {
     ir::FunctionSpec f{"multipliers", "Lagrange multipliers lambda, one per constraint (kConstraintNames)", "lambda", "kNc",
                        steps, {}};
     for (const auto& l : lambda) f.outputs.push_back(l);
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("reaction_forces") && nc > 0) {
     ir::FunctionSpec f{"reaction_forces", "generalized constraint forces A^T lambda along each speed (kStateNames after kNq)",
@@ -145,7 +147,7 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       for (unsigned r = 0; r < nc; ++r) e += fin(form.A(r, j)) * lambda[r];
       f.outputs.push_back(e);
     }
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   return specs;
 }

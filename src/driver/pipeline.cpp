@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
@@ -429,7 +430,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         if (prefer_sparse(m, opt, *sparse, f, dense, bindings(m, eom, minimal))) chosen = std::move(f);
       }
     }
-    specs.push_back(chosen ? *chosen : dense());
+    if (chosen) specs.push_back(std::move(*chosen));
+    else specs.push_back(dense());
   }
   if (wanted("mass_matrix")) {
     preparing("mass_matrix");
@@ -448,7 +450,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                          "M", "kNdof*kNdof", nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
       for (int i = 0; i < nd; ++i)
         for (int j = 0; j < nd; ++j) f.outputs.push_back(fin(eom.M(i, j)));
-      specs.push_back(f);
+      specs.push_back(std::move(f));
     }
   }
   if (wanted("forcing")) {
@@ -456,7 +458,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     ir::FunctionSpec f{"forcing", "forcing h with M z' = h (z = independent speeds)", "h", "kNdof",
                        nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
     for (int i = 0; i < nd; ++i) f.outputs.push_back(fin(eom.h(i, 0)));
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("inverse_dynamics")) {
     preparing("inverse_dynamics");
@@ -472,13 +474,13 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("position_constraints");
     ir::FunctionSpec f{"position_constraints", "position constraint residuals (kPositionConstraintNames)", "r",
                        "kNposc", rebuild_for(!pos.empty()), pos};
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("velocity_constraints")) {
     preparing("velocity_constraints");
     ir::FunctionSpec f{"velocity_constraints", "velocity-level residuals of all constraints (kConstraintNames)", "r", "kNc",
                        rebuild_for(!vel.empty()), vel};
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   // The Jacobians are over every speed / every coordinate (the full layout, kFullStateNames):
   // with --state minimal they are evaluated at the rebuilt full state.
@@ -486,28 +488,30 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("constraint_jacobian");
     ir::FunctionSpec f{"constraint_jacobian", "A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull",
                        "A", "kNc*kNuFull", rebuild_for(!vel.empty()), {}};
+    f.outputs.reserve(vel.size() * m.speeds.size());
     for (const auto& v : vel) {
       const sym::SymbolSet in_v(v);  // most entries are zero: no diff for those
       for (const auto& s : m.speeds) f.outputs.push_back(in_v.diff(v, s.sym));
     }
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("position_jacobian") || wanted("position_jacobian_values")) {
     preparing("position_jacobian");
     ir::FunctionSpec f{"position_jacobian",
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
+    f.outputs.reserve(pos.size() * m.coords.size());
     for (const auto& g : pos) {
       const sym::SymbolSet in_g(g);
       for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
     }
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("energy") && eom.has_energy) {
     preparing("energy");
     ir::FunctionSpec f{"energy", "energy: {kinetic T, potential V, total T + V}", "E", "3", rebuild, {}};
     f.outputs = {fin(eom.kinetic), fin(eom.potential), fin(eom.kinetic + eom.potential)};
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   } else if (!opt.functions.empty() && opt.functions.count("energy") && !eom.has_energy) {
     diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs energy: model '{}' has a custom leaf without a 'kinetic' term, so its "
                                          "energy is not defined", m.name));
@@ -516,7 +520,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("outputs");
     ir::FunctionSpec f{"outputs", "named outputs (kOutputNames)", "y", "kNy", rebuild_for(!m.outputs.empty()), {}};
     for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   if (wanted("full_state")) {
     preparing("full_state");
@@ -526,7 +530,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                        "x_full", "kNxFull", rebuild, {}};
     for (const auto& q : m.coords) f.outputs.push_back(q.sym);
     for (const auto& u : m.speeds) f.outputs.push_back(u.sym);
-    specs.push_back(f);
+    specs.push_back(std::move(f));
   }
   return specs;
 }
@@ -556,7 +560,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     if (opt.functions.empty() && !eom.has_energy) rest.functions.erase("energy");  // undefined_energy below
     specs = multiplier_specs(m, eom, opt, gains, diags);
     if (!rest.functions.empty())
-      for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(f);
+      for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(std::move(f));
   } else {
     for (const char* own : {"multipliers", "reaction_forces"})
       if (opt.functions.count(own))
@@ -694,7 +698,9 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     binds.push_back({gains.beta, fmt::format("p[{}]", np + 1), true});
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
-    const auto& spec = specs[i];
+    // Taken out of the list: its expressions are freed once it is lowered (a big model's
+    // dense Jacobians and M need not outlive their own lowering).
+    const ir::FunctionSpec spec = std::move(specs[i]);
     checkpoint("generating", fmt::format("function '{}'", spec.name), m.name_pos, i, specs.size());
     if (!spec.undefined_reason.empty()) {
       g.functions.push_back(undefined_function(spec));

@@ -15,13 +15,16 @@ SparseJacobian sparse_jacobian(const ir::FunctionSpec& dense, long rows, long co
     throw std::logic_error("sparse_jacobian: " + dense.name + " does not have rows x cols outputs");
   SparseJacobian s;
   s.prefix = prefix;
-  s.values = dense;
+  // Every field of the dense spec but its rows x cols outputs (copying those first would
+  // hold a second dense matrix of expressions at the peak of a big model's generation).
   s.values.name = dense.name + "_values";
+  s.values.steps = dense.steps;
+  s.values.third_arg = dense.third_arg;
+  s.values.undefined_reason = dense.undefined_reason;
   s.values.doc = "the entries of " + dense.name + " that are not identically zero, row by row (CSR order: row i holds\n" +
                  prefix + "ColIdx[" + prefix + "RowPtr[i] .. " + prefix + "RowPtr[i+1]))";
   s.values.out_name = "values";
   s.values.out_shape = prefix + "Nnz";
-  s.values.outputs.clear();
   s.row_ptr.push_back(0);
   for (long r = 0; r < rows; ++r) {
     for (long c = 0; c < cols; ++c) {
