@@ -109,10 +109,10 @@ std::vector<ir::Step> closure_steps(const model::Model& m, const sym::Eom& eom, 
 }  // namespace
 
 void close_friction(const model::Model& m, const sym::Eom& eom, bool multipliers, const BaumgarteGains& gains,
-                    std::vector<ir::FunctionSpec>& specs) {
+                    std::vector<ir::FunctionSpec>& specs, std::optional<std::vector<ir::Step>>& closure) {
   if (m.frictions.empty()) return;
   const model::Friction& fr = m.frictions.front();
-  std::optional<std::vector<ir::Step>> closure;  // built for the first function that needs it
+  // `closure` is built for the first function that needs it.
   for (auto& f : specs) {
     if (!f.undefined_reason.empty()) continue;
     if (std::any_of(f.steps.begin(), f.steps.end(), [&](const ir::Step& s) { return defines(s, fr.force); })) continue;

@@ -568,7 +568,8 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     if (!diags.has_errors()) specs = function_specs(m, eom, opt, diags, ms);
   }
   if (diags.has_errors()) return std::nullopt;
-  close_friction(m, eom, opt.multipliers, gains, specs);
+  std::optional<std::vector<ir::Step>> friction_closure;
+  close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
   const std::vector<SparseJacobian> sparse = add_sparse_jacobians(m, opt, specs);
 
   // Conditioning of the solved blocks, and the partitions the run time can switch
@@ -598,7 +599,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     partitions = partition_specs(m, eom, opt, npart, *rhs, diags);
     if (!partitions) return std::nullopt;
     specs.insert(specs.end(), partitions->specs.begin(), partitions->specs.end());
-    close_friction(m, eom, opt.multipliers, gains, specs);
+    close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
   }
 
   emit::GeneratedModel g;

@@ -75,8 +75,10 @@ struct BaumgarteGains {
 /// A model with Coulomb friction (model::Model::frictions): every function that reads a
 /// friction force gets the steps that solve the friction law for it (friction_closure.cpp);
 /// inverse_dynamics becomes undefined. `multipliers`: the reactions carry Baumgarte terms.
+/// `closure` holds those steps once built, so that a second call (for functions added
+/// later) reuses them instead of deriving the closure again; it starts empty.
 void close_friction(const model::Model& m, const sym::Eom& eom, bool multipliers, const BaumgarteGains& gains,
-                    std::vector<ir::FunctionSpec>& specs);
+                    std::vector<ir::FunctionSpec>& specs, std::optional<std::vector<ir::Step>>& closure);
 
 /// rhs, multipliers and reaction_forces of the multipliers formulation.
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
