@@ -16,7 +16,17 @@ MassMatrixForm mass_matrix_form_named(const std::string& name) {
   return name == "symbolic" ? MassMatrixForm::Symbolic : name == "factors" ? MassMatrixForm::Factors : MassMatrixForm::Auto;
 }
 
+namespace {
+
+/// C is ny x nd and My is ny x ny: the shapes of M = C^T My C.
+bool congruent_shapes(const GiNaC::matrix& C, const GiNaC::matrix& My) {
+  return C.rows() == My.rows() && My.rows() == My.cols();
+}
+
+}  // namespace
+
 long congruence_products(const GiNaC::matrix& C, const GiNaC::matrix& My) {
+  if (!congruent_shapes(C, My)) return 0;
   const unsigned ny = C.rows(), nd = C.cols();
   std::vector<std::vector<unsigned>> row_cols(ny);  // the nonzero columns of each row of C
   for (unsigned i = 0; i < ny; ++i)
@@ -32,13 +42,12 @@ long congruence_products(const GiNaC::matrix& C, const GiNaC::matrix& My) {
   return products;
 }
 
-std::optional<ir::FunctionSpec> mass_matrix_from_factors(const model::Model& m, const sym::Eom& eom,
-                                                         std::vector<ir::Step> steps,
-                                                         const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
+bool form_mass_matrix_from_factors(ir::FunctionSpec& f, const model::Model& m, const sym::Eom& eom,
+                                   const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
   const sym::NodeResult& root = eom.nodes[static_cast<std::size_t>(m.root())];
   const GiNaC::matrix &C = root.C, &My = root.My;
   const int nd = eom.ndof();
-  if (nd == 0 || static_cast<int>(C.cols()) != nd || C.rows() != My.rows() || My.rows() != My.cols()) return std::nullopt;
+  if (nd == 0 || static_cast<int>(C.cols()) != nd || !congruent_shapes(C, My)) return false;
   const unsigned ny = C.rows();
 
   ir::CongruenceProduct product;
@@ -70,12 +79,11 @@ std::optional<ir::FunctionSpec> mass_matrix_from_factors(const model::Model& m, 
       product.my_value.push_back(value_index(My(r, s)));
     }
 
-  ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
-                     "M", "kNdof*kNdof", std::move(steps), {}};
+  f.outputs.clear();
   f.outputs.reserve(values.size());
   for (const auto& v : values) f.outputs.push_back(fin(v));
   f.congruence = std::move(product);
-  return f;
+  return true;
 }
 
 }  // namespace mbsc::driver

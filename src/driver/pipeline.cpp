@@ -437,21 +437,17 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     preparing("mass_matrix");
     // From its factors when asked, or (auto) when the symbolic M would be big; the
     // symbolic form otherwise (and where the root has no such factors).
-    std::optional<ir::FunctionSpec> factors;
+    ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
+                       "M", "kNdof*kNdof", nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
     const sym::NodeResult& root = eom.nodes[static_cast<std::size_t>(m.root())];
-    if (nd > 0 && (opt.mass_matrix == MassMatrixForm::Factors ||
-                   (opt.mass_matrix == MassMatrixForm::Auto &&
-                    std::max(congruence_products(root.C, root.My), static_cast<long>(nd) * nd) > kFactorFormMinWork)))
-      factors = mass_matrix_from_factors(m, eom, with_rebuild(solve_steps(m, eom)), fin);
-    if (factors) {
-      specs.push_back(std::move(*factors));
-    } else {
-      ir::FunctionSpec f{"mass_matrix", "reduced mass matrix M (row-major) over the independent speeds kDofNames",
-                         "M", "kNdof*kNdof", nd > 0 ? with_rebuild(solve_steps(m, eom)) : std::vector<ir::Step>{}, {}};
+    const bool factors = nd > 0 && (opt.mass_matrix == MassMatrixForm::Factors ||
+                                    (opt.mass_matrix == MassMatrixForm::Auto &&
+                                     std::max(congruence_products(root.C, root.My), static_cast<long>(nd) * nd) >
+                                         kFactorFormMinWork));
+    if (!(factors && form_mass_matrix_from_factors(f, m, eom, fin)))
       for (int i = 0; i < nd; ++i)
         for (int j = 0; j < nd; ++j) f.outputs.push_back(fin(eom.M(i, j)));
-      specs.push_back(std::move(f));
-    }
+    specs.push_back(std::move(f));
   }
   if (wanted("forcing")) {
     preparing("forcing");

@@ -11,12 +11,12 @@
 
 namespace mbsc::driver {
 
-/// The mass_matrix function whose outputs are the distinct nonzero values of the root's
-/// C and My (finalized by `fin`) and whose CongruenceProduct forms M from them. `steps`
-/// are what those values read (the solves, the rebuilt minimal state). nullopt when the
-/// root's factors do not have the shapes of M = C^T My C.
-std::optional<ir::FunctionSpec> mass_matrix_from_factors(const model::Model& m, const sym::Eom& eom,
-                                                         std::vector<ir::Step> steps,
-                                                         const std::function<GiNaC::ex(const GiNaC::ex&)>& fin);
+/// Makes `f` (the mass_matrix function, its steps already those the values read: the
+/// solves, the rebuilt minimal state) compute M from its factors: its outputs become the
+/// distinct nonzero values of the root's C and My (finalized by `fin`) and its
+/// CongruenceProduct forms M from them. false, `f` untouched, when the root's factors do
+/// not have the shapes of M = C^T My C.
+bool form_mass_matrix_from_factors(ir::FunctionSpec& f, const model::Model& m, const sym::Eom& eom,
+                                   const std::function<GiNaC::ex(const GiNaC::ex&)>& fin);
 
 }  // namespace mbsc::driver
