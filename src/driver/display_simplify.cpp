@@ -144,9 +144,9 @@ class Simplifier {
       }
     }
     GiNaC::ex best = candidates.front();
-    std::size_t best_size = display_size(best);
+    std::size_t best_size = measured_size(best);
     for (std::size_t i = 1; i < candidates.size(); ++i) {
-      const std::size_t s = display_size(candidates[i]);
+      const std::size_t s = measured_size(candidates[i]);
       if (s < best_size) {
         best = candidates[i];
         best_size = s;
@@ -249,7 +249,7 @@ class Simplifier {
     }
     std::stable_sort(args.begin(), args.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     GiNaC::ex best = x;
-    std::size_t best_size = display_size(GiNaC::collect_common_factors(x));
+    std::size_t best_size = measured_size(GiNaC::collect_common_factors(x));
     for (const auto& [text, u] : args) {
       (void)text;
       GiNaC::ex round_best = best;
@@ -261,7 +261,7 @@ class Simplifier {
         const GiNaC::ex y = GiNaC::add(terms);
         if (model::expanded_terms(y) > lim_.max_expanded_terms) continue;
         const GiNaC::ex candidate = GiNaC::collect_common_factors(y.expand());
-        const std::size_t size = display_size(candidate);
+        const std::size_t size = measured_size(candidate);
         if (size < best_size) {
           round_best = candidate.expand();
           best_size = size;
@@ -379,7 +379,7 @@ class Simplifier {
     auto w = waves(x);
     GiNaC::exvector extra;
     GiNaC::ex best = rebuild(w, extra);
-    std::size_t best_size = display_size(best);
+    std::size_t best_size = measured_size(best);
     const std::vector<int> zero(atoms_.size(), 0);
     // The double angles present, in key order: k with every entry even.
     std::vector<std::vector<int>> doubles;
@@ -415,7 +415,7 @@ class Simplifier {
         GiNaC::exvector trial_extra = extra;
         trial_extra.push_back(tidy_coeff(c) * v.square);
         const GiNaC::ex candidate = rebuild(trial, trial_extra);
-        const std::size_t s = display_size(candidate);
+        const std::size_t s = measured_size(candidate);
         if (s < best_size) {
           best = candidate;
           best_size = s;
@@ -432,11 +432,21 @@ class Simplifier {
     return best;
   }
 
+  /// display_size, with the characters printed charged to the whole call: comparing
+  /// candidates prints them, and on a big expression the printing itself is the cost.
+  std::size_t measured_size(const GiNaC::ex& e) {
+    const std::size_t n = display_size(e);
+    printed_ += n;
+    if (printed_ > lim_.max_printed_chars) throw AbandonAll{};
+    return n;
+  }
+
   const DisplayLimits& lim_;
   std::vector<GiNaC::ex> atoms_;
   std::size_t work_ = 0;   // this expression's products of waves
   std::size_t total_ = 0;  // the whole call's
   bool grouping_ = true;   // false once grouping ran out of budget
+  std::size_t printed_ = 0;  // characters printed to compare candidates, the whole call
 };
 
 }  // namespace

@@ -134,4 +134,13 @@ TEST_CASE("display_simplify: over its work limits it returns the plain form", "[
   const ex out2 = display_simplify(e, budget);
   CHECK(out2.is_equal(mbsc::sym::tidy(e)));
   check_same_value(e, out2);
+  // The printing that compares candidates is charged too: sin^2 + cos^2 = 1 is found
+  // with the default limits, and not when the call may print only a few characters.
+  const ex f = a * pow(sin(x), 2) + a * pow(cos(x), 2) + b * cos(y);
+  CHECK(canonical_text(display_simplify(f), false) == canonical_text(a + b * cos(y), false));
+  mbsc::driver::DisplayLimits few_chars;
+  few_chars.max_printed_chars = 20;
+  const ex out3 = display_simplify(f, few_chars);
+  CHECK(out3.is_equal(mbsc::sym::tidy(f)));
+  check_same_value(f, out3);
 }

@@ -28,6 +28,8 @@ struct DisplayLimits {
                                       // expression (past it: part by part); the whole call
                                       // may do 8 times as many (past it: the plain form)
   int max_trig_degree = 12;           // sines and cosines multiplied in one term
+  std::size_t max_printed_chars = 5000000;  // characters printed to compare candidates, the
+                                            // whole call (past it: the plain form)
 };
 
 /// e in the shortest form found (or e tidied, when it is over the limits).
