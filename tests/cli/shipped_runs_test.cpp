@@ -146,7 +146,7 @@ Csv read_csv(const fs::path& p) {
 
 }  // namespace
 
-TEST_CASE("mbsc run: every shipped model starts from its own initial values and moves", "[cli][run]") {
+TEST_CASE("mbsc run: every shipped model starts from its own initial values and moves", "[cli][run][run_shipped]") {
   std::vector<fs::path> models;
   for (const auto& e : fs::directory_iterator(fs::path(MBSC_SOURCE_DIR) / "models"))
     if (e.path().extension() == ".mbs") models.push_back(e.path());
