@@ -5,12 +5,11 @@
 // the complement's header), inputs 0.05. sympy's rhs is what bench/planar_driver.cpp times:
 // its generated mass_forcing (M, F), q' = u, then u' = M^-1 F by a dense LU with partial
 // pivoting of the o x o matrix, then the finiteness check every mbsc rhs ends with.
-//   g++ -O2 -I GEN -DMODEL=four_bar -DHEADER='"four_bar/four_bar.hpp"' -DSYMPY_NQ=3 \
-//     bench/rhs_count_sympy_driver.cpp -x c++ sympy_four_bar.c
+//   g++ -O2 -I GEN -DMODEL=four_bar -DHEADER='"four_bar/four_bar.hpp"' -DSYMPY_NQ=3
+//       bench/rhs_count_sympy_driver.cpp -x c++ sympy_four_bar.c      (one command line)
 #include <cmath>
-#include <cstdint>
+#include <cstdlib>
 #include <cstdio>
-#include <cstring>
 #include <random>
 #include <string>
 #include <utility>

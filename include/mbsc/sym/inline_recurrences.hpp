@@ -10,6 +10,7 @@
 /// (h plus the named values, distinct subexpressions counted once). An exact identity either way.
 #include <ginac/ginac.h>
 
+#include <cstddef>
 #include <vector>
 
 #include "mbsc/ir/function_spec.hpp"
