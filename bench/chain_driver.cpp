@@ -156,8 +156,11 @@ bool all_finite(const double* v, int n) {
 // Cholesky algorithm mbsc emits for its reduced mass matrix (so both tools pay for the
 // same solver). Returns 1 when A is not positive definite.
 int chol_solve(double* A, double* b) {
-  double dmax = 0.0;
-  for (int i = 0; i < N; ++i) dmax = std::fmax(dmax, std::fabs(A[i * N + i]));
+  double dmax = 0.0;  // the largest |diagonal entry|, inline as mbsc's (no std::fmax call)
+  for (int i = 0; i < N; ++i) {
+    const double v = std::fabs(A[i * N + i]);
+    if (v > dmax) dmax = v;
+  }
   const double tiny = 1e-13 * dmax;
   for (int j = 0; j < N; ++j) {
     double d = A[j * N + j];

@@ -65,8 +65,12 @@ namespace {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.
@@ -183,9 +187,15 @@ int chol_1x1(int k, const double* A, double* B) {
 namespace {
 
 // A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
+// template argument, so the loop over B's columns unrolls at every call site.
+template <int k>
+int lu_solve_2x2(const double* A, double* B) {
+  double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
+  for (int i = 0; i < 4; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
   const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
@@ -227,7 +237,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[4] = {
       s2*p[0], t0*c0*p[1] + t1*p[0]*c2 + t3,
       -p[0]*c2, s2*t1*p[0] + t0*p[1]*s0 - t2*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t4 = 2.0*p[0]*c2 - c0*p[1]*B_0[0];
   const double t5 = p[7]*p[2]*p[2];
   const double t6 = p[1]*s0*B_0[0] - 2.0*s2*p[0];
@@ -285,7 +295,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[4] = {
       s2*p[0], t0*c0*p[1] + t1*p[0]*c2 - t2*p[2]*c1,
       -p[0]*c2, s2*t1*p[0] + t0*p[1]*s0 - t2*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
@@ -314,7 +324,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[4] = {
       s2*p[0], t0*c0*p[1] + t1*p[0]*c2 + t3,
       -p[0]*c2, s2*t1*p[0] + t0*p[1]*s0 - t2*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[13] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 13) ? 1 : 2;
   }
@@ -602,7 +612,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       t4, t5*c0*p[1] + t6*p[0]*c2 - t7*p[2]*c1,
       t8, s2*t6*p[0] + t5*p[1]*s0 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
@@ -653,7 +663,7 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
   double B_0[4] = {
       -s2*p[2], t1 + t2*p[0]*c0 + t4,
       p[2]*c2, s0*t2*p[0] + t5 + t6};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t7 = -2.0*s2*p[2] - B_0[2]*p[1]*s1;
   const double t8 = p[0]*p[0]*p[5];
   const double t9 = B_0[2]*c1*p[1] + 2.0*p[2]*c2;
@@ -717,7 +727,7 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c1*p[1] + t6*p[0]*c0 - t7*p[2]*c2,
       t8, s0*t6*p[0] + t5*p[1]*s1 - t7*s2*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
@@ -767,7 +777,7 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
   double B_0[4] = {
       p[1]*s2, t1 + t2*p[0]*c0 + t4,
       -c2*p[1], s0*t2*p[0] + t5 - t3*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t6 = p[7]*p[2]*p[2];
   const double t7 = p[0]*p[0]*p[5];
   const double t8 = 2.0*s0*p[0]*B_0[0] - p[1]*s2;
@@ -833,7 +843,7 @@ int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const 
   double B_0[4] = {
       t4, t5*c2*p[1] + t6*p[0]*c0 - t7*p[2]*c1,
       t8, s0*t6*p[0] + t5*p[1]*s2 - t7*s1*p[2]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }

@@ -61,8 +61,12 @@ namespace {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.
@@ -168,9 +172,15 @@ double rcond_1norm(double* A, const double* G, double* W) {
 namespace {
 
 // A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
+// template argument, so the loop over B's columns unrolls at every call site.
+template <int k>
+int lu_solve_2x2(const double* A, double* B) {
+  double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
+  for (int i = 0; i < 4; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
   const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
@@ -199,8 +209,13 @@ namespace {
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
 int chol_solve(double* A, double* B) {
+  // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
+  // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+  for (int i = 0; i < n; ++i) {
+    const double v = std::fabs(A[i * n + i]);
+    if (v > dmax) dmax = v;
+  }
   const double tiny = 1e-13 * dmax;
   for (int j = 0; j < n; ++j) {
     double d = A[j * n + j];
@@ -251,7 +266,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t5 = p[1]*(B_0[3]*B_0[4] + B_0[1]*B_0[0]);
   const double t6 = -B_0[2];
   // solve A_1 X = B_1 (2x2, 1 column): reduced mass matrix M z' = h
@@ -294,7 +309,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
@@ -322,7 +337,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[6] = {
       -2.0*t2*p[2], 0.0, 2.0*x[10]*t3 + 2.0*x[6]*t4 - 2.0*x[7]*t3 - 2.0*x[9]*t4,
       -p[2]*(t0*t1 + 1.0), p[3], (x[9]*t3 - x[6]*t3 + x[10]*t4 - x[7]*t4)*t1};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[14] = {p[0], p[1], p[2], p[3], p[4], p[5], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
     return all_finite(A_0, 4) && all_finite(in_, 14) ? 1 : 2;
   }
@@ -491,7 +506,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t7, 0.0, 2.0*x[10]*t8 + 2.0*x[6]*t9 - 2.0*x[7]*t8 - 2.0*x[9]*t9,
       t10, p[3], (x[9]*t8 - x[6]*t8 + x[10]*t9 - x[7]*t9)*t3};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }

@@ -61,8 +61,12 @@ namespace {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.

@@ -61,8 +61,12 @@ namespace {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.
@@ -179,9 +183,15 @@ int solve_1x1(int k, const double* A, double* B) {
 namespace {
 
 // A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
+// template argument, so the loop over B's columns unrolls at every call site.
+template <int k>
+int lu_solve_2x2(const double* A, double* B) {
+  double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
+  for (int i = 0; i < 4; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
   const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
@@ -210,8 +220,13 @@ namespace {
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
 int chol_solve(double* A, double* B) {
+  // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
+  // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+  for (int i = 0; i < n; ++i) {
+    const double v = std::fabs(A[i * n + i]);
+    if (v > dmax) dmax = v;
+  }
   const double tiny = 1e-13 * dmax;
   for (int j = 0; j < n; ++j) {
     double d = A[j * n + j];
@@ -264,7 +279,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   double B_0[6] = {
       t2, 0.0, 2.0*x[14]*x[14] + 2.0*x[15]*x[15] + 2.0*x[13]*x[13],
       t2 - 2.0*x[5], t3 - 2.0*x[0], 2.0*t4*x[18] - 2.0*t4*x[15] + 2.0*x[13]*t5 - 2.0*x[16]*t5 - 2.0*t6*x[17] + 2.0*t6*x[14]};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t7 = 2.0*(p[0]*p[1]);
   // solve A_1 X = B_1 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 2 of 2
   double A_1[1] = {
@@ -340,7 +355,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[6] = {
       t2, 0.0, 2.0*x[14]*x[14] + 2.0*x[15]*x[15] + 2.0*x[13]*x[13],
       t2 - 2.0*x[5], 2.0*x[3] - 2.0*x[0], 2.0*t3*x[18] - 2.0*t3*x[15] + 2.0*x[13]*t4 - 2.0*x[16]*t4 - 2.0*t5*x[17] + 2.0*t5*x[14]};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[15] = {p[3], p[4], p[5], x[0], x[1], x[2], x[3], x[4], x[5], x[13], x[14], x[15], x[16], x[17], x[18]};
     return all_finite(A_0, 4) && all_finite(in_, 15) ? 1 : 2;
   }
@@ -372,7 +387,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   double B_0[6] = {
       t2, 0.0, 2.0*x[14]*x[14] + 2.0*x[15]*x[15] + 2.0*x[13]*x[13],
       t2 - 2.0*x[5], 2.0*x[3] - 2.0*x[0], 2.0*t3*x[18] - 2.0*t3*x[15] + 2.0*x[13]*t4 - 2.0*x[16]*t4 - 2.0*t5*x[17] + 2.0*t5*x[14]};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[15] = {p[3], p[4], p[6], x[0], x[1], x[2], x[3], x[4], x[5], x[13], x[14], x[15], x[16], x[17], x[18]};
     return all_finite(A_0, 4) && all_finite(in_, 15) ? 1 : 2;
   }
@@ -684,7 +699,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[6] = {
       t4, 0.0, 2.0*x[14]*x[14] + 2.0*x[15]*x[15] + 2.0*x[13]*x[13],
       t5, t7, 2.0*t8*x[18] - 2.0*t8*x[15] + 2.0*x[13]*t9 - 2.0*x[16]*t9 - 2.0*t10*x[17] + 2.0*t10*x[14]};
-  if (lu_solve_2x2(3, A_0, B_0) != 0) {
+  if (lu_solve_2x2<3>(A_0, B_0) != 0) {
     const double in_[18] = {p[0], p[1], p[3], p[4], p[5], x[0], x[1], x[2], x[3], x[4], x[5], x[12], x[13], x[14], x[15], x[16], x[17], x[18]};
     return all_finite(A_0, 4) && all_finite(in_, 18) ? 1 : 2;
   }

@@ -61,8 +61,12 @@ namespace {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.
@@ -179,9 +183,15 @@ int chol_1x1(int k, const double* A, double* B) {
 namespace {
 
 // A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
+// template argument, so the loop over B's columns unrolls at every call site.
+template <int k>
+int lu_solve_2x2(const double* A, double* B) {
+  double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
+  for (int i = 0; i < 4; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
   const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];
@@ -224,7 +234,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   double B_0[4] = {
       0.0, p[3]*t2*s0 - s1*p[6]*t1,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t3*x[21] - t3*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t3*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t4 = B_0[2]*s1*p[6] - p[3]*s0*B_0[0];
   const double t5 = B_0[0]*B_0[0];
   const double t6 = p[3]*s0*B_0[0] - 2.0*B_0[2]*s1*p[6];
@@ -288,7 +298,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   double B_0[4] = {
       0.0, p[3]*x[15]*x[15]*s0 - s1*p[6]*x[18]*x[18],
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t1*x[21] - t1*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t1*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
     return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
   }
@@ -320,7 +330,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   double B_0[4] = {
       0.0, p[3]*t2*s0 - s1*p[6]*t1,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t3*x[21] - t3*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t3*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[9], u[0], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
     return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
   }
@@ -349,7 +359,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
   double B_0[4] = {
       0.0, p[3]*t2*s0 - s1*p[6]*t1,
       p[9]*(c1*c2 + s2*s1), c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t3*x[21] - t3*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t3*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[24] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21], zdot[0]};
     return all_finite(A_0, 4) && all_finite(in_, 24) ? 1 : 2;
   }
@@ -633,7 +643,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   double B_0[4] = {
       0.0, p[3]*x[15]*x[15]*s0 - s1*p[6]*x[18]*x[18],
       t3, c1*x[18]*x[16] - x[19]*c1*x[18] - x[20]*x[18]*s1 + (t4*x[21] - t4*x[18])*x[21] + x[18]*s1*x[17] - 0.5*(2.0*x[20]*s1 - 2.0*s1*x[17] + 2.0*x[19]*c1 + 2.0*t4*x[21] - (-c1*(2.0*x[9] + s1*p[6] - 2.0*x[6] + 2.0*p[9]*s2) + (2.0*x[8] - 2.0*x[5] + t1 + 2.0*p[9]*c2)*s1)*x[18] - 2.0*c1*x[16])*x[18]};
-  if (lu_solve_2x2(2, A_0, B_0) != 0) {
+  if (lu_solve_2x2<2>(A_0, B_0) != 0) {
     const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
     return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
   }

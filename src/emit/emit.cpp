@@ -342,7 +342,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
     uses_rcond = uses_rcond || f.body.find("rcond_1norm<") != std::string::npos;
     uses_solve1 = uses_solve1 || f.body.find("solve_1x1(") != std::string::npos;
     uses_chol1 = uses_chol1 || f.body.find("chol_1x1(") != std::string::npos;
-    uses_lu2 = uses_lu2 || f.body.find("lu_solve_2x2(") != std::string::npos;
+    uses_lu2 = uses_lu2 || f.body.find("lu_solve_2x2<") != std::string::npos;
     uses_solve = uses_solve || uses_rcond || f.body.find("lu_solve<") != std::string::npos;
     uses_chol = uses_chol || f.body.find("chol_solve<") != std::string::npos;
     uses_finite = uses_finite || f.body.find("all_finite(") != std::string::npos;

@@ -38,8 +38,13 @@ const std::string& chol_solve_code() {
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
 int chol_solve(double* A, double* B) {
+  // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
+  // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
-  for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
+  for (int i = 0; i < n; ++i) {
+    const double v = std::fabs(A[i * n + i]);
+    if (v > dmax) dmax = v;
+  }
   const double tiny = 1e-13 * dmax;
   for (int j = 0; j < n; ++j) {
     double d = A[j * n + j];
@@ -86,8 +91,12 @@ const std::string& lu_solve_code() {
 // number); else 0.
 template <int n, int k>
 int lu_solve(double* A, double* B) {
+  // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
-  for (int i = 0; i < n * n; ++i) amax = std::fmax(amax, std::fabs(A[i]));
+  for (int i = 0; i < n * n; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   for (int c = 0; c < n; ++c) {
     // Pivot: the largest magnitude in column c on or below the diagonal.
@@ -170,9 +179,15 @@ const std::string& lu_solve_2x2_code() {
   static const std::string code = R"cpp(namespace {
 
 // A X = B for 2x2 A (row-major), B 2 x k: Gaussian elimination with partial pivoting,
-// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry.
-int lu_solve_2x2(int k, const double* A, double* B) {
-  const double amax = std::fmax(std::fmax(std::fabs(A[0]), std::fabs(A[1])), std::fmax(std::fabs(A[2]), std::fabs(A[3])));
+// as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
+// template argument, so the loop over B's columns unrolls at every call site.
+template <int k>
+int lu_solve_2x2(const double* A, double* B) {
+  double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
+  for (int i = 0; i < 4; ++i) {
+    const double v = std::fabs(A[i]);
+    if (v > amax) amax = v;
+  }
   const double tiny = 1e-13 * amax;
   const bool swap = std::fabs(A[2]) > std::fabs(A[0]);
   const double a = swap ? A[2] : A[0], b = swap ? A[3] : A[1];

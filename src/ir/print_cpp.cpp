@@ -150,7 +150,7 @@ class Printer {
     array("B_", s.B, s.k);
     // The smallest systems go to the loop-free solvers (same arithmetic).
     const std::string call = s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k) + ", "
-                             : s.n == 2 && !s.spd ? "lu_solve_2x2(" + std::to_string(s.k) + ", "
+                             : s.n == 2 && !s.spd ? "lu_solve_2x2<" + std::to_string(s.k) + ">("
                                                   : std::string(s.spd ? "chol_solve<" : "lu_solve<") + std::to_string(s.n) +
                                                         ", " + std::to_string(s.k) + ">(";
     // A failed solve is status 1 (singular) unless its matrix or an input the function
