@@ -178,7 +178,8 @@ int main(int argc, char** argv) {
   g->add_option("--solver", gen.solver,
                 "how rhs solves for the accelerations: dense (the reduced mass matrix by Cholesky; multipliers: the "
                 "Schur complement), sparse (O(N): block elimination over all speeds in a tree order), auto (sparse "
-                "for a tree of bodies when it is cheaper)")
+                "when it is cheaper and as regular as dense: a tree of bodies, or a loop of massive bodies "
+                "eliminated speeds first)")
       ->check(CLI::IsMember({"auto", "dense", "sparse"}))
       ->default_val("auto");
   g->add_option("--mass-matrix", gen.mass_matrix,

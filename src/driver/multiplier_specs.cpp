@@ -107,7 +107,7 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     for (unsigned r = 0; r < nc; ++r)
       c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));
     std::string why;
-    sparse = sparse_solve_steps(m, eom, sys, c, lambda, opt.solver, why);
+    sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
     if (!sparse && opt.solver == Solver::Sparse) {
       diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
       return {};
@@ -124,7 +124,14 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       f.steps = dense_steps();
       return f;
     };
-    if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) steps = sparse->steps;
+    if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) {
+      steps = sparse->steps;
+      // A loop's constraint pivots: their conditioning falls like the 3/2 power of the
+      // dense Schur complement's (ir::Solve::report_power).
+      if (!sparse->forest)
+        for (auto& step : steps)
+          if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = GiNaC::numeric(2, 3);
+    }
   }
   if (steps.empty()) steps = dense_steps();
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };

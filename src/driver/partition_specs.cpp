@@ -28,7 +28,7 @@ ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::strin
     for (int i = 0; i < s->n; ++i)
       for (int j = 0; j < s->gains; ++j) c.B.push_back(s->B[static_cast<std::size_t>(i * s->k + j)]);
     c.X = {GiNaC::symbol(fmt::format("rcond_{}", block++))};
-    f.outputs.push_back(c.X[0]);
+    f.outputs.push_back(s->report_power.is_equal(1) ? GiNaC::ex(c.X[0]) : GiNaC::pow(c.X[0], s->report_power));
     f.steps.push_back(c);
   }
   return f;

@@ -420,13 +420,18 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         lambda.emplace_back(fmt::format("lambda_{}", r));
       }
       std::string why;
-      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, opt.solver, why);
+      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
       if (!sparse && opt.solver == Solver::Sparse) {
         diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
         return {};
       }
       if (sparse) {
         ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(sparse->steps), outputs};
+        // A loop's constraint pivots are blocks of A My^-1 A^T: their conditioning falls
+        // like the cube of what the complement's dependent blocks' does (ir::Solve::report_power).
+        if (!sparse->forest)
+          for (auto& step : f.steps)
+            if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = GiNaC::numeric(1, 3);
         if (prefer_sparse(m, opt, *sparse, f, dense, bindings(m, eom, minimal))) chosen = std::move(f);
       }
     }

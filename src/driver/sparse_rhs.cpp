@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The O(N) right-hand side in the pipeline: the sparse elimination's steps prepared for
 // emission, and the choice between them and the dense solve (include/mbsc/driver/pipeline.hpp).
+#include <fmt/format.h>
+
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
@@ -13,28 +15,32 @@ Solver solver_named(const std::string& name) {
 
 std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, const sym::Eom& eom,
                                                       const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
-                                                      const std::vector<GiNaC::symbol>& lambda, Solver solver,
-                                                      std::string& why) {
+                                                      const std::vector<GiNaC::symbol>& lambda, std::string& why) {
   const std::function<GiNaC::ex(const GiNaC::ex&)> fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
   // The generic probe point (pseudo-random state, parameter values): a pivot that is
   // definite there is definite almost everywhere.
   const sym::Probe probe(m, eom.param_values);
-  return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, solver == Solver::Sparse, why);
+  // A loop is eliminated speeds first whenever it can be (forced or auto alike): that
+  // order is as regular as the dense forms, so auto may take it too.
+  return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, /*loops_speeds_first=*/true, why);
 }
 
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
                    const std::vector<ir::Binding>& binds) {
   if (opt.solver != Solver::Auto) return opt.solver == Solver::Sparse;
-  // Closed loops stay dense: a tree order's pivots could vanish where a loop's partial
-  // chain folds (a toggle). The speeds-first order is as regular as the dense forms, but
-  // its pivots are many small blocks whose condition numbers (1 for a 1x1 block) do not
-  // warn `conditioning`'s readers of a coming rank loss as the dense block's does (the
-  // 40-window parallelogram chain under --continuation stops at a flat pose with it):
-  // it is taken when asked for (--solver sparse).
-  if (!sparse.forest) return false;
+  // A closed loop eliminated in the fewest-neighbours order stays dense: a pivot that
+  // joins the loop's two open parts vanishes where they fold (crank parallel to rocker),
+  // where the mechanism itself is regular. Speeds first, every constraint pivot is a
+  // Schur complement of -A My^-1 A^T: it fails only where A loses rank, where the dense
+  // forms fail too (docs/formulation.md, "O(N) right-hand side").
+  if (!sparse.regular()) return false;
   if (m.speeds.size() > 64) return true;
-  return ir::lower(sparse_rhs, binds).ops.total() < ir::lower(dense(), binds).ops.total();
+  // Counted before a friction force is closed (the same steps join either rhs): it is a
+  // given value here, like an input.
+  std::vector<ir::Binding> counted = binds;
+  for (std::size_t k = 0; k < m.frictions.size(); ++k) counted.push_back({m.frictions[k].force, fmt::format("friction_{}", k), false});
+  return ir::lower(sparse_rhs, counted).ops.total() < ir::lower(dense(), counted).ops.total();
 }
 
 }  // namespace mbsc::driver

@@ -8,13 +8,18 @@
 //     (relative drift against the start), keep every crank parallel to the first (the
 //     parallelogram branch, not the anti-parallelogram that crosses it there) and keep
 //     the constraints; the complement and multipliers formulations agree on the angle;
-//   - the 40-window chain (the same file, N frozen at 40) does the same.
+//   - the 40-window chain (the same file, N frozen at 40) does the same;
+//   - that chain's O(N) rhs (what --solver auto takes for it: the loop eliminated speeds
+//     first) fails at a flat pose like the dense one, its conditioning reports 0 there,
+//     and falls like the distance in the complement form (square_law) but like its square
+//     in the multipliers form, as the dense forms' do.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "chain40/chain40.hpp"
+#include "chain40_mult/chain40_mult.hpp"
 #include "chain_rl/chain_rl.hpp"
 #include "chain_rl_mult/chain_rl_mult.hpp"
 #include "mbsc/runtime/branch_continuation.hpp"
@@ -178,4 +183,50 @@ TEST_CASE("rank loss: the 40-window chain through its flat poses", "[.][chain40]
   CHECK(r.energy_drift < 1e-4);
   CHECK(r.crank_spread < 1e-8);
   CHECK(r.residual < 1e-8);
+}
+
+TEST_CASE("rank loss: the 40-window chain's O(N) rhs at and near a flat pose", "[numeric][rank_loss]") {
+  const ModelTable c = MBSC_MODEL_TABLE(mbsc_gen::chain40);
+  const ModelTable mm = MBSC_MODEL_TABLE_MULTIPLIERS(mbsc_gen::chain40_mult);
+  // The smallest conditioning the rhs reports (conditioning_partition: 0 where a solve of
+  // the rhs fails).
+  auto worst_conditioning = [](const ModelTable& m, const std::vector<double>& x, const std::vector<double>& p) {
+    double rc = -1.0;
+    REQUIRE(m.conditioning_partition(0, 0.0, x.data(), nullptr, p.data(), &rc) == 0);
+    return rc;
+  };
+  std::vector<double> accel[2];
+  for (const ModelTable* m : {&c, &mm}) {
+    INFO((m->multipliers ? "multipliers" : "complement"));
+    const auto p = params(*m, m->multipliers);
+    std::vector<double> xdot(static_cast<std::size_t>(m->nx));
+    // Exactly flat: rhs and conditioning return status 1 (as the dense forms do), and
+    // conditioning_partition, what --continuation reads, reports 0.
+    const auto flat = parallelogram(*m, 40, 0.0, 10.0);
+    CHECK(m->rhs(0.0, flat.data(), nullptr, p.data(), xdot.data()) == 1);
+    std::vector<double> rc(static_cast<std::size_t>(m->multipliers ? mbsc_gen::chain40_mult::kNblocks : mbsc_gen::chain40::kNblocks));
+    CHECK(m->conditioning(0.0, flat.data(), nullptr, p.data(), rc.data()) == 1);
+    CHECK(worst_conditioning(*m, flat, p) == 0.0);
+    // Away from it: finite accelerations.
+    const auto x = parallelogram(*m, 40, 0.7, 3.0);
+    REQUIRE(m->rhs(0.0, x.data(), nullptr, p.data(), xdot.data()) == 0);
+    for (double v : xdot) REQUIRE(std::isfinite(v));
+    accel[m->multipliers ? 1 : 0] = xdot;
+    // Near it: the conditioning falls like the distance (complement) or its square
+    // (multipliers) between 1e-2 and 1e-3 rad, the scaling --continuation's thresholds assume.
+    const double r2 = worst_conditioning(*m, parallelogram(*m, 40, 1e-2, 3.0), p);
+    const double r3 = worst_conditioning(*m, parallelogram(*m, 40, 1e-3, 3.0), p);
+    INFO("conditioning at 1e-2 rad " << r2 << ", at 1e-3 rad " << r3);
+    REQUIRE(r3 > 0.0);
+    const double slope = std::log10(r2 / r3);
+    CHECK(std::abs(slope - (m->multipliers ? 2.0 : 1.0)) < 0.2);
+  }
+  // On the manifold the two formulations give the same accelerations (the Baumgarte terms
+  // vanish there).
+  double scale = 1.0, diff = 0.0;
+  for (std::size_t i = 0; i < accel[0].size(); ++i) {
+    scale = std::max(scale, std::abs(accel[0][i]));
+    diff = std::max(diff, std::abs(accel[0][i] - accel[1][i]));
+  }
+  CHECK(diff < 1e-9 * scale);
 }

@@ -87,15 +87,17 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
 /// The O(N) solve of the accelerations (sym/kkt_elimination.hpp) with constraint
 /// right-hand sides `c` (A q1' = c), prepared for emission: steps that define every
 /// speed's rate and every lambda. nullopt with `why` when the model has no such order.
-/// `solver`: with Solver::Sparse a loop is eliminated speeds first (sym::eliminate_kkt).
+/// A loop is eliminated speeds first when every speed block is definite by itself
+/// (sym::eliminate_kkt; KktElimination::regular() says whether auto may take it).
 std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, const sym::Eom& eom,
                                                       const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
-                                                      const std::vector<GiNaC::symbol>& lambda, Solver solver,
-                                                      std::string& why);
+                                                      const std::vector<GiNaC::symbol>& lambda, std::string& why);
 
 /// Whether rhs uses the sparse steps: --solver sparse or dense decides; auto takes them
-/// for a tree of bodies (no fill-in) when they cost fewer operations than the dense
-/// rhs (both lowered and counted; above 64 speeds the dense cost, cubic, is not built).
+/// when their pivots are regular wherever the dense forms' are (a tree of bodies, or a
+/// loop eliminated speeds first: KktElimination::regular) and they cost fewer operations
+/// than the dense rhs (both lowered and counted; above 64 speeds the dense cost, cubic,
+/// is not built).
 /// `dense` builds the dense rhs when it is needed.
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,

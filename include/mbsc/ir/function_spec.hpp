@@ -58,6 +58,14 @@ struct Solve {
   /// The first `gains` columns of B are the coefficients of the independent rates (a
   /// dependent block B* solved for the complement): its conditioning counts them too.
   int gains = 0;
+  /// `conditioning` reports its measure to this power. A constraint pivot of a loop
+  /// eliminated speeds first (a block of A My^-1 A^T) has a measure that falls like the
+  /// cube of the distance to a rank loss of the constraints (rcond like the square, the
+  /// gain growing like its inverse), where the dense forms it replaces fall like the
+  /// distance (the complement's dependent blocks: power 1/3) or its square (the
+  /// multipliers' Schur complement: power 2/3); so thresholds on the conditioning
+  /// (runtime/branch_continuation.hpp) mean the same whichever solver was chosen.
+  GiNaC::numeric report_power = 1;
 };
 
 using Step = std::variant<Define, Solve>;

@@ -51,8 +51,7 @@ struct KktElimination {
 
 /// Eliminates the system with constraint right-hand sides `c` (A q1' = c): fewest
 /// neighbours first; with `loops_speeds_first`, when that order does not find a tree,
-/// once more with every speed block first (kept when it gets through: `speeds_first`;
-/// only --solver sparse takes a loop's elimination, so auto skips that work). `fin` prepares
+/// once more with every speed block first (kept when it gets through: `speeds_first`). `fin` prepares
 /// every expression for emission (formals, frozen values); `probe` evaluates prepared
 /// expressions. nullopt, with `why` set, when no order with definite pivots exists at the
 /// probe point (a massless part that no constraint fixes, redundant constraints).
