@@ -25,6 +25,21 @@ std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, con
   return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, /*loops_speeds_first=*/true, why);
 }
 
+namespace {
+
+/// What auto compares: the operations, each multiply-add of a numeric solve weighted
+/// kSolveFlopWeight times a straight-line operation. A solve helper's flop runs through
+/// loops over stack arrays with pivot checks; callgrind (docs/benchmarks.md, "The solver
+/// auto's cost model") measures 3-5 instructions per solve flop against 1.5-2 per
+/// straight-line operation, and the sparse form trades straight-line work for many small
+/// solves (the Whipple bicycle: 9 050 operations sparse, 9 721 dense, yet 25 % more
+/// instructions sparse).
+constexpr long kSolveFlopWeight = 4;
+
+long run_time_cost(const ir::OpCount& ops) { return ops.total() + (kSolveFlopWeight - 1) * ops.solve_flops; }
+
+}  // namespace
+
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
                    const std::vector<ir::Binding>& binds) {
@@ -40,7 +55,7 @@ bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym:
   // given value here, like an input.
   std::vector<ir::Binding> counted = binds;
   for (std::size_t k = 0; k < m.frictions.size(); ++k) counted.push_back({m.frictions[k].force, fmt::format("friction_{}", k), false});
-  return ir::lower(sparse_rhs, counted).ops.total() < ir::lower(dense(), counted).ops.total();
+  return run_time_cost(ir::lower(sparse_rhs, counted).ops) < run_time_cost(ir::lower(dense(), counted).ops);
 }
 
 }  // namespace mbsc::driver
