@@ -699,26 +699,31 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     binds.push_back({gains.alpha, fmt::format("p[{}]", np), true});
     binds.push_back({gains.beta, fmt::format("p[{}]", np + 1), true});
   }
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    // Taken out of the list: its expressions are freed once it is lowered (a big model's
-    // dense Jacobians and M need not outlive their own lowering).
+  // Lowered last to first, each taken out of the list and freed once lowered: rhs, the
+  // largest lowering, then runs with the other functions' expressions already gone (a big
+  // model's dense Jacobians and M need not outlive their own lowering). Each lowering is
+  // independent of the others, so the order does not change the code.
+  std::vector<std::optional<ir::LoweredFunction>> lowered(specs.size());
+  for (std::size_t i = specs.size(); i-- > 0;) {
     const ir::FunctionSpec spec = std::move(specs[i]);
-    checkpoint("generating", fmt::format("function '{}'", spec.name), m.name_pos, i, specs.size());
+    specs.pop_back();
+    checkpoint("generating", fmt::format("function '{}'", spec.name), m.name_pos, lowered.size() - 1 - i, lowered.size());
     if (!spec.undefined_reason.empty()) {
-      g.functions.push_back(undefined_function(spec));
+      lowered[i] = undefined_function(spec);
       continue;
     }
     std::vector<ir::Binding> spec_binds = binds;
     if (spec.third_arg == "zdot")  // the independent speeds' rates, given
-      for (std::size_t i = 0; i < eom.independent.size(); ++i)
-        spec_binds.push_back({m.speed_dots[static_cast<std::size_t>(eom.independent[i])], fmt::format("zdot[{}]", i)});
+      for (std::size_t k = 0; k < eom.independent.size(); ++k)
+        spec_binds.push_back({m.speed_dots[static_cast<std::size_t>(eom.independent[k])], fmt::format("zdot[{}]", k)});
     try {
-      g.functions.push_back(ir::lower(spec, spec_binds));
+      lowered[i] = ir::lower(spec, spec_binds);
     } catch (const std::exception& e) {
       diags.error(m.nodes.back().pos, fmt::format("cannot generate function '{}': {}", spec.name, e.what()));
       return std::nullopt;
     }
   }
+  for (auto& f : lowered) g.functions.push_back(std::move(*f));
   if (opt.functions.empty() && !eom.has_energy) g.functions.push_back(undefined_energy(m));
   return g;
 }
