@@ -126,9 +126,10 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     };
     if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) {
       steps = sparse->steps;
-      // A loop's constraint pivots: their conditioning falls like the 3/2 power of the
-      // dense Schur complement's (ir::Solve::report_power).
-      if (!sparse->forest)
+      // A loop eliminated speeds first: its constraint pivots' conditioning falls like the
+      // 3/2 power of the dense Schur complement's (ir::Solve::report_power); the
+      // fewest-neighbours order's pivots (forced sparse) keep their own measure.
+      if (sparse->speeds_first)
         for (auto& step : steps)
           if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = GiNaC::numeric(2, 3);
     }
