@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "mbsc/sym/complement.hpp"
-#include "mbsc/sym/inline_recurrences.hpp"
 #include "mbsc/sym/pivot_elimination.hpp"
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/massless_check.hpp"
@@ -308,10 +307,7 @@ class Deriver {
     }
     r.h = GiNaC::matrix(nd, 1);
     if (!r.rate_steps.empty()) {
-      const std::size_t rates_named = r.named_defines.size();  // the e_ values, named before h
       transpose_steps(r, rest);
-      // A small node: its named recurrences may hide cancellations (inline_recurrences.hpp).
-      inline_small_recurrences(r.named_defines, rates_named, r.h);
       return;
     }
     for (unsigned a = 0; a < nd; ++a) {
