@@ -124,15 +124,8 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       f.steps = dense_steps();
       return f;
     };
-    if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) {
-      steps = sparse->steps;
-      // A loop eliminated speeds first: its constraint pivots' conditioning falls like the
-      // 3/2 power of the dense Schur complement's (ir::Solve::report_power); the
-      // fewest-neighbours order's pivots (forced sparse) keep their own measure.
-      if (sparse->speeds_first)
-        for (auto& step : steps)
-          if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = GiNaC::numeric(2, 3);
-    }
+    // A speeds-first loop's pivots fall like the 3/2 power of the dense Schur complement's.
+    if (prefer_sparse(m, opt, *sparse, sparse_rhs, dense, binds)) steps = sparse_steps_reported(*sparse, GiNaC::numeric(2, 3));
   }
   if (steps.empty()) steps = dense_steps();
   auto wanted = [&](const std::string& n) { return opt.functions.empty() || opt.functions.count(n); };

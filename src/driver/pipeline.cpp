@@ -426,16 +426,11 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         return {};
       }
       if (sparse) {
-        // A loop eliminated speeds first: its constraint pivots are blocks of A My^-1 A^T,
-        // whose conditioning falls like the cube of what the complement's dependent blocks'
-        // does (ir::Solve::report_power). Only those pivots: the rebuilt minimal state's
-        // dependent-speed solves below keep their own measure, and the fewest-neighbours
-        // order's pivots (forced sparse) vanish like the distance.
-        std::vector<ir::Step> own = sparse->steps;
-        if (sparse->speeds_first)
-          for (auto& step : own)
-            if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = GiNaC::numeric(1, 3);
-        ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(std::move(own)), outputs};
+        // The power only on the elimination's own pivots, before the rebuilt minimal
+        // state's dependent-speed solves join: those keep their own measure. A speeds-first
+        // loop's pivots fall like the cube of what the complement's dependent blocks' do.
+        ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(sparse_steps_reported(*sparse, GiNaC::numeric(1, 3))),
+                           outputs};
         if (prefer_sparse(m, opt, *sparse, f, dense, bindings(m, eom, minimal))) chosen = std::move(f);
       }
     }

@@ -25,6 +25,18 @@ std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, con
   return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, /*loops_speeds_first=*/true, why);
 }
 
+std::vector<ir::Step> sparse_steps_reported(const sym::KktElimination& sparse, const GiNaC::numeric& power) {
+  // A loop eliminated speeds first: its constraint pivots are blocks of A My^-1 A^T, whose
+  // conditioning falls faster than the dense forms' (ir::Solve::report_power). Its speed
+  // pivots are not reported; a tree's or a forced fewest-neighbours order's pivots keep
+  // their own measure (they vanish like the distance).
+  std::vector<ir::Step> steps = sparse.steps;
+  if (sparse.speeds_first)
+    for (auto& step : steps)
+      if (auto* s = std::get_if<ir::Solve>(&step); s && s->reported) s->report_power = power;
+  return steps;
+}
+
 namespace {
 
 /// What auto compares: the operations, each multiply-add of a numeric solve weighted

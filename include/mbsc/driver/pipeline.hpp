@@ -93,11 +93,16 @@ std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, con
                                                       const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
                                                       const std::vector<GiNaC::symbol>& lambda, std::string& why);
 
+/// The sparse steps with a speeds-first loop's constraint pivots reported to `power` in
+/// `conditioning` (ir::Solve::report_power: 1/3 in the complement form, 2/3 in the
+/// multipliers form); any other elimination's steps as they are.
+std::vector<ir::Step> sparse_steps_reported(const sym::KktElimination& sparse, const GiNaC::numeric& power);
+
 /// Whether rhs uses the sparse steps: --solver sparse or dense decides; auto takes them
 /// when their pivots are regular wherever the dense forms' are (a tree of bodies, or a
-/// loop eliminated speeds first: KktElimination::regular) and they cost fewer operations
-/// than the dense rhs (both lowered and counted; above 64 speeds the dense cost, cubic,
-/// is not built).
+/// loop eliminated speeds first: KktElimination::regular) and they cost less than the
+/// dense rhs (both lowered and counted, solve flops weighted; above 64 speeds the dense
+/// cost, cubic, is not built).
 /// `dense` builds the dense rhs when it is needed.
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
