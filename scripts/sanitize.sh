@@ -47,6 +47,9 @@ symbolized() {
     exit "$status"
   fi
 }
+# The build precompiles the big headers (cmake/precompiled_headers.cmake: no compiler
+# launcher here), and the ctest run below starts its entries in the order of their ASan
+# seconds (mbsc_sanitize_cost in tests/CMakeLists.txt); docs/robustness.md, "CI time".
 symbolized "$BUILD/build.log" cmake --build "$BUILD" -j"$(nproc)"
 # Not built here: the example apps and the printer's program (MBSC_PRINT_TESTS=OFF), whose
 # only entry, `print`, is left to the Release run as below.
