@@ -15,6 +15,11 @@
 //    not when one joint is at rest;
 //  - E(t) - E(0) = integral of (f1 v1 + f2 v2 - mu1 |N1| |v1| - mu2 |N2| |v2|) dt over a run
 //    of the generated rhs alone.
+// With a third joint (cross_slide3.mbs, a lifter sliding along the table's z axis): the
+// three friction forces read from the generated accelerations by each slide's own
+// momentum balance (a prismatic or cylindrical joint's reaction has no part along its
+// slide) satisfy |F_i| = mu_i |N_i| with the multipliers form's normal forces and oppose
+// the slides; the three forms agree.
 #include <catch2/catch.hpp>
 #include <array>
 #include <cmath>
@@ -23,6 +28,9 @@
 #include <vector>
 
 #include "cross_slide/cross_slide.hpp"
+#include "cross_slide3/cross_slide3.hpp"
+#include "cross_slide3_min/cross_slide3_min.hpp"
+#include "cross_slide3_mult/cross_slide3_mult.hpp"
 #include "cross_slide_input/cross_slide_input.hpp"
 #include "cross_slide_input_mult/cross_slide_input_mult.hpp"
 #include "cross_slide_min/cross_slide_min.hpp"
@@ -291,4 +299,81 @@ TEST_CASE("friction in two joints: E(t) - E(0) = integral of the inputs' power l
   CHECK(s[idiss] < -1.0);  // both frictions dissipate a fair share
   CHECK(slide_rate(s) > 0);
   CHECK(cross_rate(s) < 0);  // still sliding the same ways
+}
+
+namespace {
+
+namespace T = mbsc_gen::cross_slide3;
+namespace TM = mbsc_gen::cross_slide3_mult;
+namespace TS = mbsc_gen::cross_slide3_min;
+
+double par3(const char* n) { return T::kParamDefaults[index_of(T::kParamNames, T::kNp, n)]; }
+std::size_t ix3(const char* n) { return static_cast<std::size_t>(index_of(T::kStateNames, T::kNx, n)); }
+
+/// The cross slide's state with the lifter at height s3 on the table's mast, sliding at v3.
+std::vector<double> state3(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double s1 = u(rng), v1 = 2 * u(rng), s2 = 0.5 * u(rng), v2 = 2 * u(rng), th = 3 * u(rng), w = 4 * u(rng);
+  const double s3 = 0.5 * u(rng), v3 = 2 * u(rng);
+  std::vector<double> x(static_cast<std::size_t>(T::kNx), 0.0);
+  x[ix3("table.e0")] = 1;
+  x[ix3("table.x")] = s1, x[ix3("table.u")] = v1;
+  x[ix3("carriage.e0")] = std::cos(th / 2), x[ix3("carriage.e2")] = std::sin(th / 2);
+  x[ix3("carriage.x")] = s1, x[ix3("carriage.y")] = s2, x[ix3("carriage.z")] = par3("h");
+  x[ix3("carriage.u")] = v1, x[ix3("carriage.v")] = v2, x[ix3("carriage.wy")] = w;
+  x[ix3("lifter.e0")] = 1;
+  x[ix3("lifter.x")] = s1 + par3("ahead"), x[ix3("lifter.z")] = s3;
+  x[ix3("lifter.u")] = v1, x[ix3("lifter.w")] = v3;
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("friction in three joints: each law holds with the generated forces and normal forces, in every form",
+          "[numeric][friction][friction_coupled]") {
+  const double m1 = par3("m1"), m2 = par3("m2"), m3 = par3("m3"), g = par3("g");
+  const double mu[3] = {par3("mu1"), par3("mu2"), par3("mu3")};
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int coupled = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto x = state3(rng);
+    const V2 f{10 * u(rng), 5 * u(rng)};
+    std::vector<double> a(x.size()), b(x.size()), s(static_cast<std::size_t>(TS::kNx));
+    REQUIRE(T::rhs(0.0, x.data(), f.data(), T::kParamDefaults, a.data()) == 0);
+    REQUIRE(TM::rhs(0.0, x.data(), f.data(), TM::kParamDefaults, b.data()) == 0);
+    std::vector<double> z(static_cast<std::size_t>(TS::kNx));
+    for (int i = 0; i < TS::kNx; ++i) z[static_cast<std::size_t>(i)] = x[ix3(TS::kStateNames[i])];
+    REQUIRE(TS::rhs(0.0, z.data(), f.data(), TS::kParamDefaults, s.data()) == 0);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      INFO("trial " << trial << " " << T::kStateNames[i]);
+      CHECK(std::fabs(a[i] - b[i]) < 1e-9 * (1 + std::fabs(a[i])));
+    }
+    for (int i = 0; i < TS::kNx; ++i) {
+      INFO("trial " << trial << " minimal " << TS::kStateNames[i]);
+      const double full = a[ix3(TS::kStateNames[i])];
+      CHECK(std::fabs(s[static_cast<std::size_t>(i)] - full) < 1e-9 * (1 + std::fabs(full)));
+    }
+    // Along each slide only the friction and the actuator act: the whole mechanism along
+    // x, the carriage along y, the lifter along z (with its weight).
+    const double F[3] = {(m1 + m2 + m3) * a[ix3("table.u")] - f[0], m2 * a[ix3("carriage.v")] - f[1],
+                         m3 * (a[ix3("lifter.w")] + g)};
+    const double v[3] = {x[ix3("table.u")], x[ix3("carriage.v")], x[ix3("lifter.w")]};
+    std::vector<double> lam(static_cast<std::size_t>(TM::kNc));
+    REQUIRE(TM::multipliers(0.0, x.data(), f.data(), TM::kParamDefaults, lam.data()) == 0);
+    const char* joints[3] = {"slide", "cross", "lift"};
+    bool all = true;
+    for (int j = 0; j < 3; ++j) {
+      auto at = [&](const std::string& n) {
+        return lam[static_cast<std::size_t>(index_of(TM::kConstraintNames, TM::kNc, joints[j] + n))];
+      };
+      const double N = std::hypot(at(".n1"), at(".n2"));
+      INFO("trial " << trial << " joint " << joints[j] << " F " << F[j] << " |N| " << N << " v " << v[j]);
+      CHECK(std::fabs(std::fabs(F[j]) - mu[j] * N) < 1e-8 * (1 + std::fabs(F[j])));
+      CHECK(F[j] * v[j] <= 0);
+      all = all && std::fabs(F[j]) > 1e-3;
+    }
+    coupled += all;
+  }
+  CHECK(coupled >= 15);
 }
