@@ -64,19 +64,19 @@ bool SpatialLibrary::add_actuators(const PlanarLibrary::Element& e, const std::s
   auto allowed = [&](const std::string& opt) {
     if (opt == "torque") return e.kind == "revolute" || e.kind == "cylindrical";
     if (opt == "force") return e.kind == "prismatic" || e.kind == "cylindrical";
-    if (opt == "friction") return e.kind == "prismatic";
+    if (opt == "friction") return e.kind == "prismatic" || e.kind == "cylindrical";
     return false;
   };
   const char* const takes = e.kind == "revolute"      ? "a revolute joint takes 'torque'"
                             : e.kind == "prismatic"   ? "a prismatic joint takes 'force' and 'friction'"
-                            : e.kind == "cylindrical" ? "a cylindrical joint takes 'force' and 'torque'"
+                            : e.kind == "cylindrical" ? "a cylindrical joint takes 'force', 'torque' and 'friction'"
                                                       : "only revolute (torque), prismatic (force) and cylindrical (both) "
                                                         "spatial joints take an actuator";
   for (const auto& [opt, pos] : {std::pair{e.option, e.option_pos}, std::pair{e.option2, e.option2_pos}}) {
     if (opt.empty() || allowed(opt)) continue;
     if (opt == "friction") {
-      diags_.error(pos, fmt::format("{}: 'friction' is available on a spatial prismatic joint only (a {} joint has no "
-                                    "single slide with a normal reaction)",
+      diags_.error(pos, fmt::format("{}: 'friction' is available on spatial prismatic and cylindrical joints only (a {} "
+                                    "joint has no single slide with a normal reaction)",
                                     what, e.kind));
       return false;
     }
@@ -117,13 +117,10 @@ void SpatialLibrary::add_friction(const std::string& what, const std::string& ro
     diags_.error(pos, fmt::format("{}: the friction coefficient must not be negative (it is {})", what, v));
     return;
   }
-  if (!m_.frictions.empty()) {
-    diags_.error(pos, fmt::format("{}: only one joint of a model may have friction (joint '{}' has it already)", what,
-                                  m_.frictions.front().joint));
-    return;
-  }
-  // The force F n on the second end at its point, -F n on the first, like the actuator;
-  // the slide's rate is that point's velocity on b relative to the same place on a.
+  // The force F n on the second end at its point, -F n on the first, like the actuator
+  // (a cylindrical joint's slide the same way: its turning about the axis has no
+  // friction); the slide's rate is that point's velocity on b relative to the same place
+  // on a. Several joints may have friction: the generated code solves their laws together.
   Friction f;
   f.joint = rows;
   f.pos = pos;

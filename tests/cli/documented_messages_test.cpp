@@ -33,7 +33,7 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
   const Quote quotes[] = {
       {"check " + bad + "spatial_friction_negative.mbs", "the friction coefficient must not be negative (it is -0.3)"},
       {"check " + bad + "planar_friction.mbs", "unknown option 'friction'"},
-      {"check " + bad + "spatial_friction_on_revolute.mbs", "'friction' is available on a spatial prismatic joint only"},
+      {"check " + bad + "spatial_friction_on_revolute.mbs", "'friction' is available on spatial prismatic and cylindrical joints only"},
       {"check " + quote(dp) + " --freeze m1=-1", "mass of body 'b1' is negative (-1), with --freeze m1=-1"},
       {"check " + quote(dp) + " --freeze gg=1",
        "error: --freeze: model 'double_pendulum' has no parameter 'gg' (did you mean 'g'?)"},
