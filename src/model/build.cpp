@@ -89,6 +89,14 @@ class Builder {
     check_gravity_size();
     check_frozen_names(file.path);
     if (diags_.has_errors()) return std::nullopt;
+    // Bodies placed by spatial joints with coordinates: their attitude is the parent's
+    // turned by the joint angle; set before pass B, whose joints and forces read it. It
+    // needs the bodies' axes, so rigid3d geometry is read first in such models.
+    if (!placements_.empty()) {
+      for (size_t n = 0; n < m_.nodes.size(); ++n)
+        if (m_.nodes[n].kind == LeafKind::Rigid3d) fill_rigid3d_geometry(static_cast<int>(n));
+      place_joint_bodies();
+    }
     // Pass B: expressions (everything is declared now).
     for (size_t n = 0; n < m_.nodes.size(); ++n) {
       checkpoint("building", fmt::format("subsystem '{}'", m_.label(static_cast<int>(n))), m_.nodes[n].pos, n,
@@ -433,6 +441,7 @@ class Builder {
         m_.formals[full] = Formal{sym, 0};
       }
     }
+    scopes_.push_back({prefix, &own_body});
     for (const auto& s : own_body) {
       if (s->kind != Kind::Subsystem) continue;
       std::string child = join(prefix, s->name);
@@ -449,6 +458,7 @@ class Builder {
       int c = declare_node(s->body, child, s->name_pos, s.get(), depth + 1);
       if (c >= 0) children.push_back(c);
     }
+    scopes_.pop_back();
     const int id = static_cast<int>(m_.nodes.size());
     node.children = children;
     m_.nodes.push_back(node);
@@ -511,9 +521,17 @@ class Builder {
   void declare_rigid3d(int id, const std::string& prefix, const SourcePos& pos, const std::vector<ast::StatementPtr>& body) {
     Rigid3dData data;
     data.sequence = "quaternion";
+    const Statement* placing = placing_joint(id, prefix);
     const Statement* given = nullptr;
     for (const auto& s : body) {
       if (s->kind != Kind::Attitude) continue;
+      if (placing) {
+        diags_.error(s->pos, fmt::format("body '{}' is placed by joint '{}' with coordinate '{}' (at {}): its attitude is "
+                                         "its parent's turned by that angle, so it takes no 'attitude' statement",
+                                         prefix, placing->name, placing->joint_coordinate.text,
+                                         position_text(placing->pos, s->pos)));
+        return;
+      }
       if (given) {
         diags_.error(s->pos, fmt::format("attitude of body '{}' is given twice (first at {})", prefix,
                                          position_text(given->pos, s->pos)));
@@ -535,13 +553,18 @@ class Builder {
       }
       data.space_frame = s->option2.text == "space";
     }
+    if (placing) {
+      data.sequence = "joint";
+      data.joint_name = placing->name;
+    }
     const bool quaternion = data.sequence == "quaternion";
     const char* const position[] = {"x", "y", "z"};
     const char* const velocity[] = {"u", "v", "w"};
     std::vector<int> q, u;
     for (int i = 0; i < 3; ++i) q.push_back(add_variable(id, join(prefix, position[i]), pos, true, true));
-    const std::vector<const char*> attitude =
-        quaternion ? std::vector<const char*>{"e0", "e1", "e2", "e3"} : std::vector<const char*>{"phi", "theta", "psi"};
+    const std::vector<const char*> attitude = placing      ? std::vector<const char*>{}
+                                              : quaternion ? std::vector<const char*>{"e0", "e1", "e2", "e3"}
+                                                           : std::vector<const char*>{"phi", "theta", "psi"};
     for (const char* a : attitude) q.push_back(add_variable(id, join(prefix, a), pos, true, true));
     for (int i = 0; i < 3; ++i) u.push_back(add_variable(id, join(prefix, velocity[i]), pos, false, true));
     for (const char* w : {"wx", "wy", "wz"}) u.push_back(add_variable(id, join(prefix, w), pos, false, true));
@@ -553,11 +576,101 @@ class Builder {
     for (std::size_t k = 3; k < q.size(); ++k) a.push_back(m_.coords[static_cast<std::size_t>(q[k])].sym);
     for (int k = 3; k < 6; ++k) w.push_back(m_.speeds[static_cast<std::size_t>(u[k])].sym);
     for (int k = 0; k < 3; ++k) builtin_rates_[q[k]] = m_.speeds[static_cast<std::size_t>(u[k])].sym;
+    if (placing) {  // the rotation is set once the parent's is known (place_joint_bodies)
+      m_.nodes[id].rigid3d = data;
+      return;
+    }
     const rigid3d::Vec rates =
         quaternion ? rigid3d::quaternion_rates(a, w, data.space_frame) : rigid3d::euler_rates(data.sequence, a, w, data.space_frame);
     for (std::size_t k = 0; k < rates.size(); ++k) builtin_rates_[q[3 + k]] = rates[k];
     data.rotation = quaternion ? rigid3d::quaternion_rotation(a) : rigid3d::euler_rotation(data.sequence, a);
     m_.nodes[id].rigid3d = data;
+  }
+
+  /// The joint with a coordinate that places rigid3d body `prefix`, if any: a revolute
+  /// joint written in an enclosing subsystem (or the top level) whose second end is one
+  /// of this body's axes, its path resolved as body() resolves it (inner scopes first).
+  /// Every such joint is recorded (placements_); the first is returned.
+  const Statement* placing_joint(int id, const std::string& prefix) {
+    const Statement* first = nullptr;
+    for (std::size_t k = scopes_.size(); k-- > 0;) {
+      for (const auto& s : *scopes_[k].second) {
+        if (s->kind != Kind::Joint || s->joint_coordinate.text.empty() || s->kind_name != "revolute" || s->paths.size() < 2)
+          continue;
+        const std::string& end = s->paths[1].text;
+        const auto dot = end.rfind('.');
+        if (dot == std::string::npos) continue;
+        const std::string path = end.substr(0, dot);
+        for (std::size_t j = k + 1; j-- > 0;) {
+          if (join(scopes_[j].first, path) != prefix) continue;
+          placements_.push_back({id, s.get()});
+          if (!first) first = s.get();
+          break;
+        }
+      }
+    }
+    return first;
+  }
+
+  /// Points, axes and com of a rigid3d body (pass B's statements, read early in models
+  /// with placed bodies: the joints' axes give the placed bodies' attitudes).
+  void fill_rigid3d_geometry(int id) {
+    for (const auto& sp : pending_[static_cast<std::size_t>(id)].body)
+      if (sp->kind == Kind::Point || sp->kind == Kind::Com || sp->kind == Kind::Axis) fill_geometry(id, *sp);
+    geometry_done_.insert(id);
+  }
+
+  /// Every placement, parents before their children; a body placed twice, or placements
+  /// in a loop, are errors.
+  void place_joint_bodies() {
+    std::map<int, const Statement*> by_child;
+    for (const auto& p : placements_) {
+      const auto [it, fresh] = by_child.emplace(p.child, p.joint);
+      if (fresh) continue;
+      diags_.error(p.joint->pos, fmt::format("joint '{}': body '{}' is already placed by joint '{}' (at {}); a body is the "
+                                             "second end of at most one joint with a coordinate (close a loop with a "
+                                             "joint without one)",
+                                             p.joint->name, m_.nodes[p.child].name, it->second->name,
+                                             position_text(it->second->pos, p.joint->pos)));
+    }
+    std::vector<std::pair<int, const Statement*>> todo(by_child.begin(), by_child.end());
+    while (!todo.empty()) {
+      std::vector<std::pair<int, const Statement*>> later;
+      for (const auto& [child, joint] : todo) {
+        int owner = -1;
+        for (std::size_t n = 0; n < pending_.size() && owner < 0; ++n)
+          for (const auto& sp : pending_[n].body)
+            if (sp.get() == joint) owner = static_cast<int>(n);
+        const auto jv = joint_variables_.find({owner, joint});
+        if (owner < 0 || jv == joint_variables_.end()) continue;  // its coordinate failed (reported)
+        const auto r = spatial_.place(owner, placement_element(*joint, jv->second), child);
+        if (r == SpatialLibrary::Placed::Later) later.push_back({child, joint});
+      }
+      if (later.size() == todo.size()) {
+        for (const auto& [child, joint] : later)
+          diags_.error(joint->pos, fmt::format("joint '{}': joints with coordinates would form a loop through '{}'; close "
+                                               "the loop with a joint without a coordinate",
+                                               joint->name, m_.nodes[child].name));
+        break;
+      }
+      todo = later;
+    }
+  }
+
+  PlanarLibrary::Element placement_element(const Statement& s, std::pair<int, int> variables) const {
+    PlanarLibrary::Element e;
+    e.name = s.name;
+    e.kind = s.kind_name;
+    e.pos = s.pos;
+    e.kind_pos = s.kind_pos;
+    e.end1 = s.paths[0].text;
+    e.end1_pos = s.paths[0].pos;
+    e.end2 = s.paths[1].text;
+    e.end2_pos = s.paths[1].pos;
+    e.coordinate = variables.first;
+    e.coordinate_speed = variables.second;
+    e.coordinate_pos = s.joint_coordinate.pos;
+    return e;
   }
 
   /// `joint ... coordinate q [speed s]`: the joint's relative coordinate q and its rate s
@@ -1040,28 +1153,9 @@ class Builder {
           break;
         case Kind::Point:
         case Kind::Com:
-        case Kind::Axis: {
-          std::vector<GiNaC::ex> v;
-          for (const auto& e : s.exprs) {
-            auto c = convert(id, e, false, false, false);
-            if (!c) break;
-            v.push_back(*c);
-          }
-          if (v.size() != s.exprs.size()) {
-            if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
-            if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
-            break;
-          }
-          if (!check_point_dimension(id, s)) break;
-          if (node.kind == LeafKind::Rigid3d) {
-            add_rigid3d_geometry(id, s, v);
-            break;
-          }
-          if (s.kind == Kind::Point) library_.add_point(id, s.name, v[0], v[1], s.name_pos);
-          else if (s.kind == Kind::Com) library_.set_com(id, v[0], v[1], s.pos);
-          else library_.add_axis(id, s.name, v[0], v[1], v[2], v[3], s.name_pos);
+        case Kind::Axis:
+          if (!geometry_done_.count(id)) fill_geometry(id, s);
           break;
-        }
         case Kind::Joint:
         case Kind::Spring:
         case Kind::Damper: {
@@ -1085,6 +1179,7 @@ class Builder {
             const auto jv = joint_variables_.find({id, &s});
             if (jv == joint_variables_.end()) break;  // its declaration failed (reported)
             e.coordinate = jv->second.first;
+            e.coordinate_speed = jv->second.second;
             e.coordinate_pos = s.joint_coordinate.pos;
           }
           if (s.kind == Kind::Joint && s.kind_name == "rolling_sphere") {
@@ -1165,6 +1260,30 @@ class Builder {
         else nd.instance_of = it->second;
       }
     }
+  }
+
+  /// A `point`, `com` or `axis` statement of body `id`.
+  void fill_geometry(int id, const Statement& s) {
+    const Node& node = m_.nodes[static_cast<std::size_t>(id)];
+    std::vector<GiNaC::ex> v;
+    for (const auto& e : s.exprs) {
+      auto c = convert(id, e, false, false, false);
+      if (!c) break;
+      v.push_back(*c);
+    }
+    if (v.size() != s.exprs.size()) {
+      if (s.kind != Kind::Com) library_.add_failed(id, s.name);  // a joint naming it says no more
+      if (s.kind != Kind::Com) spatial_.add_failed(id, s.name);
+      return;
+    }
+    if (!check_point_dimension(id, s)) return;
+    if (node.kind == LeafKind::Rigid3d) {
+      add_rigid3d_geometry(id, s, v);
+      return;
+    }
+    if (s.kind == Kind::Point) library_.add_point(id, s.name, v[0], v[1], s.name_pos);
+    else if (s.kind == Kind::Com) library_.set_com(id, v[0], v[1], s.pos);
+    else library_.add_axis(id, s.name, v[0], v[1], v[2], v[3], s.name_pos);
   }
 
   /// `inertia (Ixx, Iyy, Izz [, Ixy, Ixz, Iyz])` of a rigid3d body: the tensor about the
@@ -1652,6 +1771,15 @@ class Builder {
   std::map<int, SourcePos> rigid3d_com_pos_;      // rigid3d bodies' com statements
   std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
   std::map<std::pair<int, const Statement*>, std::vector<int>> contact_coordinates_;  // rolling_sphere -> (xc, yc)
+  // Pass A: the statements of the subsystems being declared, outermost first, where a
+  // rigid3d body finds the joint with a coordinate that places it (placing_joint).
+  std::vector<std::pair<std::string, const std::vector<ast::StatementPtr>*>> scopes_;
+  struct Placement {
+    int child;
+    const Statement* joint;
+  };
+  std::vector<Placement> placements_;
+  std::set<int> geometry_done_;  // rigid3d bodies whose geometry was read before pass B
   std::vector<Definition> definitions_;
   std::vector<FormalArg> formal_args_;
   std::set<int> has_mass_;

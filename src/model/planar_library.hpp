@@ -57,6 +57,7 @@ class PlanarLibrary {
     SourcePos option2_pos;
     std::optional<GiNaC::ex> value2;
     int coordinate = -1;  // revolute, prismatic: `coordinate q`, the joint's own coordinate (index), or -1
+    int coordinate_speed = -1;  // and its rate's speed (index)
     SourcePos coordinate_pos;
     std::vector<int> contact;  // rolling_sphere: the contact point's coordinates (xc, yc), indices
   };

@@ -143,7 +143,45 @@ std::vector<std::vector<std::string>> unit_quaternion_names(const Model& m) {
 
 Vec angular_velocity_in_space(const Model& m, const Node& node) {
   const Vec w = angular_speeds(m, node);
-  return node.rigid3d.space_frame ? w : mat_vec(node.rigid3d.rotation, w);
+  return node.rigid3d.space_frame ? w : direction_in_space(m, node, w);
+}
+
+Vec parent_angular_velocity_in_parent_frame(const Model& m, const Node& child) {
+  const int p = child.rigid3d.joint_parent;
+  if (p < 0) return {0, 0, 0};
+  const Node& parent = m.nodes[static_cast<std::size_t>(p)];
+  const Vec w = angular_speeds(m, parent);
+  return parent.rigid3d.space_frame ? mat_t_vec(parent.rigid3d.rotation, w) : w;
+}
+
+namespace {
+bool expands_to_zero(const ex& e) { return GiNaC::expand(e).is_zero(); }
+}  // namespace
+
+Vec rotate_about(const Vec& n, const ex& q, const Vec& v) {
+  const Vec nv = cross(n, v);
+  if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) return v;  // along the axis
+  const ex c = cos(q), s = sin(q), along = (1 - c) * dot(n, v);
+  return {c * v[0] + s * nv[0] + along * n[0], c * v[1] + s * nv[1] + along * n[1], c * v[2] + s * nv[2] + along * n[2]};
+}
+
+Vec rotation_about(const Vec& n, const ex& q) {
+  Vec R(9, ex(0));
+  for (int j = 0; j < 3; ++j) {
+    Vec e(3, ex(0));
+    e[static_cast<std::size_t>(j)] = 1;
+    const Vec col = rotate_about(n, q, e);
+    for (int i = 0; i < 3; ++i) R[static_cast<std::size_t>(3 * i + j)] = col[static_cast<std::size_t>(i)];
+  }
+  return R;
+}
+
+Vec mat_mat(const Vec& A, const Vec& B) {
+  Vec C(9, ex(0));
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) C[static_cast<std::size_t>(3 * i + j)] += A[static_cast<std::size_t>(3 * i + k)] * B[static_cast<std::size_t>(3 * k + j)];
+  return C;
 }
 
 Vec inertia_in_speed_frame(const Node& node) {
@@ -163,13 +201,28 @@ Vec inertia_in_speed_frame(const Node& node) {
 
 Vec point_in_space(const Model& m, const Node& node, const Vec& local) {
   const Vec& c = node.rigid3d.com;
-  const Vec d = mat_vec(node.rigid3d.rotation, {local[0] - c[0], local[1] - c[1], local[2] - c[2]});
+  const Vec d = direction_in_space(m, node, {local[0] - c[0], local[1] - c[1], local[2] - c[2]});
   Vec out;
   for (int k = 0; k < 3; ++k) out.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].sym + d[k]);
   return out;
 }
 
-Vec direction_in_space(const Node& node, const Vec& local) { return mat_vec(node.rigid3d.rotation, local); }
+ex length_scale(const Model& m, const Node& node) {
+  if (node.rigid3d.placed()) {
+    const int p = node.rigid3d.joint_parent;
+    return p < 0 ? ex(1) : length_scale(m, m.nodes[static_cast<std::size_t>(p)]);
+  }
+  if (node.rigid3d.sequence != "quaternion") return 1;
+  const Vec e = attitude_coordinates(m, node);
+  return e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+}
+
+Vec direction_in_space(const Model& m, const Node& node, const Vec& local) {
+  if (!node.rigid3d.placed()) return mat_vec(node.rigid3d.rotation, local);
+  const Vec turned = rotate_about(node.rigid3d.joint_axis, node.rigid3d.joint_angle, local);
+  const int p = node.rigid3d.joint_parent;
+  return p < 0 ? turned : direction_in_space(m, m.nodes[static_cast<std::size_t>(p)], turned);
+}
 
 GiNaC::ex angular_inertia_force(const Model& m, const Node& node, int k) {
   const Vec J = inertia_in_speed_frame(node);

@@ -217,23 +217,24 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     return std::nullopt;
   }
   out.p = rigid3d::point_in_space(m_, node, {it->second[0], it->second[1], it->second[2]});
-  out.ex = rigid3d::direction_in_space(node, {1, 0, 0});
-  out.ey = rigid3d::direction_in_space(node, {0, 1, 0});
-  out.ez = rigid3d::direction_in_space(node, {0, 0, 1});
+  out.ex = rigid3d::direction_in_space(m_, node, {1, 0, 0});
+  out.ey = rigid3d::direction_in_space(m_, node, {0, 1, 0});
+  out.ez = rigid3d::direction_in_space(m_, node, {0, 0, 1});
   if (axis) {
     const Vec d{it->second[3], it->second[4], it->second[5]};
     const auto n = normals(d);
-    out.d = rigid3d::direction_in_space(node, d);
+    out.d = rigid3d::direction_in_space(m_, node, d);
     out.d_length = GiNaC::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    out.n1 = rigid3d::direction_in_space(node, n.first);
-    out.n2 = rigid3d::direction_in_space(node, n.second);
+    out.n1 = rigid3d::direction_in_space(m_, node, n.first);
+    out.n2 = rigid3d::direction_in_space(m_, node, n.second);
   }
   return out;
 }
 
 void SpatialLibrary::row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
-                         Constraint::Level level) {
+                         Constraint::Level level, int explicit_coordinate) {
   Constraint c;
+  c.explicit_coordinate = explicit_coordinate;
   c.name = join(m_.nodes[owner].name, name);
   c.node = owner;
   c.level = level;
@@ -250,8 +251,16 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     add_rolling_sphere(owner, e, name, what);
     return;
   }
+  if (e.coordinate >= 0 && e.kind == "revolute") {
+    const auto a = axis_key(owner, e.end1), b = axis_key(owner, e.end2);
+    if (a && b) hinged_.insert(std::minmax(*a, *b));
+    add_placement(owner, e, name, what);
+    return;
+  }
   if (e.coordinate >= 0) {
-    diags_.error(e.coordinate_pos, fmt::format("{}: a spatial joint takes no coordinate of its own", what));
+    diags_.error(e.coordinate_pos, fmt::format("{}: in space only a revolute joint takes a coordinate of its own (a {} "
+                                               "joint does not)",
+                                               what, e.kind));
     return;
   }
   if (e.kind == "rolling") {

@@ -65,6 +65,13 @@ class SpatialLibrary {
   /// The joint kinds this library knows.
   static const std::vector<std::string>& kinds();
 
+  /// Before pass B: body `child`, placed by the revolute joint e with a coordinate, gets
+  /// its attitude, R_parent R_joint(q) (spatial_joint_coordinate.cpp). Later when the
+  /// parent is itself placed and not yet done; Failed when it cannot be (reported here,
+  /// or at the joint in pass B by add_element).
+  enum class Placed { Done, Later, Failed };
+  Placed place(int owner, const PlanarLibrary::Element& e, int child);
+
   /// After every element: each rotational spring or damper must have its two axes joined
   /// by a revolute or cylindrical joint (reported at the element otherwise).
   void finish();
@@ -93,7 +100,13 @@ class SpatialLibrary {
   /// Two directions normal to the body-frame direction d (in the body frame).
   std::pair<Vec, Vec> normals(const Vec& d) const;
   void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
-           Constraint::Level level = Constraint::Level::Position);
+           Constraint::Level level = Constraint::Level::Position, int explicit_coordinate = -1);
+  /// A revolute joint with a coordinate: the rows that place its second body
+  /// (spatial_joint_coordinate.cpp).
+  void add_placement(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
+  /// The body-frame direction (dx, dy, dz) of axis `path` (ground or rigid3d body) and its
+  /// body, without reporting (pass B's end() reports what is wrong).
+  std::optional<std::pair<int, Vec>> axis_direction(int owner, const std::string& path) const;
   /// A disc (an axis of a rigid3d body: its centre and spin axis) rolling without slip
   /// on a plane of the ground (spatial_rolling.cpp).
   void add_rolling(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);

@@ -81,11 +81,11 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
     return;
   }
   const Node& body = m_.nodes[disc->node];
-  // Unit normal of the plane and unit spin axis. The spin axis is divided by its own length
-  // in space (not by its constant body-frame length), so that c stays in [-1, 1] even off
-  // the unit quaternions (a quaternion's rotation matrix scales by |e|^2).
+  // Unit normal of the plane and unit spin axis. The spin axis in space is R d, of length
+  // |e|^2 |d| for a quaternion attitude at any e (rigid3d::length_scale): divided by that,
+  // c stays in [-1, 1] even off the unit quaternions, with no square root of the state.
   const Vec n = scaled(plane->d, 1 / GiNaC::sqrt(rigid3d::dot(plane->d, plane->d)));
-  const Vec d = scaled(disc->d, 1 / GiNaC::sqrt(rigid3d::dot(disc->d, disc->d)));
+  const Vec d = scaled(disc->d, 1 / (disc->d_length * rigid3d::length_scale(m_, body)));
   const GiNaC::ex c = rigid3d::dot(n, d);
   const GiNaC::ex s = GiNaC::sqrt(1 - c * c);
   row(owner, name + ".contact", rigid3d::dot(n, sub(disc->p, plane->p)) - r * s, e.pos);

@@ -64,7 +64,18 @@ Elimination eliminate_state_free_pivots(std::vector<LinearRow> rows, const model
       if (k == best_i || row_done[k] || row.c[best_j].is_zero()) continue;
       const GiNaC::ex f = row.c[best_j] / p;
       for (std::size_t l : pivot_cols)
-        if (l != best_j) row.c[l] = model::expand_if_small(row.c[l] - f * pivot_row.c[l]);
+        if (l != best_j) {
+          // The update stays factored (a - f b) unless its expansion is a number or is
+          // free of the state where the factored form is not: expanding multiplies out
+          // products of sines and cosines that the factored form shares (a spatial joint
+          // chain: 19 553 -> 5 973 rhs operations for the joint-coordinate bicycle). Zeros,
+          // numbers and state-free entries are judged on the expansion, so the sparsity,
+          // the pivots and the Markowitz scores are those of full expansion.
+          const GiNaC::ex x = row.c[l] - f * pivot_row.c[l];
+          const GiNaC::ex xe = model::expand_if_small(x);
+          const bool use_expansion = GiNaC::is_a<GiNaC::numeric>(xe) || (is_state_free(xe, model) && !is_state_free(x, model));
+          row.c[l] = use_expansion ? xe : x;
+        }
       row.c[best_j] = 0;
       row.rest = row.rest - f * pivot_row.rest;
       scan_row(k);

@@ -48,6 +48,7 @@
 #include "three_r_arm_joint/three_r_arm_joint.hpp"
 #include "three_rrr/three_rrr.hpp"
 #include "whipple_bicycle/whipple_bicycle.hpp"
+#include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
 #include "whitworth/whitworth.hpp"
 
 MBSC_GENERIC_MODEL(chaplygin_sleigh);
@@ -82,6 +83,7 @@ MBSC_GENERIC_MODEL(three_r_arm);
 MBSC_GENERIC_MODEL(three_r_arm_joint);
 MBSC_GENERIC_MODEL(three_rrr);
 MBSC_GENERIC_MODEL(whipple_bicycle);
+MBSC_GENERIC_MODEL(whipple_bicycle_joints);
 MBSC_GENERIC_MODEL(whitworth);
 
 using mbsc_test::Arguments;
@@ -323,7 +325,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 27);
+  REQUIRE(shipped == 28);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -352,6 +354,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<three_r_arm_joint_abi>(rng);
     check_model<three_rrr_abi>(rng);
     check_model<whipple_bicycle_abi>(rng);
+    check_model<whipple_bicycle_joints_abi>(rng);
     check_model<whitworth_abi>(rng);
   }
 }
@@ -441,6 +444,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<three_r_arm_abi>(rng);
     check_sparse_jacobians<three_rrr_abi>(rng);
     check_sparse_jacobians<whipple_bicycle_abi>(rng);
+    check_sparse_jacobians<whipple_bicycle_joints_abi>(rng);
     check_sparse_jacobians<whitworth_abi>(rng);
     // --state minimal (evaluated at the rebuilt full state), the multipliers form, and a
     // model without constraints (empty patterns).

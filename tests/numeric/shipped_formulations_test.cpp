@@ -79,6 +79,8 @@
 #include "three_rrr_mult/three_rrr_mult.hpp"
 #include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whipple_bicycle_mult/whipple_bicycle_mult.hpp"
+#include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
+#include "whipple_bicycle_joints_mult/whipple_bicycle_joints_mult.hpp"
 #include "whitworth/whitworth.hpp"
 #include "whitworth_mult/whitworth_mult.hpp"
 
@@ -584,6 +586,26 @@ std::vector<Case> shipped_models() {
                    {{"rear_wheel.wy", -5.0 / 0.3, 3.0}, {"rear_frame.wx", 0.0, 1.0}, {"front_frame.wx", 0.0, 1.0}},
                    {},
                    {}});
+  // The same bicycle in joint coordinates: the rear frame's yaw and lean, the steer and
+  // both wheels' angles given, the reference points placed by assembly.
+  cases.push_back({PAIR(whipple_bicycle_joints),
+                   {{"rear_wheel.z", -0.3},
+                    {"rear_frame.x", 0.3},
+                    {"rear_frame.z", -0.9},
+                    {"front_frame.x", 0.9},
+                    {"front_frame.z", -0.7},
+                    {"front_wheel.x", 1.02},
+                    {"front_wheel.z", -0.35}},
+                   {{"rear_wheel.x", 0.0, 1.0},
+                    {"rear_wheel.y", 0.0, 1.0},
+                    {"rear_frame.phi", 0.0, 1.0},
+                    {"rear_frame.theta", 0.0, 0.1},
+                    {"delta", 0.0, 0.2},
+                    {"theta_R", 0.0, 1.0},
+                    {"theta_F", 0.0, 1.0}},
+                   {{"theta_R_dot", -5.0 / 0.3, 3.0}, {"rear_frame.wx", 0.0, 1.0}, {"delta_dot", 0.0, 1.0}},
+                   {},
+                   {}});
   // The thick disc on the incline: near its start attitude (leaning 0.25 rad), the
   // height placed by assembly.
   cases.push_back({PAIR(rolling_disc_incline),
@@ -626,7 +648,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 27);
+  REQUIRE(shipped.size() == 28);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

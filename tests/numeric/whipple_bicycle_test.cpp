@@ -22,6 +22,7 @@
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/dop853.hpp"
 #include "mbsc/runtime/least_squares.hpp"
+#include "bicycle_modes.hpp"
 #include "test_support.hpp"
 #include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whipple_bicycle_min/whipple_bicycle_min.hpp"
@@ -31,6 +32,8 @@ namespace B = mbsc_gen::whipple_bicycle;
 namespace BM = mbsc_gen::whipple_bicycle_mult;
 namespace BN = mbsc_gen::whipple_bicycle_min;
 using mbsc_test::index_of;
+using mbsc_test::Modes;
+using mbsc_test::modes_from_lean;
 
 namespace {
 
@@ -266,67 +269,13 @@ TEST_CASE("Whipple bicycle: self-stable at 5 m/s, weave-unstable at 3 m/s", "[nu
 }
 
 namespace {
-/// The weave eigenvalue (upper half plane) and the capsize eigenvalue at speed v,
-/// estimated from a nonlinear run with a tiny lean rate. After the castor mode (-12.7
-/// to -16/s in this speed range) has died out (t >= 1 s), the lean angle is a sum of three
-/// exponentials: the weave pair and the capsize mode (the forward speed changes only at
-/// second order in the perturbation). Prony: a least-squares linear
-/// prediction lean[k+3] = a0 lean[k+2] + a1 lean[k+1] + a2 lean[k] over the samples; the
-/// roots z of z^3 - a0 z^2 - a1 z - a2 are exp(lambda dt).
-struct Modes {
-  std::complex<double> weave;
-  double capsize;
-};
+/// The weave and capsize eigenvalues at speed v from a nonlinear run with a tiny lean
+/// rate (bicycle_modes.hpp): samples 0.1 s apart from t = 1 s, integrated at 1e-13.
 Modes modes_from_run(double v) {
-  // Samples 0.1 s apart (closer ones make the prediction's columns nearly parallel and
-  // the fit sensitive to the integration error), integrated at tolerance 1e-13.
   const double dt = 0.1;
   const auto all = lean_history(v, 1e-4, 6.0, dt, 1e-13);  // a tiny perturbation: nearly linear
-  const std::vector<double> s(all.begin() + 10, all.end());
-  // Normal equations of the 3-parameter fit (well conditioned enough at this size).
-  double A[3][3] = {}, r[3] = {};
-  for (std::size_t k = 0; k + 3 < s.size(); ++k) {
-    const double row[3] = {s[k + 2], s[k + 1], s[k]};
-    for (int i = 0; i < 3; ++i) {
-      r[i] += row[i] * s[k + 3];
-      for (int j = 0; j < 3; ++j) A[i][j] += row[i] * row[j];
-    }
-  }
-  auto det3 = [](double M[3][3]) {
-    return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-           M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
-  };
-  const double D = det3(A);
-  double a[3];
-  for (int c = 0; c < 3; ++c) {  // Cramer
-    double Mc[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Mc[i][j] = j == c ? r[i] : A[i][j];
-    a[c] = det3(Mc) / D;
-  }
-  // The cubic's roots by Durand-Kerner iteration.
-  using C = std::complex<double>;
-  std::array<C, 3> z{C(0.4, 0.9), C(0.9, 0.1), C(-0.5, -0.6)};
-  auto p = [&](C x) { return x * x * x - a[0] * x * x - a[1] * x - a[2]; };
-  for (int it = 0; it < 500; ++it)
-    for (std::size_t i = 0; i < 3; ++i) {
-      C den = 1.0;
-      for (std::size_t j = 0; j < 3; ++j)
-        if (j != i) den *= z[i] - z[j];
-      z[i] -= p(z[i]) / den;
-    }
-  Modes m{C(0, 0), 0.0};
-  int oscillating = 0;
-  for (const C& zi : z) {
-    const C lambda = std::log(zi) / dt;
-    if (std::fabs(lambda.imag()) > 1.0) {
-      ++oscillating;
-      if (lambda.imag() > 0) m.weave = lambda;
-    } else {
-      m.capsize = lambda.real();
-    }
-  }
-  REQUIRE(oscillating == 2);
+  const Modes m = modes_from_lean(std::vector<double>(all.begin() + 10, all.end()), dt);
+  REQUIRE(m.oscillating == 2);
   return m;
 }
 }  // namespace

@@ -36,7 +36,12 @@ inline bool is_rigid2d(LeafKind kind) { return kind == LeafKind::Rigid2d || kind
 /// mass centre's velocity in space), then wx, wy, wz (the angular velocity's components
 /// in the body frame, or in the space frame when `space_frame`).
 struct Rigid3dData {
-  std::string sequence;      // "quaternion", or the Euler axis sequence ("zyx", "zxz", ...)
+  /// "quaternion", the Euler axis sequence ("zyx", "zxz", ...), or "joint": the body is
+  /// placed by a spatial revolute joint with a coordinate (`joint J : revolute P.a B.a
+  /// coordinate q`): it has no attitude coordinates, its attitude is its parent's turned
+  /// by q about the joint axis, R = R_parent R_joint(q) (docs/formulation.md "Joint
+  /// coordinates in space"), and its angular speeds are in its body frame.
+  std::string sequence;
   bool space_frame = false;  // angular speeds in the space frame (else the body frame)
   /// Body-to-space rotation matrix R (row-major 3x3) in the attitude coordinates: a
   /// vector with body components b has space components R b.
@@ -50,6 +55,14 @@ struct Rigid3dData {
   std::map<std::string, std::vector<GiNaC::ex>> points;
   /// Axes: a point and a direction, both in body coordinates (6 entries), by local name.
   std::map<std::string, std::vector<GiNaC::ex>> axes;
+  /// sequence "joint" only: the parent body (node index, or -1 for the ground), the
+  /// joint axis as a unit vector in the parent's body frame (the child's too: the two
+  /// frames coincide at q = 0), the joint coordinate q and its rate's speed symbol.
+  int joint_parent = -1;
+  std::vector<GiNaC::ex> joint_axis;
+  GiNaC::ex joint_angle, joint_rate;
+  std::string joint_name;  // the placing joint, for messages
+  bool placed() const { return sequence == "joint"; }
 };
 
 /// A generalized coordinate (q0) or quasi-velocity (q1).

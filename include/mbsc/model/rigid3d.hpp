@@ -51,8 +51,28 @@ Vec angular_velocity_in_space(const Model& m, const Node& node);
 Vec inertia_in_speed_frame(const Node& node);
 /// A body point (body coordinates) in space: x + R (p - com).
 Vec point_in_space(const Model& m, const Node& node, const Vec& local);
-/// A body direction in space: R d.
-Vec direction_in_space(const Node& node, const Vec& local);
+/// A body direction in space: R d. For a body placed by a joint (Rigid3dData::placed)
+/// it turns d by the joint angle, then takes the parent's direction_in_space of that:
+/// R_parent (R_joint d), with R_joint d = d for d along the joint axis (a wheel's spin
+/// axis in space is its frame's hub axis, with no trace of the wheel angle).
+Vec direction_in_space(const Model& m, const Node& node, const Vec& local);
+
+/// The factor by which direction_in_space scales lengths: |e|^2 for a quaternion
+/// attitude (its homogeneous matrix is |e|^2 times a rotation, exactly, at any e), that of
+/// the parent for a body placed by a joint, 1 for Euler angles (an exact rotation). So
+/// |R d| = length_scale |d| with no square root of the attitude coordinates.
+GiNaC::ex length_scale(const Model& m, const Node& node);
+
+/// v turned by angle q about the unit vector n (Rodrigues):
+/// cos q v + sin q (n x v) + (1 - cos q) (n . v) n; v itself when v is a multiple of n.
+Vec rotate_about(const Vec& n, const GiNaC::ex& q, const Vec& v);
+/// The matrix of rotate_about (row-major 3x3).
+Vec rotation_about(const Vec& n, const GiNaC::ex& q);
+/// 3x3 row-major product A B.
+Vec mat_mat(const Vec& A, const Vec& B);
+/// The angular velocity of a placed body's parent in the parent's body frame (0 for the
+/// ground): what the joint's velocity rows turn into the child's frame.
+Vec parent_angular_velocity_in_parent_frame(const Model& m, const Node& child);
 
 /// The own generalized force along angular speed k (0, 1, 2): the k-th entry of
 /// -(J w' + w x J w) with J the inertia in the speeds' frame (Euler's equations; in the
