@@ -221,7 +221,9 @@ class Intermediates {
     GiNaC::matrix A(s.n, s.n);
     for (int i = 0; i < s.n; ++i)
       for (int j = 0; j < s.n; ++j) {
-        A(i, j) = model::subs_present(s.A[i * s.n + j], known);
+        // Expanded first: the complement keeps eliminated entries factored (a - f b,
+        // nested), and a determinant of those expands every product of them afresh.
+        A(i, j) = model::expand_if_small(model::subs_present(s.A[i * s.n + j], known));
         if (node_count(A(i, j), kMaxClosedNodes) > kMaxClosedNodes) return;
       }
     const GiNaC::ex det = display_simplify(A.determinant(GiNaC::determinant_algo::laplace));
@@ -229,7 +231,7 @@ class Intermediates {
     for (int l = 0; l < s.k; ++l) {
       for (int i = 0; i < s.n; ++i) {
         GiNaC::matrix Ai = A;
-        for (int r = 0; r < s.n; ++r) Ai(r, i) = model::subs_present(s.B[r * s.k + l], known);
+        for (int r = 0; r < s.n; ++r) Ai(r, i) = model::expand_if_small(model::subs_present(s.B[r * s.k + l], known));
         const GiNaC::ex num = display_simplify(Ai.determinant(GiNaC::determinant_algo::laplace));
         const GiNaC::ex x = num / det;
         if (node_count(x, kMaxClosedNodes) > kMaxClosedNodes) continue;

@@ -603,7 +603,7 @@ class Builder {
         const std::string path = end.substr(0, dot);
         for (std::size_t j = k + 1; j-- > 0;) {
           if (join(scopes_[j].first, path) != prefix) continue;
-          placements_.push_back({id, s.get()});
+          placements_.push_back({id, s.get(), scopes_[k].first});
           if (!first) first = s.get();
           break;
         }
@@ -623,34 +623,48 @@ class Builder {
   /// Every placement, parents before their children; a body placed twice, or placements
   /// in a loop, are errors.
   void place_joint_bodies() {
-    std::map<int, const Statement*> by_child;
+    std::map<int, const Placement*> by_child;
     for (const auto& p : placements_) {
-      const auto [it, fresh] = by_child.emplace(p.child, p.joint);
+      const auto [it, fresh] = by_child.emplace(p.child, &p);
       if (fresh) continue;
+      const Statement* first = it->second->joint;
       diags_.error(p.joint->pos, fmt::format("joint '{}': body '{}' is already placed by joint '{}' (at {}); a body is the "
                                              "second end of at most one joint with a coordinate (close a loop with a "
                                              "joint without one)",
-                                             p.joint->name, m_.nodes[p.child].name, it->second->name,
-                                             position_text(it->second->pos, p.joint->pos)));
+                                             p.joint->name, m_.nodes[p.child].name, first->name,
+                                             position_text(first->pos, p.joint->pos)));
     }
-    std::vector<std::pair<int, const Statement*>> todo(by_child.begin(), by_child.end());
+    std::vector<const Placement*> todo;
+    for (const auto& [child, p] : by_child) todo.push_back(p);
+    bool failed = false;
     while (!todo.empty()) {
-      std::vector<std::pair<int, const Statement*>> later;
-      for (const auto& [child, joint] : todo) {
+      std::vector<const Placement*> later;
+      for (const Placement* p : todo) {
+        // The node the joint is written in: the one of that name holding the statement
+        // (every instance of a component holds the same statements).
         int owner = -1;
-        for (std::size_t n = 0; n < pending_.size() && owner < 0; ++n)
+        for (std::size_t n = 0; n < pending_.size() && owner < 0; ++n) {
+          if (m_.nodes[n].name != p->owner) continue;
           for (const auto& sp : pending_[n].body)
-            if (sp.get() == joint) owner = static_cast<int>(n);
-        const auto jv = joint_variables_.find({owner, joint});
-        if (owner < 0 || jv == joint_variables_.end()) continue;  // its coordinate failed (reported)
-        const auto r = spatial_.place(owner, placement_element(*joint, jv->second), child);
-        if (r == SpatialLibrary::Placed::Later) later.push_back({child, joint});
+            if (sp.get() == p->joint) owner = static_cast<int>(n);
+        }
+        const auto jv = joint_variables_.find({owner, p->joint});
+        if (owner < 0 || jv == joint_variables_.end()) {  // its coordinate failed (reported)
+          failed = true;
+          continue;
+        }
+        const auto r = spatial_.place(owner, placement_element(*p->joint, jv->second), p->child);
+        if (r == SpatialLibrary::Placed::Later) later.push_back(p);
+        failed = failed || r == SpatialLibrary::Placed::Failed;
       }
       if (later.size() == todo.size()) {
-        for (const auto& [child, joint] : later)
-          diags_.error(joint->pos, fmt::format("joint '{}': joints with coordinates would form a loop through '{}'; close "
-                                               "the loop with a joint without a coordinate",
-                                               joint->name, m_.nodes[child].name));
+        // Nothing placed in this round: a loop, unless a placement failed (reported),
+        // which leaves the bodies below it waiting.
+        if (!failed)
+          for (const Placement* p : later)
+            diags_.error(p->joint->pos, fmt::format("joint '{}': joints with coordinates would form a loop through '{}'; "
+                                                    "close the loop with a joint without a coordinate",
+                                                    p->joint->name, m_.nodes[p->child].name));
         break;
       }
       todo = later;
@@ -1777,6 +1791,7 @@ class Builder {
   struct Placement {
     int child;
     const Statement* joint;
+    std::string owner;  // the subsystem the joint is written in (an instance of a component shares its statements)
   };
   std::vector<Placement> placements_;
   std::set<int> geometry_done_;  // rigid3d bodies whose geometry was read before pass B

@@ -28,14 +28,15 @@ namespace mbsc::model {
 namespace {
 using Vec = SpatialLibrary::Vec;
 
-/// n . n with sin(a)^2 written as 1 - cos(a)^2: 1 for the unit axes users write, e.g.
-/// (sin(lambda), 0, cos(lambda)).
-GiNaC::ex tidy_square_length(const Vec& n) {
+/// e expanded with sin(a)^2 written as 1 - cos(a)^2.
+GiNaC::ex tidy_expand(const GiNaC::ex& e) {
   const GiNaC::wildcard a(0);
-  const GiNaC::ex e = GiNaC::expand(rigid3d::dot(n, n));
-  return GiNaC::expand(e.subs(GiNaC::pow(GiNaC::sin(a), 2) == 1 - GiNaC::pow(GiNaC::cos(a), 2),
-                              GiNaC::subs_options::algebraic));
+  return GiNaC::expand(GiNaC::expand(e).subs(GiNaC::pow(GiNaC::sin(a), 2) == 1 - GiNaC::pow(GiNaC::cos(a), 2),
+                                             GiNaC::subs_options::algebraic));
 }
+
+/// n . n tidied: 1 for the unit axes users write, e.g. (sin(lambda), 0, cos(lambda)).
+GiNaC::ex tidy_square_length(const Vec& n) { return tidy_expand(rigid3d::dot(n, n)); }
 }  // namespace
 
 std::optional<std::pair<int, Vec>> SpatialLibrary::axis_direction(int owner, const std::string& path) const {
@@ -69,22 +70,38 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
   Vec n = d;
   if (!(len2 - 1).is_zero())
     for (auto& x : n) x = x / GiNaC::sqrt(len2);
-  // The child's axis must be the parent's in body coordinates: same direction and sense.
+  // The child's axis must be the parent's in body coordinates: same direction and sense,
+  // for every parameter value. The same expressions pass at once; otherwise their cross
+  // product must vanish symbolically (sin^2 as 1 - cos^2) and their dot product be
+  // positive at the defaults. A direction that cannot be evaluated at the defaults (it
+  // reads an input or a component's parameter) must be written the same on both ends.
   const Vec& c = ca->second;
-  const Vec cr = rigid3d::cross(d, c);
-  const double dc = at_defaults(rigid3d::dot(d, c)), dd = at_defaults(rigid3d::dot(d, d)), cc = at_defaults(rigid3d::dot(c, c));
-  double off = 0;
-  for (const auto& x : cr) off = std::fmax(off, std::fabs(at_defaults(x)));
-  if (std::isnan(dc) || std::isnan(dd) || std::isnan(cc) || std::isnan(off) || !(dd > 0) || !(cc > 0))
-    return Placed::Failed;  // a zero or unknown direction: reported where the axis is declared
-  if (off > 1e-9 * std::sqrt(dd * cc) || !(dc > 0)) {
-    diags_.error(e.end2_pos, fmt::format("{}: the axes '{}' and '{}' point differently in their bodies' coordinates; a "
-                                         "joint with a coordinate turns '{}' from the attitude of '{}' about the axis (the "
-                                         "two bodies' frames coincide at {} = 0), so give both axes the same direction",
-                                         what, e.end1, e.end2, m_.nodes[child].name,
-                                         parent == PlanarLibrary::kGround ? std::string("ground") : m_.nodes[parent].name,
-                                         m_.coords[static_cast<std::size_t>(e.coordinate)].name));
-    return Placed::Failed;
+  bool same = true;
+  for (std::size_t k = 0; k < 3; ++k) same = same && GiNaC::expand(d[k] - c[k]).is_zero();
+  if (!same) {
+    const Vec cr = rigid3d::cross(d, c);
+    bool cross_zero = true;
+    for (const auto& x : cr) cross_zero = cross_zero && tidy_expand(x).is_zero();
+    const double dc = at_defaults(rigid3d::dot(d, c)), dd = at_defaults(rigid3d::dot(d, d)),
+                 cc = at_defaults(rigid3d::dot(c, c));
+    if (std::isnan(dc) || std::isnan(dd) || std::isnan(cc)) {
+      diags_.error(e.end2_pos, fmt::format("{}: the directions of the axes '{}' and '{}' cannot be compared at the parameter "
+                                           "defaults (they read an input or a component's parameter); write the same "
+                                           "direction for both",
+                                           what, e.end1, e.end2));
+      return Placed::Failed;
+    }
+    if (!(dd > 0) || !(cc > 0)) return Placed::Failed;  // a zero direction: reported where the axis is declared
+    if (!cross_zero || !(dc > 0)) {
+      diags_.error(e.end2_pos, fmt::format("{}: the axes '{}' and '{}' point differently in their bodies' coordinates; a "
+                                           "joint with a coordinate turns '{}' from the attitude of '{}' about the axis "
+                                           "(the two bodies' frames coincide at {} = 0), so give both axes the same "
+                                           "direction",
+                                           what, e.end1, e.end2, m_.nodes[child].name,
+                                           parent == PlanarLibrary::kGround ? std::string("ground") : m_.nodes[parent].name,
+                                           m_.coords[static_cast<std::size_t>(e.coordinate)].name));
+      return Placed::Failed;
+    }
   }
   Rigid3dData& data = m_.nodes[child].rigid3d;
   data.joint_parent = parent;
@@ -120,7 +137,11 @@ void SpatialLibrary::add_placement(int owner, const PlanarLibrary::Element& e, c
                                          what, child.name, child.name));
     return;
   }
-  if (data.rotation.empty()) return;  // its placement failed (reported)
+  if (data.rotation.empty()) {  // its placement failed (reported; the guard is for a path that would not say why)
+    if (!diags_.has_errors())
+      diags_.error(e.pos, fmt::format("{}: body '{}' could not be placed by this joint", what, child.name));
+    return;
+  }
   if (data.joint_parent != a->node) return;  // (cannot happen: both ends resolved alike)
   // The joint point: the child's mass centre follows from it (explicit in x, y, z).
   const char* const xyz[] = {"x", "y", "z"};

@@ -81,11 +81,14 @@ void SpatialLibrary::add_rolling(int owner, const PlanarLibrary::Element& e, con
     return;
   }
   const Node& body = m_.nodes[disc->node];
-  // Unit normal of the plane and unit spin axis. The spin axis in space is R d, of length
-  // |e|^2 |d| for a quaternion attitude at any e (rigid3d::length_scale): divided by that,
-  // c stays in [-1, 1] even off the unit quaternions, with no square root of the state.
+  // Unit normal of the plane and unit spin axis. The spin axis in space is R d: of length
+  // |d| (a constant) for an attitude by angles or by joints; for a quaternion attitude
+  // |e|^2 |d| at any e, so it is divided by its own length in space, which keeps c in
+  // [-1, 1] even off the unit quaternions. (Dividing by the polynomial |e|^2 |d| instead
+  // makes the exact solves of `mbsc print` run GiNaC's polynomial gcd on it: minutes.)
   const Vec n = scaled(plane->d, 1 / GiNaC::sqrt(rigid3d::dot(plane->d, plane->d)));
-  const Vec d = scaled(disc->d, 1 / (disc->d_length * rigid3d::length_scale(m_, body)));
+  const bool constant_length = rigid3d::length_scale(m_, body).is_equal(1);
+  const Vec d = scaled(disc->d, 1 / (constant_length ? disc->d_length : GiNaC::sqrt(rigid3d::dot(disc->d, disc->d))));
   const GiNaC::ex c = rigid3d::dot(n, d);
   const GiNaC::ex s = GiNaC::sqrt(1 - c * c);
   row(owner, name + ".contact", rigid3d::dot(n, sub(disc->p, plane->p)) - r * s, e.pos);

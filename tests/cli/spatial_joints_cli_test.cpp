@@ -78,3 +78,15 @@ TEST_CASE("spatial joints: a ground point in space", "[cli][spatial_joints]") {
   CHECK(r.output.find("pivot.x (position): 1/2 + 1/5*top.e0*top.e2 + 1/5*top.e1*top.e3 - top.x = 0") != std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("spatial joint coordinates: every instance of a component places its own body", "[cli][spatial_joints]") {
+  // Two instances of a component whose hinge has a coordinate: each places its link
+  // (3 position rows and 3 angular velocity rows), 2 x (6 + 6 + 1 - 6) = 14 freedoms. A
+  // joint placed only in the first instance would leave the second link free (20).
+  const auto r = run(kMbsc + " check " + path("tests/data/spatial_joints/arm_component.mbs"));
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("model arm_component: 14 degree(s) of freedom") != std::string::npos);
+  CHECK(r.output.find("constraints (12)") != std::string::npos);
+  CHECK(r.output.find("arm1.q arm2.base.x") != std::string::npos);  // no attitude coordinates for the links
+}

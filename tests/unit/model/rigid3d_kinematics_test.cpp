@@ -146,7 +146,7 @@ TEST_CASE("rigid3d: points and axes in space for joints (x + R p, R d)", "[model
     CHECK(number(p[static_cast<std::size_t>(i)], at) ==
           Approx(q[i] + R[3 * i] * local[0] + R[3 * i + 1] * local[1] + R[3 * i + 2] * local[2]).margin(1e-13));
   const auto& axis = node.rigid3d.axes.at("A");
-  const auto dir = mbsc::model::rigid3d::direction_in_space(node, {axis[3], axis[4], axis[5]});
+  const auto dir = mbsc::model::rigid3d::direction_in_space(*m, node, {axis[3], axis[4], axis[5]});
   for (int i = 0; i < 3; ++i) CHECK(number(dir[static_cast<std::size_t>(i)], at) == Approx(R[3 * i] + R[3 * i + 1]).margin(1e-13));
 }
 
