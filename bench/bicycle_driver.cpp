@@ -32,6 +32,10 @@
 #ifdef WITH_EULER
 #include "whipple_bicycle_euler/whipple_bicycle_euler.hpp"
 #endif
+#ifdef WITH_JOINTS
+#include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
+#include "whipple_bicycle_joints_min/whipple_bicycle_joints_min.hpp"
+#endif
 
 #ifdef WITH_SYMPY
 extern "C" {
@@ -298,6 +302,63 @@ int main(int argc, char** argv) {
   }
   tools.push_back({"euler", [](const double* s, double* o) { return BE::rhs(0.0, s, nullptr, BE::kParamDefaults, o); }, xe, BE::kNx, {}});
 #endif
+#ifdef WITH_JOINTS
+  // models/whipple_bicycle_joints.mbs at the same state: the rear frame's zxy angles from
+  // its quaternion, each joint's angle q and rate q' from the relative rotation
+  // R_rel = R_parent^T R_child about the joint's unit axis n (the same in both bodies):
+  // sin q = n . vee(R_rel - R_rel^T) / 2, cos q = (tr R_rel - 1) / 2, and
+  // q' = n . (w_child - R_rel^T w_parent) with body-frame angular speeds.
+  namespace BJ = mbsc_gen::whipple_bicycle_joints;
+  std::vector<double> xj(static_cast<std::size_t>(BJ::kNx), 0.0);
+  for (int k = 0; k < BJ::kNx; ++k) {
+    const std::string n = BJ::kStateNames[k];
+    for (int i = 0; i < B::kNx; ++i)
+      if (n == B::kStateNames[i]) xj[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(i)];
+  }
+  {
+    double R[9];
+    rotation(&x[at("rear_frame.e0")], R);
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.phi")] = std::atan2(-R[1], R[4]);
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.theta")] = std::asin(R[7]);
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.psi")] = std::atan2(-R[6], R[8]);
+  }
+  const double lambda = param("lambda");
+  struct Hinge {
+    const char *parent, *child, *q, *rate;
+    std::array<double, 3> n;
+  };
+  const Hinge hinges[] = {{"rear_frame", "rear_wheel", "theta_R", "theta_R_dot", {0, 1, 0}},
+                          {"rear_frame", "front_frame", "delta", "delta_dot", {std::sin(lambda), 0, std::cos(lambda)}},
+                          {"front_frame", "front_wheel", "theta_F", "theta_F_dot", {0, 1, 0}}};
+  for (const Hinge& h : hinges) {
+    double Rp[9], Rc[9], Rr[9];
+    rotation(&x[at(std::string(h.parent) + ".e0")], Rp);
+    rotation(&x[at(std::string(h.child) + ".e0")], Rc);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        Rr[3 * i + j] = 0.0;
+        for (int k = 0; k < 3; ++k) Rr[3 * i + j] += Rp[3 * k + i] * Rc[3 * k + j];
+      }
+    const double vee[3] = {Rr[7] - Rr[5], Rr[2] - Rr[6], Rr[3] - Rr[1]};
+    const double s = (h.n[0] * vee[0] + h.n[1] * vee[1] + h.n[2] * vee[2]) / 2, c = (Rr[0] + Rr[4] + Rr[8] - 1) / 2;
+    xj[at(BJ::kStateNames, BJ::kNx, h.q)] = std::atan2(s, c);
+    const double* wp = &x[at(std::string(h.parent) + ".wx")];
+    const double* wc = &x[at(std::string(h.child) + ".wx")];
+    double rate = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      double wpj = 0.0;  // (R_rel^T w_parent)_j
+      for (int i = 0; i < 3; ++i) wpj += Rr[3 * i + j] * wp[i];
+      rate += h.n[static_cast<std::size_t>(j)] * (wc[j] - wpj);
+    }
+    xj[at(BJ::kStateNames, BJ::kNx, h.rate)] = rate;
+  }
+  tools.push_back({"joints", [](const double* s, double* o) { return BJ::rhs(0.0, s, nullptr, BJ::kParamDefaults, o); }, xj, BJ::kNx, {}});
+  namespace BJN = mbsc_gen::whipple_bicycle_joints_min;
+  std::vector<double> xjn(static_cast<std::size_t>(BJN::kNx));
+  for (int k = 0; k < BJN::kNx; ++k) xjn[static_cast<std::size_t>(k)] = xj[at(BJ::kStateNames, BJ::kNx, BJN::kStateNames[k])];
+  tools.push_back({"joints_min", [](const double* s, double* o) { return BJN::rhs(0.0, s, nullptr, BJN::kParamDefaults, o); }, xjn,
+                   BJN::kNx, {}});
+#endif
 #ifdef WITH_SYMPY
   if (sympy_bicycle_nu != 6) die("sympy's model has " + std::to_string(sympy_bicycle_nu) + " speeds, not 6");
   // sympy at a generic (not necessarily consistent) state: the cost does not depend on it.
@@ -338,11 +399,16 @@ int main(int argc, char** argv) {
 #ifdef WITH_EULER
     if (t.tag == "euler") names = BE::kStateNames;
 #endif
+#ifdef WITH_JOINTS
+    if (t.tag == "joints") names = BJ::kStateNames;
+    if (t.tag == "joints_min") names = BJN::kStateNames;
+#endif
     for (int k = 0; k < t.nout; ++k) {
       const std::string n = names[k];
       if (n.size() > 4 && (n.compare(n.size() - 4, 4, ".phi") == 0 || n.compare(n.size() - 4, 4, ".psi") == 0 ||
                            (n.size() > 6 && n.compare(n.size() - 6, 6, ".theta") == 0)))
         continue;  // the Euler angles' rates: no counterpart in the quaternion state
+      if (n.find('.') == std::string::npos) continue;  // the joint angles and rates: not in the absolute state
       d = std::max(d, std::fabs(out[static_cast<std::size_t>(k)] - ref[at(n)]));
     }
     std::printf("%s_rel_diff=%.3e\n", t.tag.c_str(), d / scale);

@@ -3,7 +3,9 @@
 #
 # The Whipple bicycle (models/whipple_bicycle.mbs): mbsc's generation time, the rhs
 # operation count (the generated file's banner) and time per rhs call of the complement,
-# multipliers, --state minimal and --solver sparse / dense builds, side by side in ONE
+# multipliers, --state minimal and --solver sparse / dense builds, a variant with Euler
+# angles, and the same bicycle in joint coordinates (models/whipple_bicycle_joints.mbs,
+# full and --state minimal), side by side in ONE
 # driver process (bench/bicycle_driver.cpp) with sympy.physics.mechanics deriving the same
 # bicycle with KanesMethod in PyDy's layout (bench/sympy_bicycle.py), its C code compiled
 # the same way; callgrind's instructions per call when valgrind is there.
@@ -69,6 +71,9 @@ log "mbsc generate: $gen_s s"
 # only with a body's y axis vertical, a bicycle lying flat) instead of quaternions.
 sed "s/^  mass m\([RBHF]\)\$/  mass m\1\n  attitude euler zxy body/; /^initial.*e0 = 1/d" "models/$M.mbs" > "$WORK/${M}_euler.mbs"
 "$BUILD/mbsc" generate "$WORK/${M}_euler.mbs" -o "$WORK" --quiet --name ${M}_euler
+# The same bicycle in joint coordinates (the shipped models/whipple_bicycle_joints.mbs).
+"$BUILD/mbsc" generate "models/${M}_joints.mbs" -o "$WORK" --quiet
+"$BUILD/mbsc" generate "models/${M}_joints.mbs" -o "$WORK" --quiet --name ${M}_joints_min --state minimal
 ops() { sed -n 's|^//   rhs: .*total \([0-9]*\)$|\1|p' "$WORK/$1/$1.cpp"; }
 "$BUILD/mbsc" print "models/$M.mbs" --stats > "$WORK/stats.txt" 2>&1 || true
 
@@ -109,8 +114,8 @@ fi
 # --- the driver ------------------------------------------------------------------------------
 log "driver"
 srcs=()
-for v in "$M" ${M}_mult ${M}_min ${M}_sparse ${M}_dense ${M}_euler; do srcs+=("$WORK/$v/$v.cpp"); done
-g++ $FLAGS -I include -I "$WORK" -DWITH_EULER "${defs[@]}" bench/bicycle_driver.cpp "${srcs[@]}" "${objs[@]}" -o "$WORK/driver"
+for v in "$M" ${M}_mult ${M}_min ${M}_sparse ${M}_dense ${M}_euler ${M}_joints ${M}_joints_min; do srcs+=("$WORK/$v/$v.cpp"); done
+g++ $FLAGS -I include -I "$WORK" -DWITH_EULER -DWITH_JOINTS "${defs[@]}" bench/bicycle_driver.cpp "${srcs[@]}" "${objs[@]}" -o "$WORK/driver"
 "$WORK/driver" > "$WORK/driver.txt"
 val() { sed -n "s/^$1=//p" "$WORK/driver.txt"; }
 instr() {  # callgrind's instructions per rhs call of tool $1
@@ -139,6 +144,8 @@ out=bench/results/bicycle.md
   row minimal ${M}_min "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_min/${M}_min.hpp")"
   row sparse ${M}_sparse "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_sparse/${M}_sparse.hpp")"
   row euler ${M}_euler "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_euler/${M}_euler.hpp")"
+  row joints ${M}_joints "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_joints/${M}_joints.hpp")"
+  row joints_min ${M}_joints_min "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_joints_min/${M}_joints_min.hpp")"
   row dense ${M}_dense "$(sed -n 's/^inline constexpr int kNx = \([0-9]*\);/\1/p' "$WORK/${M}_dense/${M}_dense.hpp")"
   if [ -n "$HAVE_SYMPY" ]; then
     if [ -z "$s_status" ]; then
