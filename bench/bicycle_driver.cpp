@@ -98,6 +98,13 @@ void rotation(const double* e, double* R) {
   std::copy(r, r + 9, R);
 }
 
+/// Tait-Bryan zxy angles (phi, theta, psi) of a unit quaternion: R = Rz(phi) Rx(theta) Ry(psi).
+std::array<double, 3> zxy_angles(const double* e) {
+  double R[9];
+  rotation(e, R);
+  return {std::atan2(-R[1], R[4]), std::asin(R[7]), std::atan2(-R[6], R[8])};
+}
+
 using Rhs = int (*)(const double*, double*);
 
 // The one function callgrind counts (--toggle-collect): a real call, not a tail jump.
@@ -293,9 +300,8 @@ int main(int argc, char** argv) {
     const auto dot = n.rfind('.');
     const std::string body = n.substr(0, dot), var = n.substr(dot + 1);
     if (var == "phi" || var == "theta" || var == "psi") {
-      double R[9];
-      rotation(&x[at(body + ".e0")], R);
-      xe[static_cast<std::size_t>(k)] = var == "phi" ? std::atan2(-R[1], R[4]) : var == "theta" ? std::asin(R[7]) : std::atan2(-R[6], R[8]);
+      const auto a = zxy_angles(&x[at(body + ".e0")]);
+      xe[static_cast<std::size_t>(k)] = var == "phi" ? a[0] : var == "theta" ? a[1] : a[2];
     } else {
       xe[static_cast<std::size_t>(k)] = x[at(n)];
     }
@@ -316,11 +322,10 @@ int main(int argc, char** argv) {
       if (n == B::kStateNames[i]) xj[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(i)];
   }
   {
-    double R[9];
-    rotation(&x[at("rear_frame.e0")], R);
-    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.phi")] = std::atan2(-R[1], R[4]);
-    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.theta")] = std::asin(R[7]);
-    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.psi")] = std::atan2(-R[6], R[8]);
+    const auto a = zxy_angles(&x[at("rear_frame.e0")]);
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.phi")] = a[0];
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.theta")] = a[1];
+    xj[at(BJ::kStateNames, BJ::kNx, "rear_frame.psi")] = a[2];
   }
   const double lambda = param("lambda");
   struct Hinge {
