@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "bicycle_modes.hpp"
+#include "sampled_run.hpp"
 #include "mbsc/runtime/assemble.hpp"
-#include "mbsc/runtime/dop853.hpp"
 #include "test_support.hpp"
 #include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
@@ -32,6 +32,7 @@ namespace JN = mbsc_gen::whipple_bicycle_joints_min;
 using mbsc_test::index_of;
 using mbsc_test::Modes;
 using mbsc_test::modes_from_lean;
+using mbsc_test::sampled_run;
 
 namespace {
 
@@ -86,24 +87,6 @@ double max_abs(const State& a) {
   return m;
 }
 
-/// Integrates `rhs` (a generated model's, complement) from x0 and calls `sample(t, x)`
-/// every dt up to t_end.
-template <class Rhs, class F>
-void integrate(Rhs rhs, State x0, double t_end, double dt, double tol, F&& sample) {
-  mbsc::runtime::StepperOptions o;
-  o.rtol = o.atol = tol;
-  const int nx = static_cast<int>(x0.size());
-  mbsc::runtime::Dop853 stepper(rhs, nx, o);
-  REQUIRE(stepper.reset(0.0, x0) == mbsc::runtime::Stepper::Status::Ok);
-  State s(x0.size());
-  const int n = static_cast<int>(std::lround(t_end / dt));
-  for (int k = 0; k <= n; ++k) {
-    const double t = k * dt;
-    while (stepper.t() < t) REQUIRE(stepper.step(t) == mbsc::runtime::Stepper::Status::Ok);
-    stepper.interpolate(t, s);
-    sample(t, s);
-  }
-}
 const auto rhs_j = [](double t, const double* s, double* sd) { return J::rhs(t, s, nullptr, J::kParamDefaults, sd); };
 const auto rhs_a = [](double t, const double* s, double* sd) { return A::rhs(t, s, nullptr, A::kParamDefaults, sd); };
 
@@ -123,7 +106,7 @@ State assembled(State x) {
 /// States along a strongly perturbed run (leaning, steering and turning), re-assembled.
 std::vector<State> moving_states() {
   std::vector<State> out;
-  integrate(rhs_j, assembled(upright(4.0, 0.8, true)), 1.5, 0.25, 1e-10, [&](double t, const State& s) {
+  sampled_run(rhs_j, assembled(upright(4.0, 0.8, true)), 1.5, 0.25, 1e-10, [&](double t, const State& s) {
     if (t > 0) out.push_back(assembled(s));
   });
   return out;
@@ -178,8 +161,8 @@ TEST_CASE("Whipple bicycle in joint coordinates: the same motion as in absolute 
   const State xj0 = upright(4.0, 0.8, true), xa0 = upright(4.0, 0.8, false);
   CHECK(energy_j(xj0) == Approx(energy_a(xa0)).epsilon(1e-14));
   std::vector<State> sj, sa;
-  integrate(rhs_j, xj0, 3.0, 0.1, 1e-12, [&](double, const State& s) { sj.push_back(s); });
-  integrate(rhs_a, xa0, 3.0, 0.1, 1e-12, [&](double, const State& s) { sa.push_back(s); });
+  sampled_run(rhs_j, xj0, 3.0, 0.1, 1e-12, [&](double, const State& s) { sj.push_back(s); });
+  sampled_run(rhs_a, xa0, 3.0, 0.1, 1e-12, [&](double, const State& s) { sa.push_back(s); });
   REQUIRE(sj.size() == sa.size());
   double worst_lean = 0.0, worst_pos = 0.0, worst_speed = 0.0, max_lean = 0.0, max_yaw = 0.0;
   for (std::size_t k = 0; k < sj.size(); ++k) {
@@ -207,7 +190,7 @@ TEST_CASE("Whipple bicycle in joint coordinates: energy is conserved", "[numeric
   const State x0 = assembled(upright(4.0, 0.8, true));
   const double e0 = energy_j(x0);
   double worst = 0.0;
-  integrate(rhs_j, x0, 3.0, 0.05, 1e-12, [&](double, const State& s) { worst = std::max(worst, std::fabs(energy_j(s) - e0)); });
+  sampled_run(rhs_j, x0, 3.0, 0.05, 1e-12, [&](double, const State& s) { worst = std::max(worst, std::fabs(energy_j(s) - e0)); });
   INFO("energy " << e0 << " J, largest change " << worst << " J");
   CHECK(worst < 1e-9 * std::fabs(e0));
 }
@@ -263,7 +246,7 @@ TEST_CASE("Whipple bicycle in joint coordinates: weave and capsize eigenvalues a
   // -0.7753418895 +- 4.464867718 i and -0.3228664262, within 1e-8 relative).
   const double dt = 0.1;
   std::vector<double> lean;
-  integrate(rhs_j, upright(5.0, 1e-4, true), 6.0, dt, 1e-13, [&](double t, const State& s) {
+  sampled_run(rhs_j, upright(5.0, 1e-4, true), 6.0, dt, 1e-13, [&](double t, const State& s) {
     if (t > 1.0 - 1e-9) lean.push_back(lean_j(s));
   });
   const Modes m = modes_from_lean(lean, dt);

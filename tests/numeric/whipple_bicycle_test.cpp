@@ -17,12 +17,13 @@
 #include <complex>
 #include <iomanip>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mbsc/runtime/assemble.hpp"
-#include "mbsc/runtime/dop853.hpp"
 #include "mbsc/runtime/least_squares.hpp"
 #include "bicycle_modes.hpp"
+#include "sampled_run.hpp"
 #include "test_support.hpp"
 #include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whipple_bicycle_min/whipple_bicycle_min.hpp"
@@ -83,19 +84,8 @@ double max_abs(const State& a) {
 /// Integrates the complement model from x0 and calls `sample(t, x)` every dt up to t_end.
 template <class F>
 void integrate(State x0, double t_end, double dt, double tol, F&& sample) {
-  mbsc::runtime::StepperOptions o;
-  o.rtol = o.atol = tol;
   auto rhs = [](double t, const double* s, double* sd) { return B::rhs(t, s, nullptr, B::kParamDefaults, sd); };
-  mbsc::runtime::Dop853 stepper(rhs, B::kNx, o);
-  REQUIRE(stepper.reset(0.0, x0) == mbsc::runtime::Stepper::Status::Ok);
-  State s(static_cast<std::size_t>(B::kNx));
-  const int n = static_cast<int>(std::lround(t_end / dt));
-  for (int k = 0; k <= n; ++k) {
-    const double t = k * dt;
-    while (stepper.t() < t) REQUIRE(stepper.step(t) == mbsc::runtime::Stepper::Status::Ok);
-    stepper.interpolate(t, s);
-    sample(t, s);
-  }
+  mbsc_test::sampled_run(rhs, std::move(x0), t_end, dt, tol, sample);
 }
 
 /// A consistent state near x: the coordinates by least-squares Newton steps from x, then
