@@ -9,6 +9,7 @@
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/run/bench_command.hpp"
 #include "mbsc/run/inverse_cli.hpp"
+#include "mbsc/run/linearize_command.hpp"
 #include "mbsc/run/run_command.hpp"
 
 // Sanitizer builds: LeakSanitizer reports a one-time 26-byte allocation that libcln
@@ -312,6 +313,27 @@ int main(int argc, char** argv) {
   WorkFlags inv_work;
   inv_work.add_to(iv);
 
+  mbsc::run::LinearizeArgs lin;
+  std::vector<std::string> lin_keep;
+  auto* li = app.add_subcommand("linearize", "linear model about a reference state (thesis section 4.5): A, B and the "
+                                             "eigenvalues, as text, CSV or JSON");
+  li->add_option("model", lin.model, "model file (.mbs)")->required();
+  li->add_option("--init", lin.inits, "a coordinate or speed of the reference: name=value (repeatable; the rest is "
+                                      "assembled from the model's initial values)");
+  li->add_option("--set", lin.sets, "a parameter's value: name=value (repeatable)");
+  li->add_option("--input", lin.inputs, "an input's reference value: NAME=VALUE (default 0)");
+  li->add_option("--t", lin.t, "the reference time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
+  li->add_flag("--equilibrium", lin.equilibrium, "the reference must be at rest (every rate 0): an error otherwise");
+  li->add_option("--state", lin.state, "minimal (a state of the motions the constraints allow) or full (every q0 and q1)")
+      ->check(CLI::IsMember({"minimal", "full"}))
+      ->default_val("minimal");
+  li->add_option("--keep", lin_keep, "components the minimal state takes first (e.g. lean,steer)");
+  li->add_option("--format", lin.format, "text, csv or json")->check(CLI::IsMember({"text", "csv", "json"}))->default_val("text");
+  li->add_option("-o,--out", lin.out, "output file (default: standard output)");
+  li->add_option("--cache-dir", lin.cache_dir, "where compiled models are kept");
+  WorkFlags lin_work;
+  lin_work.add_to(li);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -342,6 +364,11 @@ int main(int argc, char** argv) {
       if (!split_name_expr(run_inputs, "--input", inputs)) return 1;
       for (const auto& [name, expr] : inputs) run.inputs[name] = expr;
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
+    }
+    if (*li) {
+      lin.work = lin_work.args();
+      lin.keep = split_list(lin_keep);
+      return mbsc::run::run_linearize(lin, std::cout, std::cerr);
     }
     if (*iv) {
       inv.work = inv_work.args();

@@ -17,6 +17,7 @@
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/mass_matrix_factors.hpp"
+#include "mbsc/driver/linear_parts.hpp"
 #include "mbsc/model/build.hpp"
 #include "mbsc/model/rigid3d.hpp"
 #include "mbsc/parse/parse.hpp"
@@ -47,7 +48,8 @@ const std::vector<std::string>& all_function_names() {
 }
 
 std::string unknown_function_message(const std::set<std::string>& functions) {
-  const auto& known = all_function_names();
+  std::vector<std::string> known = all_function_names();
+  known.push_back("linear_parts");  // on request only (driver/linear_parts.hpp)
   for (const auto& name : functions)
     if (std::find(known.begin(), known.end(), name) == known.end())
       return fmt::format("--outputs: unknown function '{}'{} (known: {})", name, did_you_mean(name, known),
@@ -522,6 +524,10 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     for (const auto& o : m.outputs) f.outputs.push_back(fin(o.value));
     specs.push_back(std::move(f));
   }
+  if (opt.linear_parts || opt.functions.count("linear_parts")) {
+    preparing("linear_parts");
+    specs.push_back(linear_parts_spec(m, fin, rebuild));
+  }
   if (wanted("full_state")) {
     preparing("full_state");
     ir::FunctionSpec f{"full_state",
@@ -665,6 +671,10 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   g.int_constants.push_back({"kNuFull", nu_full});
   g.int_constants.push_back({"kNxFull", nq_full + nu_full});
   g.name_lists.push_back({"kFullStateNames", full_state});
+  if (opt.linear_parts || opt.functions.count("linear_parts")) {
+    g.int_constants.push_back({"kLinearPartsSize", linear_parts_size(m)});
+    g.int_constants.push_back({"kLinearWSize", static_cast<long>(m.inputs.size() + m.speeds.size() + m.constraints.size())});
+  }
   // The CSR patterns of the Jacobians (constraint_jacobian_values, position_jacobian_values).
   for (const SparseJacobian& sj : sparse) {
     g.int_constants.push_back({sj.prefix + "Nnz", static_cast<long>(sj.col_idx.size())});
@@ -712,6 +722,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
       continue;
     }
     std::vector<ir::Binding> spec_binds = binds;
+    if (!spec.third_bindings.empty()) {  // w replaces u
+      spec_binds.erase(std::remove_if(spec_binds.begin(), spec_binds.end(),
+                                      [](const ir::Binding& b) { return b.cpp.rfind("u[", 0) == 0; }),
+                       spec_binds.end());
+      spec_binds.insert(spec_binds.end(), spec.third_bindings.begin(), spec.third_bindings.end());
+    }
     if (spec.third_arg == "zdot")  // the independent speeds' rates, given
       for (std::size_t k = 0; k < eom.independent.size(); ++k)
         spec_binds.push_back({m.speed_dots[static_cast<std::size_t>(eom.independent[k])], fmt::format("zdot[{}]", k)});

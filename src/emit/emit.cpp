@@ -264,6 +264,8 @@ std::string declarations(const GeneratedModel& m) {
                               : f.returns);
     if (f.third_arg == "zdot")
       doc += "\nzdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.";
+    else if (f.third_arg == "w")
+      doc += "\nw: kLinearWSize values: the kNin inputs, the rates of the kNuFull speeds, the kNc multipliers.";
     else if (inputs > 0) doc += "\nu: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).";
     else doc += "\nu: not read (kNin = 0); may be null.";
     blocks.push_back(comment_block(doc, "///") + "\nint " + f.name + "(" + parameters(f, false) + ");");
@@ -277,8 +279,10 @@ std::string definitions(const GeneratedModel& m) {
   for (const auto& f : m.functions) {
     const bool reads_u = std::find(f.used_args.begin(), f.used_args.end(), "u") != f.used_args.end();
     const bool reads_zdot = std::find(f.used_args.begin(), f.used_args.end(), "zdot") != f.used_args.end();
+    const bool reads_w = std::find(f.used_args.begin(), f.used_args.end(), "w") != f.used_args.end();
     const std::string check = reads_u ? "  assert(u != nullptr && \"u: the model has inputs (kNin > 0)\");\n"
                               : reads_zdot ? "  assert(zdot != nullptr && \"zdot: kNdof accelerations\");\n"
+                              : reads_w    ? "  assert(w != nullptr && \"w: inputs, rates, multipliers\");\n"
                                            : "";
     blocks.push_back("int " + f.name + "(" + parameters(f, true) + ") {\n" + check + f.body + "\n}");
   }

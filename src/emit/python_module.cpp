@@ -95,7 +95,10 @@ std::string emit_python(const GeneratedModel& m) {
   std::vector<std::string> shapes, partition_shapes, methods;
   for (const auto& f : m.functions) {
     shapes.push_back(c_string_literal(f.name) + ": " + shape_tuple(m, f) + ",");
-    if (f.third_arg == "zdot")  // inverse_dynamics: the third argument is kNdof accelerations
+    if (f.third_arg == "w")  // linear_parts: inputs, rates of every speed, multipliers
+      methods.push_back("def " + f.name + "(self, t, x, w, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
+                        f.name + "\", t, x, w, p, third=(\"w\", kLinearWSize))");
+    else if (f.third_arg == "zdot")  // inverse_dynamics: the third argument is kNdof accelerations
       methods.push_back("def " + f.name + "(self, t, x, zdot, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
                         f.name + "\", t, x, zdot, p, third=(\"zdot\", kNdof))");
     else

@@ -294,8 +294,8 @@ class Scheduler {
 
   // Which of the arguments t, x, u, p the live inputs read (identifier tokens of the text).
   void collect_used_args() {
-    bool used[5] = {false, false, false, false, false};
-    static const char* const kArgs[5] = {"t", "x", "u", "zdot", "p"};
+    bool used[6] = {false, false, false, false, false, false};
+    static const char* const kArgs[6] = {"t", "x", "u", "zdot", "w", "p"};
     prog_.live_inputs.clear();
     for (std::size_t i = 0; i < dag_.size(); ++i) {
       const Node& nd = dag_.node(static_cast<NodeId>(i));
@@ -314,7 +314,7 @@ class Scheduler {
         std::size_t e = b;
         while (e < text.size() && ident(e)) ++e;
         const std::string tok = text.substr(b, e - b);
-        for (int a = 0; a < 5; ++a)
+        for (int a = 0; a < 6; ++a)
           if (tok == kArgs[a]) used[a] = true;
         b = e;
       }
@@ -329,7 +329,7 @@ class Scheduler {
               [&](const std::string& a, const std::string& b) { return key(a) < key(b); });
     prog_.live_inputs.erase(std::unique(prog_.live_inputs.begin(), prog_.live_inputs.end()), prog_.live_inputs.end());
     prog_.used_args.clear();
-    for (int a = 0; a < 5; ++a)
+    for (int a = 0; a < 6; ++a)
       if (used[a]) prog_.used_args.emplace_back(kArgs[a]);
   }
 

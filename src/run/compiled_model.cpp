@@ -252,6 +252,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   key_text += req.multipliers ? "\nmultipliers\n" : "\ncomplement\n";
   key_text += req.minimal_state ? "minimal\n" : "full\n";
   key_text += "solver " + req.solver + "\n";
+  if (req.linear_parts) key_text += "linear_parts\n";
   key_text += inputs_body;
   for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
   const std::string key = driver::text_hash(key_text);
@@ -281,6 +282,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     gen.multipliers = req.multipliers;
     gen.minimal_state = req.minimal_state;
     gen.solver = req.solver;
+    gen.linear_parts = req.linear_parts;
     gen.work = req.work;
     gen.work.quiet = true;
     std::ostringstream sink;
@@ -345,6 +347,11 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   }
   std::string missing;
   if (!fill_table(result->handle_, kStem, result->table_, result->inputs_, missing)) {
+    err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
+                       printable(object.string()), missing);
+    return nullptr;
+  }
+  if (req.linear_parts && !symbol(result->handle_, "mbsc_" + kStem + "_linear_parts", result->linear_parts_, missing)) {
     err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
                        printable(object.string()), missing);
     return nullptr;

@@ -56,6 +56,7 @@ struct GenerateArgs {
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
   std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)
+  bool linear_parts = false;        // also linear_parts (what `mbsc linearize` compiles)
   WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);

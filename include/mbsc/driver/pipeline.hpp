@@ -63,6 +63,9 @@ struct GenerateOptions {
   bool multipliers = false;               // --formulation multipliers (sym/multipliers.hpp)
   Solver solver = Solver::Auto;           // --solver
   MassMatrixForm mass_matrix = MassMatrixForm::Auto;  // --mass-matrix
+  /// Also linear_parts (driver/linear_parts.hpp), which no default set includes; also
+  /// asked for by naming it in `functions`.
+  bool linear_parts = false;
 };
 
 /// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]

@@ -96,6 +96,9 @@ struct FunctionSpec {
   /// The name of the third pointer argument: "u" (the inputs), or "zdot" for
   /// inverse_dynamics (the independent accelerations, kNdof values).
   std::string third_arg = "u";
+  /// Where the third argument is neither u nor zdot (linear_parts' w): the symbols it
+  /// binds, replacing the inputs' u[k] bindings.
+  std::vector<Binding> third_bindings{};
   /// When set, the function cannot be computed for this model: it is emitted returning 4
   /// with NaN outputs, and this sentence in its documentation.
   std::string undefined_reason{};

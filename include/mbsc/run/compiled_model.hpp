@@ -31,6 +31,7 @@ struct CompileRequest {
   /// compiled into the object (inputs not named here are 0).
   std::map<std::string, std::string> input_expressions;
   std::string cache_dir;  // "" = the default
+  bool linear_parts = false;  // also linear_parts (mbsc linearize, mbsc eig)
   driver::WorkArgs work;
 };
 
@@ -42,6 +43,8 @@ class CompiledModel {
   CompiledModel& operator=(const CompiledModel&) = delete;
 
   const runtime::ModelTable& table() const { return table_; }
+  /// linear_parts(t, x, w, p, OUT) when the request asked for it, else null.
+  runtime::ModelTable::Fn linear_parts() const { return linear_parts_; }
   /// u(t) for the given parameters (the --input expressions; 0 for the others).
   int inputs(double t, const double* p, double* u) const { return inputs_(t, p, u); }
   /// Whether it came from the cache (no derivation, no compilation this time).
@@ -55,6 +58,7 @@ class CompiledModel {
   void* handle_ = nullptr;
   runtime::ModelTable table_{};
   int (*inputs_)(double, const double*, double*) = nullptr;
+  runtime::ModelTable::Fn linear_parts_ = nullptr;
   bool from_cache_ = false;
   std::string folder_;
 };

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// What `mbsc linearize` and `mbsc eig` share: the model compiled with its linear_parts,
+/// and the reference (parameters, inputs, state completed by assembly as for `mbsc run`).
+#include <complex>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mbsc/driver/commands.hpp"
+#include "mbsc/model/model.hpp"
+#include "mbsc/run/compiled_model.hpp"
+#include "mbsc/runtime/linear_model.hpp"
+
+namespace mbsc::run {
+
+struct ReferenceRequest {
+  std::string model_path;
+  std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=VALUE
+  double t = 0.0;
+  std::string cache_dir;
+  driver::WorkArgs work;
+};
+
+/// The reference: full state x (consistent), inputs u, parameters p.
+struct LinearReference {
+  std::vector<double> x, u, p;
+};
+
+/// Compiles (or loads from the cache) the complement form with linear_parts. A model
+/// with Coulomb friction is refused (its linear model is not defined). Null on failure,
+/// with the messages on `err` and `exit_code` set.
+std::unique_ptr<CompiledModel> compile_for_linearization(const ReferenceRequest& req, const model::Model& m,
+                                                         const std::vector<std::string>& sources, std::ostream& err,
+                                                         int& exit_code);
+
+/// The runtime's view of the compiled linear_parts.
+runtime::LinearParts parts_of(const CompiledModel& c);
+
+/// Parameters (defaults, --set), inputs (0, --input) and the state (the model's
+/// `initial` values, --init, the rest assembled). False with `error` naming what is wrong
+/// (an unknown name, a state the constraints do not allow, naming the constraint).
+bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
+                     std::string& error);
+
+/// Eigenvalues of the n x n row-major matrix A, by real part then imaginary part.
+std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n);
+
+}  // namespace mbsc::run
