@@ -191,6 +191,8 @@ int main(int argc, char** argv) {
       ->default_val("auto");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
+  g->add_flag("--linear-parts", gen.linear_parts,
+              "also emit linear_parts, the Taylor coefficients include/mbsc/runtime/linear_model.hpp forms the linear model from");
   g->add_flag("--python", gen.python,
               "also write OUT/<name>/<name>.py: a ctypes + numpy module over the extern \"C\" functions (README, \"Using it\")");
   g->add_flag("--force", gen.force,
