@@ -316,13 +316,18 @@ int main(int argc, char** argv) {
   inv_work.add_to(iv);
 
   mbsc::run::LinearizeArgs lin;
-  std::vector<std::string> lin_keep;
+  std::vector<std::string> lin_keep, lin_second;
   auto* li = app.add_subcommand("linearize", "linear model about a reference state (thesis section 4.5): A, B and the "
                                              "eigenvalues, as text, CSV or JSON");
   li->add_option("model", lin.model, "model file (.mbs)")->required();
   li->add_option("--init", lin.inits, "a coordinate or speed of the reference: name=value (repeatable; the rest is "
                                       "assembled from the model's initial values)");
+  li->add_option("--let", lin.lets, "a name for a value the other options' expressions may use: name=value (e.g. v=5)");
   li->add_option("--set", lin.sets, "a parameter's value: name=value (repeatable)");
+  li->add_option("--second-order", lin_second, "also M q'' + C q' + K q = T in these coordinates (e.g. lean,steer)");
+  li->add_option("--speed", lin.speed, "with --gravity: the --let or parameter that is the forward speed v: split the "
+                                       "second-order form as M q'' + v C1 q' + (g K0 + v^2 K2) q = T");
+  li->add_option("--gravity", lin.gravity, "with --speed: the --let or parameter that is g");
   li->add_option("--input", lin.inputs, "an input's reference value: NAME=VALUE (default 0)");
   li->add_option("--t", lin.t, "the reference time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
   li->add_flag("--equilibrium", lin.equilibrium, "the reference must be at rest (every rate 0): an error otherwise");
@@ -370,6 +375,7 @@ int main(int argc, char** argv) {
     if (*li) {
       lin.work = lin_work.args();
       lin.keep = split_list(lin_keep);
+      lin.second_order = split_list(lin_second);
       return mbsc::run::run_linearize(lin, std::cout, std::cerr);
     }
     if (*iv) {

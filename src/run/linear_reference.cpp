@@ -41,12 +41,26 @@ runtime::LinearParts parts_of(const CompiledModel& c) {
 bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
                      std::string& error) {
   const runtime::ModelTable& t = c.table();
-  std::map<std::string, double> sets, inits, inputs;
-  if (!parse_assignments(req.sets, "--set", sets, error) || !parse_assignments(req.inits, "--init", inits, error) ||
-      !parse_assignments(req.inputs, "--input", inputs, error))
-    return false;
-  if (!check_names(m, sets, inits, false, error)) return false;
+  std::map<std::string, double> lets, sets, inits, inputs;
+  if (!parse_assignments(req.lets, "--let", lets, error)) return false;
+  for (const auto& [name, v] : lets)
+    for (const auto& p : m.params)
+      if (p.name == name) {
+        error = fmt::format("--let {}: the model has a parameter of that name (set it with --set)", printable(name));
+        return false;
+      }
+  for (const auto& [name, v] : req.overrides)
+    if (lets.count(name)) lets[name] = v;
+  if (!parse_assignments(req.sets, "--set", sets, error, lets)) return false;
+  for (const auto& [name, v] : req.overrides)
+    if (!lets.count(name)) sets[name] = v;
+  if (!check_names(m, sets, {}, false, error)) return false;
   if (!parameter_values(t, sets, ref.p, error)) return false;
+  std::map<std::string, double> known = lets;
+  for (int i = 0; i < t.np; ++i) known[t.param_names[i]] = ref.p[static_cast<std::size_t>(i)];
+  if (!parse_assignments(req.inits, "--init", inits, error, known) || !parse_assignments(req.inputs, "--input", inputs, error, known))
+    return false;
+  if (!check_names(m, {}, inits, false, error)) return false;
   ref.u.assign(static_cast<std::size_t>(std::max(1, t.nin)), 0.0);
   const auto input_names = runtime::ModelTable::names_of(t.input_names, t.nin);
   for (const auto& [name, value] : inputs) {

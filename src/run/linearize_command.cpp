@@ -5,10 +5,13 @@
 #include "mbsc/run/linearize_command.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <map>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -19,6 +22,7 @@
 #include "mbsc/run/linear_reference.hpp"
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
+#include "mbsc/run/second_order_form.hpp"
 
 namespace mbsc::run {
 
@@ -73,28 +77,51 @@ std::string json_matrix(const std::vector<double>& M, int rows, int cols) {
 
 }  // namespace
 
+namespace {
+
+// A k x k matrix in the text output, rows and columns named by the coordinates.
+std::string square_text(const char* label, const std::vector<double>& M, const std::vector<std::string>& names) {
+  return std::string(label) + ":\n" + matrix_text(M, static_cast<int>(names.size()), static_cast<int>(names.size()), names, names);
+}
+
+}  // namespace
+
 int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) {
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;
   };
+  if (a.speed.empty() != a.gravity.empty()) return fail("--speed and --gravity go together (the names of v and g)");
+  if (!a.speed.empty() && a.second_order.empty()) return fail("--speed and --gravity split the form of --second-order: name its coordinates");
   std::vector<std::string> sources;
   const std::optional<model::Model> m = read_model(a.model, a.work, sources, err);
   if (!m) return 1;
   std::string error;
   if (!check_outputs({{"-o", a.out}}, sources, error)) return fail(error);
-  LinearReference ref;
   int code = 1;
   ReferenceRequest req;
   req.model_path = a.model;
-  req.sets = a.sets, req.inits = a.inits, req.inputs = a.inputs;
+  req.lets = a.lets, req.sets = a.sets, req.inits = a.inits, req.inputs = a.inputs;
   req.t = a.t;
   req.cache_dir = a.cache_dir;
   req.work = a.work;
   const auto compiled = compile_for_linearization(req, *m, sources, err, code);
   if (!compiled) return code;
-  if (!reference_state(*m, *compiled, req, ref, error)) return fail(error);
   const runtime::ModelTable& T = compiled->table();
+  // The linear model at the reference the request (with overrides) gives.
+  auto linearize_at = [&](const std::map<std::string, double>& overrides, LinearReference& ref, runtime::LinearModel& lin) {
+    ReferenceRequest r = req;
+    r.overrides = overrides;
+    if (!reference_state(*m, *compiled, r, ref, error)) return false;
+    if (runtime::linear_model(parts_of(*compiled), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, error) != 0) {
+      error = fmt::format("model {}: cannot linearize at the reference: {}", m->name, error);
+      return false;
+    }
+    return true;
+  };
+  LinearReference ref;
+  runtime::LinearModel lin;
+  if (!linearize_at({}, ref, lin)) return fail(error);
   if (a.equilibrium) {
     std::vector<double> xd(static_cast<std::size_t>(T.nx));
     if (T.rhs(a.t, ref.x.data(), ref.u.data(), ref.p.data(), xd.data()) != 0)
@@ -109,11 +136,17 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
                               "steady motion is linearized without --equilibrium)",
                               T.state_names[worst], num(xd[static_cast<std::size_t>(worst)])));
   }
-  runtime::LinearModel lin;
-  if (runtime::linear_model(parts_of(*compiled), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, error) != 0)
-    return fail(fmt::format("model {}: cannot linearize at the reference: {}", m->name, error));
   const std::vector<std::string> full_names = runtime::ModelTable::names_of(T.state_names, T.nx);
   const std::vector<std::string> inputs = runtime::ModelTable::names_of(T.input_names, T.nin);
+  auto index_of = [&](const std::string& flag, const std::string& name, bool coordinate, int& i) {
+    i = runtime::ModelTable::find(T.state_names, T.nx, name.c_str());
+    if (i >= 0 && (!coordinate || i < T.nq)) return true;
+    const std::vector<std::string> pool(full_names.begin(), coordinate ? full_names.begin() + T.nq : full_names.end());
+    error = i >= 0 ? fmt::format("{}: '{}' is a speed; name coordinates", flag, printable(name))
+                   : fmt::format("{}: the model has no {} named '{}'{}", flag, coordinate ? "coordinate" : "coordinate or speed",
+                                 printable(name), did_you_mean(name, pool));
+    return false;
+  };
 
   // The state written: the minimal one (components of the tangent space) or the full layout.
   std::vector<int> sel;
@@ -124,8 +157,8 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   } else {
     std::vector<int> preferred;
     for (const auto& name : a.keep) {
-      const int i = runtime::ModelTable::find(T.state_names, T.nx, name.c_str());
-      if (i < 0) return fail(fmt::format("--keep: the model has no coordinate or speed named '{}'{}", printable(name), did_you_mean(name, full_names)));
+      int i = 0;
+      if (!index_of("--keep", name, false, i)) return fail(error);
       preferred.push_back(i);
     }
     sel = runtime::minimal_components(lin, preferred);
@@ -140,6 +173,66 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   for (int i : sel) names.push_back(full_names[static_cast<std::size_t>(i)]);
   const auto eig = sorted_eigenvalues(A, ns);
 
+  // The second-order form, and its split in v and g.
+  std::vector<int> coords;
+  for (const auto& name : a.second_order) {
+    int i = 0;
+    if (!index_of("--second-order", name, true, i)) return fail(error);
+    coords.push_back(i);
+  }
+  SecondOrderForm form;
+  if (!coords.empty() && !second_order_form(lin, T.nq, coords, form, error)) return fail("--second-order: " + error);
+  struct Split {
+    double v = 0, g = 0;
+    std::vector<double> C1, K0, K2;
+    double residual = 0;  // the form's prediction at v/2 against the linear model there
+  };
+  std::optional<Split> split;
+  if (!a.speed.empty()) {
+    Split sp;
+    auto value_of = [&](const std::string& flag, const std::string& name, double& v) {
+      std::map<std::string, double> lets;
+      if (!parse_assignments(a.lets, "--let", lets, error)) return false;
+      if (lets.count(name)) return v = lets[name], true;
+      const int k = runtime::ModelTable::find(T.param_names, T.np, name.c_str());
+      if (k >= 0) return v = ref.p[static_cast<std::size_t>(k)], true;
+      error = fmt::format("{}: '{}' is neither a --let name nor a parameter of the model{}", flag, printable(name),
+                          did_you_mean(name, runtime::ModelTable::names_of(T.param_names, T.np)));
+      return false;
+    };
+    if (!value_of("--speed", a.speed, sp.v) || !value_of("--gravity", a.gravity, sp.g)) return fail(error);
+    if (sp.v == 0.0 || sp.g == 0.0) return fail("--speed and --gravity: the split needs v and g nonzero at the reference");
+    auto form_at = [&](double v, SecondOrderForm& f) {
+      LinearReference r;
+      runtime::LinearModel l;
+      if (!linearize_at({{a.speed, v}}, r, l)) return false;
+      if (!second_order_form(l, T.nq, coords, f, error)) {
+        error = fmt::format("--second-order at {} = {}: {}", a.speed, num(v), error);
+        return false;
+      }
+      return true;
+    };
+    SecondOrderForm at_rest, half;
+    if (!form_at(0.0, at_rest) || !form_at(sp.v / 2, half)) return fail(error);
+    const std::size_t kk = form.M.size();
+    sp.C1.resize(kk), sp.K0.resize(kk), sp.K2.resize(kk);
+    double scale = 0;
+    for (std::size_t i = 0; i < kk; ++i) {
+      sp.C1[i] = form.C[i] / sp.v;
+      sp.K0[i] = at_rest.K[i] / sp.g;
+      sp.K2[i] = (form.K[i] - at_rest.K[i]) / (sp.v * sp.v);
+      scale = std::max({scale, std::fabs(form.K[i]), std::fabs(form.C[i]), std::fabs(form.M[i])});
+    }
+    for (std::size_t i = 0; i < kk; ++i) {
+      const double h = sp.v / 2;
+      sp.residual = std::max({sp.residual, std::fabs(half.K[i] - (sp.g * sp.K0[i] + h * h * sp.K2[i])),
+                              std::fabs(half.C[i] - h * sp.C1[i]), std::fabs(half.M[i] - form.M[i]),
+                              std::fabs(at_rest.M[i] - form.M[i]), std::fabs(at_rest.C[i])});
+    }
+    sp.residual /= std::max(scale, 1e-300);
+    split = sp;
+  }
+
   std::ostringstream text;
   if (a.format == "json") {
     text << "{\n  \"model\": " << json_string(m->name) << ",\n  \"t\": " << num(a.t) << ",\n  \"reference\": {";
@@ -148,7 +241,19 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     text << ",\n  \"state\": " << json_names(names) << ",\n  \"inputs\": " << json_names(inputs);
     text << ",\n  \"A\": " << json_matrix(A, ns, ns) << ",\n  \"B\": " << json_matrix(B, ns, T.nin) << ",\n  \"eigenvalues\": [";
     for (std::size_t i = 0; i < eig.size(); ++i) text << (i ? ", " : "") << "[" << num(eig[i].real()) << ", " << num(eig[i].imag()) << "]";
-    text << "]\n}\n";
+    text << "]";
+    if (!coords.empty()) {
+      const int k = form.k;
+      text << ",\n  \"second_order\": {\n  \"coordinates\": " << json_names(a.second_order) << ",\n  \"M\": "
+           << json_matrix(form.M, k, k) << ",\n  \"C\": " << json_matrix(form.C, k, k) << ",\n  \"K\": "
+           << json_matrix(form.K, k, k) << ",\n  \"coupling\": " << num(form.coupling);
+      if (split)
+        text << ",\n  \"v\": " << num(split->v) << ",\n  \"g\": " << num(split->g) << ",\n  \"C1\": "
+             << json_matrix(split->C1, k, k) << ",\n  \"K0\": " << json_matrix(split->K0, k, k) << ",\n  \"K2\": "
+             << json_matrix(split->K2, k, k) << ",\n  \"split_residual\": " << num(split->residual);
+      text << "}";
+    }
+    text << "\n}\n";
   } else if (a.format == "csv") {
     text << "row";
     for (const auto& n : names) text << "," << n;
@@ -172,6 +277,19 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     if (T.nin > 0) text << "B = d(x')/du:\n" << matrix_text(B, ns, T.nin, names, inputs);
     text << "eigenvalues:\n";
     for (const auto& e : eig) text << fmt::format("  {:>24.16g} {:+.16g}i\n", e.real(), e.imag());
+    if (!coords.empty()) {
+      text << fmt::format("second-order form M q'' + C q' + K q = T, q = ({}):\n", fmt::join(a.second_order, ", "));
+      text << square_text("M", form.M, a.second_order) << square_text("C", form.C, a.second_order)
+           << square_text("K", form.K, a.second_order);
+      text << fmt::format("coupling to the rest of the state: {:.3g} (relative)\n", form.coupling);
+      if (split) {
+        text << fmt::format("split at {} = {}, {} = {}: M q'' + v C1 q' + (g K0 + v^2 K2) q = T\n", a.speed, num(split->v),
+                            a.gravity, num(split->g));
+        text << square_text("C1", split->C1, a.second_order) << square_text("K0", split->K0, a.second_order)
+             << square_text("K2", split->K2, a.second_order);
+        text << fmt::format("the split predicts the form at v/2 to {:.3g} (relative)\n", split->residual);
+      }
+    }
   }
   if (a.out == "-") {
     out << text.str();

@@ -3,6 +3,7 @@
 #include "mbsc/run/run_setup.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fmt/format.h>
 #include <ginac/ginac.h>
@@ -64,6 +65,21 @@ std::optional<model::Model> read_model(const std::string& path, const driver::Wo
 
 bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
                        std::map<std::string, double>& out, std::string& error) {
+  return parse_assignments(items, flag, out, error, {});
+}
+
+bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
+                       std::map<std::string, double>& out, std::string& error, const std::map<std::string, double>& known) {
+  GiNaC::symtab table;
+  GiNaC::exmap values;
+  for (const auto& [name, v] : known) {
+    if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos ||
+        std::isdigit(static_cast<unsigned char>(name[0])))
+      continue;  // a dotted name cannot appear in an expression
+    GiNaC::symbol s(name);
+    table[name] = s;
+    values[s] = v;
+  }
   for (const auto& item : items) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) {
@@ -72,7 +88,7 @@ bool parse_assignments(const std::vector<std::string>& items, const std::string&
     }
     double v = 0;
     std::string why;
-    if (!evaluate(item.substr(eq + 1), {}, {}, v, why)) {
+    if (!evaluate(item.substr(eq + 1), table, values, v, why)) {
       error = fmt::format("{} {}: '{}' is not a number ({})", flag, printable(item.substr(0, eq)),
                           printable(item.substr(eq + 1)), why);
       return false;

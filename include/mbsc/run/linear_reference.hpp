@@ -4,6 +4,7 @@
 /// and the reference (parameters, inputs, state completed by assembly as for `mbsc run`).
 #include <complex>
 #include <iosfwd>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,8 +18,12 @@ namespace mbsc::run {
 
 struct ReferenceRequest {
   std::string model_path;
-  std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=VALUE
+  std::vector<std::string> lets;                 // --let NAME=VALUE: names the other values may use
+  std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=EXPR
   double t = 0.0;
+  /// Values that replace a --let or a parameter (a sweep's point, the second-order
+  /// form's splitting): name -> value.
+  std::map<std::string, double> overrides;
   std::string cache_dir;
   driver::WorkArgs work;
 };
@@ -39,7 +44,8 @@ std::unique_ptr<CompiledModel> compile_for_linearization(const ReferenceRequest&
 runtime::LinearParts parts_of(const CompiledModel& c);
 
 /// Parameters (defaults, --set), inputs (0, --input) and the state (the model's
-/// `initial` values, --init, the rest assembled). False with `error` naming what is wrong
+/// `initial` values, --init, the rest assembled). --set values are expressions of the
+/// --let names; --init and --input values of those and the parameters. False with `error` naming what is wrong
 /// (an unknown name, a state the constraints do not allow, naming the constraint).
 bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
                      std::string& error);

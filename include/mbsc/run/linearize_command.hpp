@@ -15,11 +15,17 @@ namespace mbsc::run {
 
 struct LinearizeArgs {
   std::string model;
-  std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=VALUE
+  std::vector<std::string> lets;                 // --let NAME=VALUE (names the other values may use)
+  std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=EXPR
   double t = 0.0;                                // --t: the reference time
   bool equilibrium = false;                      // --equilibrium: the reference must be at rest (x' = 0)
   std::string state = "minimal";                 // --state minimal|full: which linear model is written
   std::vector<std::string> keep;                 // --keep: components the minimal state takes first
+  /// --second-order q1,q2,...: also M q'' + C q' + K q = T in these coordinates.
+  std::vector<std::string> second_order;
+  /// --speed NAME, --gravity NAME (a --let or a parameter each): split that form as
+  /// M q'' + v C1 q' + (g K0 + v^2 K2) q = T (the benchmark bicycle's form).
+  std::string speed, gravity;
   std::string format = "text";                   // --format text|csv|json
   std::string out = "-";                         // -o FILE (default: standard output)
   std::string cache_dir;

@@ -25,6 +25,9 @@ std::optional<model::Model> read_model(const std::string& path, const driver::Wo
 /// False with `error` for a malformed item.
 bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
                        std::map<std::string, double>& out, std::string& error);
+/// The same with values that may be expressions of the names in `known` (and pi).
+bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
+                       std::map<std::string, double>& out, std::string& error, const std::map<std::string, double>& known);
 
 /// The --set names are parameters of the model (or the Baumgarte gains with
 /// `multipliers`), the --init names its coordinates and speeds: checked on the model

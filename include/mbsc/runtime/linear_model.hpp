@@ -47,6 +47,9 @@ struct LinearParts {
 struct LinearModel {
   int n = 0, nin = 0;               // n = nq + nu (full layout)
   std::vector<double> A, B;         // n x n and n x nin, row-major
+  /// n x nq: x' per unit generalized force conjugate to each coordinate (a force T on
+  /// coordinate k does the power T q_k'; what the second-order form's M is read from).
+  std::vector<double> Bq;
   std::vector<double> rates;        // q1' at the reference (nu)
   std::vector<double> multipliers;  // lambda at the reference (nc), minimum norm
   int constraint_rank = 0;          // rank of A_c at the reference (< nc: redundant constraints)
@@ -163,7 +166,7 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
 
   // ---- increments: dq1' = dp + N dz, A_c dp = -(Gq dq0 + Gv dq1) ----
   // D: the linearized invariants' right-hand side per column of (dq0, dq1, du).
-  const int cols = n + nin;
+  const int cols = n + nin + nq;  // dx, du, then a generalized force on each coordinate
   const std::size_t C = static_cast<std::size_t>(cols);
   std::vector<double> dp(NU * C, 0.0), E(NU * C, 0.0);  // dp; E = Fq dq0 + Fv dq1 + Fu du
   std::vector<double> col(NC);
@@ -177,6 +180,8 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
     for (int j = 0; j < nq; ++j) E[i * C + static_cast<std::size_t>(j)] = b.Fq[i * static_cast<std::size_t>(nq) + static_cast<std::size_t>(j)];
     for (int j = 0; j < nu; ++j) E[i * C + static_cast<std::size_t>(nq + j)] = b.Fv[i * NU + static_cast<std::size_t>(j)];
     for (int j = 0; j < nin; ++j) E[i * C + static_cast<std::size_t>(n + j)] = b.Fu[i * static_cast<std::size_t>(nin) + static_cast<std::size_t>(j)];
+    // T q_k' = T (Kq_k dq0 + Kv_k q1): the force on the speeds is Kv_k^T T.
+    for (int j = 0; j < nq; ++j) E[i * C + static_cast<std::size_t>(n + nin + j)] = b.Kv[static_cast<std::size_t>(j) * NU + i];
   }
   // N^T My N dz = N^T (E - My dp)
   std::vector<double> Mydp, dz;
@@ -199,6 +204,7 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
   out.n = n, out.nin = nin;
   out.A.assign(N * N, 0.0);
   out.B.assign(N * static_cast<std::size_t>(nin), 0.0);
+  out.Bq.assign(N * static_cast<std::size_t>(nq), 0.0);
   for (int i = 0; i < nq; ++i) {
     for (int j = 0; j < nq; ++j) out.A[static_cast<std::size_t>(i) * N + static_cast<std::size_t>(j)] = b.Kq[static_cast<std::size_t>(i * nq + j)];
     for (int j = 0; j < nu; ++j)
@@ -208,6 +214,8 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
     const std::size_t row = static_cast<std::size_t>(nq) + i;
     for (std::size_t j = 0; j < N; ++j) out.A[row * N + j] = dq1dot[i * C + j];
     for (int j = 0; j < nin; ++j) out.B[row * static_cast<std::size_t>(nin) + static_cast<std::size_t>(j)] = dq1dot[i * C + N + static_cast<std::size_t>(j)];
+    for (int j = 0; j < nq; ++j)
+      out.Bq[row * static_cast<std::size_t>(nq) + static_cast<std::size_t>(j)] = dq1dot[i * C + N + static_cast<std::size_t>(nin + j)];
   }
   // ---- the tangent space: null([P 0; Wq A_c]) ----
   const int nr = s.nposc + nc;
