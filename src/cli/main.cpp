@@ -316,7 +316,7 @@ int main(int argc, char** argv) {
   inv_work.add_to(iv);
 
   mbsc::run::LinearizeArgs lin;
-  std::vector<std::string> lin_keep, lin_second;
+  std::vector<std::string> lin_keep, lin_second, lin_find, lin_steady;
   auto* li = app.add_subcommand("linearize", "linear model about a reference state (thesis section 4.5): A, B and the "
                                              "eigenvalues, as text, CSV or JSON");
   li->add_option("model", lin.model, "model file (.mbs)")->required();
@@ -330,6 +330,9 @@ int main(int argc, char** argv) {
   li->add_option("--gravity", lin.gravity, "with --speed: the --let or parameter that is g");
   li->add_option("--input", lin.inputs, "an input's reference value: NAME=VALUE (default 0)");
   li->add_option("--t", lin.t, "the reference time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
+  li->add_option("--find", lin_find, "a steady motion: the unknowns to solve for (coordinates, speeds, --let names or "
+                                     "parameters; with --steady)");
+  li->add_option("--steady", lin_steady, "with --find: the state components whose rates must vanish (as many as unknowns)");
   li->add_flag("--equilibrium", lin.equilibrium, "the reference must be at rest (every rate 0): an error otherwise");
   li->add_option("--state", lin.state, "minimal (a state of the motions the constraints allow) or full (every q0 and q1)")
       ->check(CLI::IsMember({"minimal", "full"}))
@@ -376,6 +379,8 @@ int main(int argc, char** argv) {
       lin.work = lin_work.args();
       lin.keep = split_list(lin_keep);
       lin.second_order = split_list(lin_second);
+      lin.find = split_list(lin_find);
+      lin.steady = split_list(lin_steady);
       return mbsc::run::run_linearize(lin, std::cout, std::cerr);
     }
     if (*iv) {

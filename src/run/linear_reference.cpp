@@ -4,8 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <ostream>
 
@@ -53,7 +55,7 @@ bool reference_state(const model::Model& m, const CompiledModel& c, const Refere
     if (lets.count(name)) lets[name] = v;
   if (!parse_assignments(req.sets, "--set", sets, error, lets)) return false;
   for (const auto& [name, v] : req.overrides)
-    if (!lets.count(name)) sets[name] = v;
+    if (!lets.count(name) && runtime::ModelTable::find(t.state_names, t.nx, name.c_str()) < 0) sets[name] = v;
   if (!check_names(m, sets, {}, false, error)) return false;
   if (!parameter_values(t, sets, ref.p, error)) return false;
   std::map<std::string, double> known = lets;
@@ -61,6 +63,8 @@ bool reference_state(const model::Model& m, const CompiledModel& c, const Refere
   if (!parse_assignments(req.inits, "--init", inits, error, known) || !parse_assignments(req.inputs, "--input", inputs, error, known))
     return false;
   if (!check_names(m, {}, inits, false, error)) return false;
+  for (const auto& [name, v] : req.overrides)
+    if (!lets.count(name) && !sets.count(name)) inits[name] = v;
   ref.u.assign(static_cast<std::size_t>(std::max(1, t.nin)), 0.0);
   const auto input_names = runtime::ModelTable::names_of(t.input_names, t.nin);
   for (const auto& [name, value] : inputs) {
@@ -79,6 +83,101 @@ bool reference_state(const model::Model& m, const CompiledModel& c, const Refere
     return false;
   }
   ref.x = init.x;
+  return true;
+}
+
+bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest& req, const std::vector<std::string>& unknowns,
+                 const std::vector<std::string>& steady, LinearReference& ref, std::string& error) {
+  const runtime::ModelTable& t = c.table();
+  const int k = static_cast<int>(unknowns.size());
+  if (k == 0 || static_cast<int>(steady.size()) != k) {
+    error = fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", k, steady.size());
+    return false;
+  }
+  const auto state = runtime::ModelTable::names_of(t.state_names, t.nx);
+  std::vector<int> rows;
+  for (const auto& name : steady) {
+    const int i = runtime::ModelTable::find(t.state_names, t.nx, name.c_str());
+    if (i < 0) {
+      error = fmt::format("--steady: the model has no coordinate or speed named '{}'{}", printable(name), did_you_mean(name, state));
+      return false;
+    }
+    rows.push_back(i);
+  }
+  // The starting values: the reference the request gives without the search.
+  if (!reference_state(m, c, req, ref, error)) return false;
+  std::map<std::string, double> lets;
+  if (!parse_assignments(req.lets, "--let", lets, error)) return false;
+  std::vector<double> z;
+  for (const auto& name : unknowns) {
+    if (const int i = runtime::ModelTable::find(t.state_names, t.nx, name.c_str()); i >= 0) z.push_back(ref.x[static_cast<std::size_t>(i)]);
+    else if (lets.count(name)) z.push_back(lets[name]);
+    else if (const int p = runtime::ModelTable::find(t.param_names, t.np, name.c_str()); p >= 0) z.push_back(ref.p[static_cast<std::size_t>(p)]);
+    else {
+      std::vector<std::string> pool = state;
+      for (const auto& [n, v] : lets) pool.push_back(n);
+      for (int p2 = 0; p2 < t.np; ++p2) pool.push_back(t.param_names[p2]);
+      error = fmt::format("--find: '{}' is not a coordinate, a speed, a --let name or a parameter of the model{}", printable(name),
+                          did_you_mean(name, pool));
+      return false;
+    }
+  }
+  const std::map<std::string, double> base = req.overrides;
+  // r(z): the rates of the steady components at the reference with these values.
+  auto residual = [&](const std::vector<double>& zz, std::vector<double>& r) {
+    req.overrides = base;
+    for (int i = 0; i < k; ++i) req.overrides[unknowns[static_cast<std::size_t>(i)]] = zz[static_cast<std::size_t>(i)];
+    if (!reference_state(m, c, req, ref, error)) return false;
+    std::vector<double> xd(static_cast<std::size_t>(t.nx));
+    if (t.rhs(req.t, ref.x.data(), ref.u.data(), ref.p.data(), xd.data()) != 0) {
+      error = "the right-hand side cannot be evaluated there";
+      return false;
+    }
+    r.resize(static_cast<std::size_t>(k));
+    for (int i = 0; i < k; ++i) r[static_cast<std::size_t>(i)] = xd[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])];
+    return true;
+  };
+  auto norm = [](const std::vector<double>& v) {
+    double s = 0;
+    for (double e : v) s = std::max(s, std::fabs(e));
+    return s;
+  };
+  std::vector<double> r;
+  if (!residual(z, r)) return false;
+  const double tol = 1e-11 * std::max(1.0, norm(r));
+  for (int it = 0; it < 60 && !(norm(r) <= tol); ++it) {
+    // Jacobian by central differences, then a damped Newton step.
+    Eigen::MatrixXd J(k, k);
+    Eigen::VectorXd rv(k);
+    for (int i = 0; i < k; ++i) rv(i) = r[static_cast<std::size_t>(i)];
+    for (int j = 0; j < k; ++j) {
+      const double h = 1e-6 * std::max(1.0, std::fabs(z[static_cast<std::size_t>(j)]));
+      std::vector<double> zp = z, zm = z, rp, rm;
+      zp[static_cast<std::size_t>(j)] += h, zm[static_cast<std::size_t>(j)] -= h;
+      if (!residual(zp, rp) || !residual(zm, rm)) return false;
+      for (int i = 0; i < k; ++i) J(i, j) = (rp[static_cast<std::size_t>(i)] - rm[static_cast<std::size_t>(i)]) / (2 * h);
+    }
+    const Eigen::VectorXd step = J.fullPivLu().solve(rv);
+    if (!step.allFinite()) break;
+    double lambda = 1.0;
+    bool better = false;
+    for (int tries = 0; tries < 20 && !better; ++tries, lambda /= 2) {
+      std::vector<double> zn = z, rn;
+      for (int i = 0; i < k; ++i) zn[static_cast<std::size_t>(i)] -= lambda * step(i);
+      if (residual(zn, rn) && norm(rn) < norm(r)) z = zn, r = rn, better = true;
+    }
+    if (!better) break;
+  }
+  if (!residual(z, r)) return false;
+  if (!(norm(r) <= tol)) {
+    int worst = 0;
+    for (int i = 1; i < k; ++i)
+      if (std::fabs(r[static_cast<std::size_t>(i)]) > std::fabs(r[static_cast<std::size_t>(worst)])) worst = i;
+    error = fmt::format("--find: no steady motion found from the given values: the rate of {} stays {} (try other starting "
+                        "values with --init or --let)",
+                        steady[static_cast<std::size_t>(worst)], fmt::format("{:.3g}", r[static_cast<std::size_t>(worst)]));
+    return false;
+  }
   return true;
 }
 

@@ -111,7 +111,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   // The linear model at the reference the request (with overrides) gives.
   auto linearize_at = [&](const std::map<std::string, double>& overrides, LinearReference& ref, runtime::LinearModel& lin) {
     ReferenceRequest r = req;
-    r.overrides = overrides;
+    for (const auto& [name, v] : overrides) r.overrides[name] = v;
     if (!reference_state(*m, *compiled, r, ref, error)) return false;
     if (runtime::linear_model(parts_of(*compiled), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, error) != 0) {
       error = fmt::format("model {}: cannot linearize at the reference: {}", m->name, error);
@@ -120,6 +120,11 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     return true;
   };
   LinearReference ref;
+  if (!a.find.empty() || !a.steady.empty()) {
+    if (!find_steady(*m, *compiled, req, a.find, a.steady, ref, error)) return fail(error);
+    if (!a.work.quiet)
+      for (const auto& name : a.find) err << fmt::format("mbsc: steady motion: {} = {}\n", name, num(req.overrides.at(name)));
+  }
   runtime::LinearModel lin;
   if (!linearize_at({}, ref, lin)) return fail(error);
   if (a.equilibrium) {
@@ -161,7 +166,12 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       if (!index_of("--keep", name, false, i)) return fail(error);
       preferred.push_back(i);
     }
+    // Then the coordinates and the model's independent speeds, before the other speeds.
+    for (int i = 0; i < T.nq; ++i) preferred.push_back(i);
+    for (int d = 0; d < T.ndof; ++d) preferred.push_back(runtime::ModelTable::find(T.state_names, T.nx, T.dof_names[d]));
+    const std::size_t kept = a.keep.size();
     sel = runtime::minimal_components(lin, preferred);
+    preferred.resize(kept);
     for (int i : preferred)
       if (std::find(sel.begin(), sel.end(), i) == sel.end())
         return fail(fmt::format("--keep: {} cannot be part of the minimal state together with the components before it (the "

@@ -21,8 +21,8 @@ struct ReferenceRequest {
   std::vector<std::string> lets;                 // --let NAME=VALUE: names the other values may use
   std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=EXPR
   double t = 0.0;
-  /// Values that replace a --let or a parameter (a sweep's point, the second-order
-  /// form's splitting): name -> value.
+  /// Values that replace a --let, a parameter or an --init (a sweep's point, the
+  /// second-order form's splitting, a steady-motion search): name -> value.
   std::map<std::string, double> overrides;
   std::string cache_dir;
   driver::WorkArgs work;
@@ -49,6 +49,15 @@ runtime::LinearParts parts_of(const CompiledModel& c);
 /// (an unknown name, a state the constraints do not allow, naming the constraint).
 bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
                      std::string& error);
+
+/// A steady motion: the values of `unknowns` (coordinates or speeds of the state, --let
+/// names or parameters) that make the rates of `steady` (state components) vanish, by
+/// Newton's method from the request's own values (finite-difference Jacobian, each
+/// iterate re-assembled). On success `req.overrides` holds the solution and `ref` the
+/// reference there. False with `error` (sizes differ, an unknown name, no convergence
+/// naming the largest residual rate).
+bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest& req, const std::vector<std::string>& unknowns,
+                 const std::vector<std::string>& steady, LinearReference& ref, std::string& error);
 
 /// Eigenvalues of the n x n row-major matrix A, by real part then imaginary part.
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n);

@@ -19,6 +19,9 @@ struct LinearizeArgs {
   std::vector<std::string> sets, inits, inputs;  // --set, --init, --input NAME=EXPR
   double t = 0.0;                                // --t: the reference time
   bool equilibrium = false;                      // --equilibrium: the reference must be at rest (x' = 0)
+  /// --find NAMES --steady NAMES: a steady motion, the unknowns solved so that the
+  /// rates of the steady components vanish (run/linear_reference.hpp, find_steady).
+  std::vector<std::string> find, steady;
   std::string state = "minimal";                 // --state minimal|full: which linear model is written
   std::vector<std::string> keep;                 // --keep: components the minimal state takes first
   /// --second-order q1,q2,...: also M q'' + C q' + K q = T in these coordinates.

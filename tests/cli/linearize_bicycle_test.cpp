@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// mbsc linearize on the benchmark bicycle: the second-order form M q'' + v C1 q' +
+// (g K0 + v^2 K2) q = T in lean and steer, and the eigenvalues at 5 m/s, against the values
+// published by Meijaard, Papadopoulos, Ruina and Schwab (Proc. R. Soc. A 463 (2007)
+// 1955-1982, their equations (A 19)-(A 21) / Table 2), the acceptance test of issue 13.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "run_command.hpp"
+
+namespace {
+
+// The numbers of the JSON array that follows "key": in `text` (nested brackets flattened).
+std::vector<double> json_numbers(const std::string& text, const std::string& key) {
+  std::vector<double> out;
+  auto at = text.find("\"" + key + "\":");
+  if (at == std::string::npos) return out;
+  at = text.find('[', at);
+  int depth = 0;
+  for (std::size_t i = at; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '[') ++depth;
+    else if (c == ']' && --depth == 0) break;
+    else if (c == '-' || c == '.' || (c >= '0' && c <= '9')) {
+      char* end = nullptr;
+      out.push_back(std::strtod(text.c_str() + i, &end));
+      i = static_cast<std::size_t>(end - text.c_str()) - 1;
+    }
+  }
+  return out;
+}
+
+// Entry by entry: relative `rel` where the published value is not zero, else absolute `abs`.
+void check_matrix(const std::string& name, const std::vector<double>& got, const std::vector<double>& published, double rel,
+                  double abs) {
+  REQUIRE(got.size() == published.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    INFO(name << "[" << i << "] = " << got[i] << ", published " << published[i]);
+    if (published[i] == 0.0) CHECK(std::fabs(got[i]) <= abs);
+    else CHECK(std::fabs(got[i] - published[i]) <= rel * std::fabs(published[i]));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are the published ones", "[linear]") {
+  const auto cache = mbsc_test::fresh_dir("lin_bicycle");
+  const std::string cmd = std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
+                          "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
+                          " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
+                          " --speed v --gravity g --format json -q --cache-dir " +
+                          cache.string();
+  const auto r = mbsc_test::run(cmd);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // The paper's (A 19)-(A 21), 14 significant digits. Its lean is our rear frame's roll
+  // angle theta (positive to the right), its steer our delta.
+  check_matrix("M", json_numbers(r.output, "M"), {80.81722, 2.31941332208709, 2.31941332208709, 0.29784188199686}, 1e-12, 0);
+  check_matrix("C1", json_numbers(r.output, "C1"), {0, 33.86641391492494, -0.85035641456978, 1.68540397397560}, 1e-12, 1e-11);
+  check_matrix("K0", json_numbers(r.output, "K0"), {-80.95, -2.59951685249872, -2.59951685249872, -0.80329488458618}, 1e-12,
+               0);
+  check_matrix("K2", json_numbers(r.output, "K2"), {0, 76.59734589573222, 0, 2.65431523794604}, 1e-12, 1e-11);
+  // Lean and steer evolve by themselves at straight running.
+  const auto at = r.output.find("\"coupling\": ");
+  REQUIRE(at != std::string::npos);
+  CHECK(std::strtod(r.output.c_str() + at + 12, nullptr) < 1e-12);
+  // Table 2 at v = 5 m/s: weave, capsize, castering; the other eigenvalues of the minimal
+  // state (heading, position, wheel angles, forward speed) are zero.
+  const auto eig = json_numbers(r.output, "eigenvalues");
+  REQUIRE(eig.size() % 2 == 0);
+  const std::vector<std::pair<double, double>> published = {
+      {-14.07838969279822, 0}, {-0.77534188219585, -4.46486771378823}, {-0.77534188219585, 4.46486771378823},
+      {-0.32286642900409, 0}};
+  for (std::size_t k = 0; k < eig.size() / 2; ++k) {
+    const double re = eig[2 * k], im = eig[2 * k + 1];
+    INFO("eigenvalue " << re << " + " << im << "i");
+    if (k < published.size()) {
+      CHECK(std::fabs(re - published[k].first) <= 1e-11 * std::fabs(published[k].first));
+      CHECK(std::fabs(im - published[k].second) <= 1e-11 * std::max(1.0, std::fabs(published[k].second)));
+    } else {
+      CHECK(std::hypot(re, im) < 1e-5);  // zeros (a double zero of a Jordan block shows as ~sqrt(eps))
+    }
+  }
+  std::filesystem::remove_all(cache);
+}
