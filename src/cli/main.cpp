@@ -8,6 +8,7 @@
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/run/bench_command.hpp"
+#include "mbsc/run/eig_command.hpp"
 #include "mbsc/run/inverse_cli.hpp"
 #include "mbsc/run/linearize_command.hpp"
 #include "mbsc/run/run_command.hpp"
@@ -344,6 +345,28 @@ int main(int argc, char** argv) {
   WorkFlags lin_work;
   lin_work.add_to(li);
 
+  mbsc::run::EigArgs eig;
+  std::vector<std::string> eig_keep, eig_find, eig_steady, eig_ratio;
+  auto* ei = app.add_subcommand("eig", "eigenvalues of the linear model along a parameter sweep: modes tracked, the values "
+                                       "where a mode changes stability found by root finding; CSV and plot");
+  ei->add_option("model", eig.model, "model file (.mbs)")->required();
+  ei->add_option("--sweep", eig.sweep, "NAME=FROM:TO:STEP: a --let name, a parameter or a coordinate or speed")->required();
+  ei->add_option("--let", eig.lets, "a name for a value the other options' expressions may use: name=value");
+  ei->add_option("--set", eig.sets, "a parameter's value: name=value (repeatable)");
+  ei->add_option("--init", eig.inits, "a coordinate or speed of the reference: name=value, an expression of the parameters "
+                                      "and --let names (repeatable)");
+  ei->add_option("--input", eig.inputs, "an input's reference value: NAME=VALUE (default 0)");
+  ei->add_option("--find", eig_find, "a steady motion at every point: the unknowns (with --steady)");
+  ei->add_option("--steady", eig_steady, "with --find: the state components whose rates must vanish");
+  ei->add_option("--keep", eig_keep, "components the minimal state takes first (e.g. lean,steer)");
+  ei->add_option("--ratio", eig_ratio, "NUM/DEN: an eigenvector component ratio per mode (magnitude and phase columns)");
+  ei->add_option("--t", eig.t, "the reference time, s")->check(finite_above(-1e300, "a number of seconds"))->capture_default_str();
+  ei->add_option("-o,--out", eig.csv, "CSV file (default: <model name>_eig.csv; - for standard output)");
+  ei->add_option("--plot", eig.plot, "also plot real and imaginary parts (and ratios) to FILE.svg or FILE.png (gnuplot)");
+  ei->add_option("--cache-dir", eig.cache_dir, "where compiled models are kept");
+  WorkFlags eig_work;
+  eig_work.add_to(ei);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -374,6 +397,14 @@ int main(int argc, char** argv) {
       if (!split_name_expr(run_inputs, "--input", inputs)) return 1;
       for (const auto& [name, expr] : inputs) run.inputs[name] = expr;
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
+    }
+    if (*ei) {
+      eig.work = eig_work.args();
+      eig.keep = split_list(eig_keep);
+      eig.find = split_list(eig_find);
+      eig.steady = split_list(eig_steady);
+      eig.ratios = split_list(eig_ratio);
+      return mbsc::run::run_eig(eig, std::cout, std::cerr);
     }
     if (*li) {
       lin.work = lin_work.args();

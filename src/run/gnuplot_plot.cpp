@@ -85,6 +85,30 @@ bool plot_columns(const std::string& csv, const std::vector<std::string>& names,
   return render(s, format, 900, std::max(300, 220 * n), image, error);
 }
 
+bool plot_panels(const std::string& csv, const std::vector<std::string>& names, int xcol, const std::vector<PlotPanel>& panels,
+                 const std::string& image, const std::string& title, std::string& error) {
+  const std::string format = plot_format(image);
+  if (format.empty()) {
+    error = fmt::format("--plot: '{}' should end in .svg or .png", printable(image));
+    return false;
+  }
+  const int n = static_cast<int>(panels.size());
+  std::string s = "set datafile separator ','\nset grid\nset key outside right\n";
+  s += fmt::format("set multiplot layout {},1 title {}\n", n, quoted(title));
+  for (int k = 0; k < n; ++k) {
+    const PlotPanel& panel = panels[static_cast<std::size_t>(k)];
+    s += fmt::format("set ylabel {}\n", quoted(panel.ylabel));
+    s += k == n - 1 ? fmt::format("set xlabel {}\n", quoted(names[static_cast<std::size_t>(xcol)])) : "unset xlabel\n";
+    std::string plot = "plot ";
+    for (std::size_t c = 0; c < panel.ycols.size(); ++c)
+      plot += fmt::format("{}{} using {}:{} every ::1 with lines lw 1.5 title {}", c ? ", " : "", quoted(csv), xcol + 1,
+                          panel.ycols[c] + 1, quoted(names[static_cast<std::size_t>(panel.ycols[c])]));
+    s += panel.ycols.empty() ? "plot 0 notitle\n" : plot + "\n";
+  }
+  s += "unset multiplot\n";
+  return render(s, format, 1000, std::max(350, 300 * n), image, error);
+}
+
 bool plot_loglog(const std::vector<PlotSeries>& series, const std::string& xlabel, const std::string& ylabel,
                  const std::string& image, const std::string& title, std::string& error) {
   const std::string format = plot_format(image);

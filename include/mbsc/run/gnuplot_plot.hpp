@@ -20,6 +20,15 @@ bool plot_columns(const std::string& csv, const std::vector<std::string>& names,
                   const std::vector<int>& ycols, const std::string& image, const std::string& title,
                   std::string& error);
 
+/// Panels of several CSV columns each against column `xcol` (an eigenvalue sweep: real
+/// parts in one panel, imaginary parts in the other), each curve titled by its column.
+struct PlotPanel {
+  std::string ylabel;
+  std::vector<int> ycols;
+};
+bool plot_panels(const std::string& csv, const std::vector<std::string>& names, int xcol, const std::vector<PlotPanel>& panels,
+                 const std::string& image, const std::string& title, std::string& error);
+
 /// Curves on log-log axes (work-precision: error against CPU time), one per series.
 bool plot_loglog(const std::vector<PlotSeries>& series, const std::string& xlabel, const std::string& ylabel,
                  const std::string& image, const std::string& title, std::string& error);
