@@ -57,7 +57,12 @@ struct StabilityCrossing {
 /// Relative size under which an eigenvalue counts as zero: a mode with
 /// |lambda| <= kZeroModeTolerance * (the largest |lambda| at the bracket's two points) at
 /// both ends of a bracket is not a crossing (the zero eigenvalues of cyclic coordinates).
-constexpr double kZeroModeTolerance = 1e-9;
+/// Simple zeros come out of the eigensolver near 1e-16 * scale, but a defective zero (a
+/// coordinate drifting at a constant rate: a Jordan block of two) near the square root of
+/// the rounding, 1e-8 * scale, with a sign that changes from point to point; hence 1e-6.
+/// A genuine crossing is missed only where the mode stays this small at both grid points
+/// around it (a grid step below 1e-6 of the scale over the mode's rate of change).
+constexpr double kZeroModeTolerance = 1e-6;
 
 /// Every sign change of a tracked mode's real part between consecutive grid points, refined
 /// by a bracketing root finder (Illinois' regula falsi, with bisection where it stalls) on

@@ -222,18 +222,33 @@ TEST_CASE("eig sweep: crossings, coalescences and splits follow closed forms", "
 }
 
 TEST_CASE("eig sweep: identically zero modes are not crossings", "[run][eig]") {
-  // Two cyclic coordinates (zero columns: a double zero eigenvalue and a Jordan block of
-  // two) beside an oscillator that turns unstable at 0.6.
-  const MatrixAt A = [](double v, Eigen::MatrixXd& M, std::string&) {
-    M = Eigen::MatrixXd::Zero(5, 5);
-    M(0, 2) = 1;  // q1' = u1, u1' = 0
-    M(3, 4) = 1;
-    M(4, 3) = -2 - v;
-    M(4, 4) = v - 0.6;
-    M(4, 1) = 0.3 * v;  // q2 enters nothing, is driven by nothing else
+  // Cyclic coordinates: two simple zero eigenvalues (states 0 and 1: nothing drives them)
+  // and a defective pair (state 2 drifts at the constant rate of state 3), beside an
+  // oscillator that turns unstable at v = 0.6 and a stable real mode, in a dense basis.
+  // The eigensolver returns the simple zeros as about 1e-16 and the Jordan pair as about
+  // +-1e-8 (the square root of the rounding), real or imaginary, of changing sign.
+  Eigen::MatrixXd R(7, 7);
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j) R(i, j) = std::sin(1.0 + 7 * i + 3 * j * j);
+  const Eigen::MatrixXd Q = Eigen::HouseholderQR<Eigen::MatrixXd>(R).householderQ();
+  const MatrixAt A = [Q](double v, Eigen::MatrixXd& M, std::string&) {
+    Eigen::MatrixXd D = Eigen::MatrixXd::Zero(7, 7);
+    D(2, 3) = 1;
+    D(4, 5) = 1;
+    D(5, 4) = -2 - v;
+    D(5, 5) = v - 0.6;
+    D(5, 0) = 0.3 * v;  // the cyclic coordinates enter the oscillator
+    D(4, 1) = 0.2;
+    D(6, 6) = -3;
+    M = Q * D * Q.transpose();
     return true;
   };
   const TrackedSweep s = sweep(A, grid(0.0, 0.05, 21));
+  int signs = 0;  // the zero modes do change sign along the sweep
+  for (std::size_t k = 1; k < s.param.size(); ++k)
+    for (std::size_t i = 0; i < 7; ++i)
+      if (std::abs(s.values[k][i]) < 1e-6 && (s.values[k][i].real() < 0) != (s.values[k - 1][i].real() < 0)) ++signs;
+  CHECK(signs > 0);
   const std::vector<StabilityCrossing> c = crossings(A, s);
   REQUIRE(c.size() == 1);
   CHECK(std::abs(c[0].param - 0.6) < 1e-10);
