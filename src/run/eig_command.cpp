@@ -117,7 +117,8 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   // The steady motion found at each grid point (continuation: each starts from the nearest
   // point solved before).
   std::map<double, std::map<std::string, double>> found;
-  std::vector<int> sel;
+  std::vector<int> sel, cyclic, kept;  // kept, cyclic: positions in sel
+  std::vector<std::string> cyclic_names;
   auto linear_at = [&](double value, runtime::LinearModel& lin, std::string& why) {
     ReferenceRequest r = req;
     r.overrides[name] = value;
@@ -153,9 +154,20 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
     for (int i = 0; i < T.nq; ++i) preferred.push_back(i);
     for (int d = 0; d < T.ndof; ++d) preferred.push_back(runtime::ModelTable::find(T.state_names, T.nx, T.dof_names[d]));
     sel = runtime::minimal_components(lin, preferred);
+    // Cyclic components (exact zero eigenvalues, Jordan blocks that rounding would split
+    // into eps^(1/k) noise around zero) are left out of the sweep.
+    std::vector<double> Am, Bm;
+    if (!runtime::restrict_to(lin, sel, Am, Bm)) return fail("the minimal state does not parametrize the linearized constraints");
+    const int n = static_cast<int>(sel.size());
+    cyclic = runtime::cyclic_components(Am, n);
+    for (int i : cyclic) cyclic_names.push_back(state_names[static_cast<std::size_t>(sel[static_cast<std::size_t>(i)])]);
+    for (int i = 0; i < n; ++i)
+      if (!std::binary_search(cyclic.begin(), cyclic.end(), i)) kept.push_back(i);
   }
-  std::vector<std::string> sel_names;
-  for (int i : sel) sel_names.push_back(state_names[static_cast<std::size_t>(i)]);
+  std::vector<std::string> sel_names;  // the components the eigenvectors have
+  for (int i : kept) sel_names.push_back(state_names[static_cast<std::size_t>(sel[static_cast<std::size_t>(i)])]);
+  if (!cyclic.empty() && !a.work.quiet)
+    err << fmt::format("mbsc: left out of the sweep (cyclic: nothing depends on them, eigenvalue 0): {}\n", fmt::join(cyclic_names, ", "));
   struct RatioSpec {
     std::string label;
     int num = 0, den = 0;
@@ -184,10 +196,19 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
                         fmt::join(sel_names, ", "));
       return false;
     }
-    const int n = static_cast<int>(sel.size());
-    A.resize(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) A(i, j) = Am[static_cast<std::size_t>(i * n + j)];
+    const int n = static_cast<int>(sel.size()), k = static_cast<int>(kept.size());
+    double scale = 0.0;
+    for (double e : Am) scale = std::max(scale, std::fabs(e));
+    for (int i : kept)
+      for (int j : cyclic)
+        if (std::fabs(Am[static_cast<std::size_t>(i * n + j)]) > 1e-10 * scale) {
+          why = fmt::format("{} is no longer cyclic here ({}' depends on it)", state_names[static_cast<std::size_t>(sel[static_cast<std::size_t>(j)])],
+                            state_names[static_cast<std::size_t>(sel[static_cast<std::size_t>(i)])]);
+          return false;
+        }
+    A.resize(k, k);
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) A(i, j) = Am[static_cast<std::size_t>(kept[static_cast<std::size_t>(i)] * n + kept[static_cast<std::size_t>(j)])];
     return true;
   };
   TrackedSweep sweep;

@@ -195,4 +195,19 @@ std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& 
   return out;
 }
 
+std::vector<std::complex<double>> eigenvalues_without_cyclic(const std::vector<double>& A, int n, std::vector<int>& cyclic) {
+  cyclic = runtime::cyclic_components(A, n);
+  std::vector<int> kept;
+  for (int i = 0; i < n; ++i)
+    if (!std::binary_search(cyclic.begin(), cyclic.end(), i)) kept.push_back(i);
+  const int k = static_cast<int>(kept.size());
+  std::vector<double> Ak(static_cast<std::size_t>(k * k));
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) Ak[static_cast<std::size_t>(i * k + j)] = A[static_cast<std::size_t>(kept[static_cast<std::size_t>(i)] * n + kept[static_cast<std::size_t>(j)])];
+  std::vector<std::complex<double>> out(cyclic.size(), std::complex<double>(0.0, 0.0));
+  const auto rest = sorted_eigenvalues(Ak, k);
+  out.insert(out.end(), rest.begin(), rest.end());
+  return out;
+}
+
 }  // namespace mbsc::run

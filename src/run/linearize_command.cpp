@@ -181,7 +181,10 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   const int ns = static_cast<int>(sel.size());
   std::vector<std::string> names;
   for (int i : sel) names.push_back(full_names[static_cast<std::size_t>(i)]);
-  const auto eig = sorted_eigenvalues(A, ns);
+  std::vector<int> cyclic;
+  const auto eig = eigenvalues_without_cyclic(A, ns, cyclic);
+  std::vector<std::string> cyclic_names;
+  for (int i : cyclic) cyclic_names.push_back(names[static_cast<std::size_t>(i)]);
 
   // The second-order form, and its split in v and g.
   std::vector<int> coords;
@@ -251,7 +254,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     text << ",\n  \"state\": " << json_names(names) << ",\n  \"inputs\": " << json_names(inputs);
     text << ",\n  \"A\": " << json_matrix(A, ns, ns) << ",\n  \"B\": " << json_matrix(B, ns, T.nin) << ",\n  \"eigenvalues\": [";
     for (std::size_t i = 0; i < eig.size(); ++i) text << (i ? ", " : "") << "[" << num(eig[i].real()) << ", " << num(eig[i].imag()) << "]";
-    text << "]";
+    text << "],\n  \"cyclic\": " << json_names(cyclic_names);
     if (!coords.empty()) {
       const int k = form.k;
       text << ",\n  \"second_order\": {\n  \"coordinates\": " << json_names(a.second_order) << ",\n  \"M\": "
@@ -286,7 +289,9 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     text << "A = d(x')/dx:\n" << matrix_text(A, ns, ns, names, names);
     if (T.nin > 0) text << "B = d(x')/du:\n" << matrix_text(B, ns, T.nin, names, inputs);
     text << "eigenvalues:\n";
-    for (const auto& e : eig) text << fmt::format("  {:>24.16g} {:+.16g}i\n", e.real(), e.imag());
+    if (!cyclic.empty())
+      text << fmt::format("  0 (x{}: the cyclic components {}, which nothing depends on)\n", cyclic.size(), fmt::join(cyclic_names, ", "));
+    for (std::size_t i = cyclic.size(); i < eig.size(); ++i) text << fmt::format("  {:>24.16g} {:+.16g}i\n", eig[i].real(), eig[i].imag());
     if (!coords.empty()) {
       text << fmt::format("second-order form M q'' + C q' + K q = T, q = ({}):\n", fmt::join(a.second_order, ", "));
       text << square_text("M", form.M, a.second_order) << square_text("C", form.C, a.second_order)

@@ -62,4 +62,8 @@ bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest
 /// Eigenvalues of the n x n row-major matrix A, by real part then imaginary part.
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n);
 
+/// The same with the cyclic components (runtime::cyclic_components, returned in `cyclic`)
+/// dropped first: their exact zeros come first, then the rest's eigenvalues sorted.
+std::vector<std::complex<double>> eigenvalues_without_cyclic(const std::vector<double>& A, int n, std::vector<int>& cyclic);
+
 }  // namespace mbsc::run

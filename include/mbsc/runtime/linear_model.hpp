@@ -302,4 +302,33 @@ inline bool restrict_to(const LinearModel& lin, const std::vector<int>& sel, std
   return true;
 }
 
+/// The components of an m x m state matrix that nothing depends on (cyclic coordinates:
+/// a vehicle's position and heading, a wheel's angle), found repeatedly: a component whose
+/// column is zero (below rel_tol times the largest entry) adds an exact zero eigenvalue
+/// and leaves the others to the rest of the matrix, and once it is dropped another column
+/// may vanish (the heading, whose only reader was the lateral position). Dropping them
+/// before an eigenvalue solve avoids the Jordan blocks of those zeros, which rounding
+/// splits into eigenvalues of size eps^(1/k) (1e-5 for a chain of three) that hide the
+/// real eigenvalues near zero. Returned ascending.
+inline std::vector<int> cyclic_components(const std::vector<double>& A, int m, double rel_tol = 1e-12) {
+  double scale = 0.0;
+  for (double e : A) scale = std::max(scale, std::fabs(e));
+  std::vector<bool> dropped(static_cast<std::size_t>(m), false);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int j = 0; j < m; ++j) {
+      if (dropped[static_cast<std::size_t>(j)]) continue;
+      double col = 0.0;
+      for (int i = 0; i < m; ++i)
+        if (!dropped[static_cast<std::size_t>(i)] && i != j) col = std::max(col, std::fabs(A[static_cast<std::size_t>(i * m + j)]));
+      col = std::max(col, std::fabs(A[static_cast<std::size_t>(j * m + j)]));
+      if (col <= rel_tol * scale) dropped[static_cast<std::size_t>(j)] = true, changed = true;
+    }
+  }
+  std::vector<int> out;
+  for (int j = 0; j < m; ++j)
+    if (dropped[static_cast<std::size_t>(j)]) out.push_back(j);
+  return out;
+}
+
 }  // namespace mbsc::runtime
