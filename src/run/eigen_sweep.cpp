@@ -21,6 +21,7 @@ using Complex = std::complex<double>;
 struct Spectrum {
   std::vector<Complex> values;
   std::vector<Eigen::VectorXcd> vectors;
+  Eigen::MatrixXcd columns;  // the same vectors as columns
 };
 
 /// A(p) formed and checked: square, not empty, of `size` rows when size >= 0, finite.
@@ -65,12 +66,11 @@ bool spectrum_of(const Eigen::MatrixXd& M, bool with_vectors, double p, Spectrum
   s.vectors.clear();
   for (Eigen::Index j = 0; j < n; ++j) s.values[static_cast<std::size_t>(j)] = solver.eigenvalues()(j);
   if (with_vectors) {
-    const Eigen::MatrixXcd V = solver.eigenvectors();
+    s.columns = solver.eigenvectors();
     for (Eigen::Index j = 0; j < n; ++j) {
-      Eigen::VectorXcd v = V.col(j);
-      const double norm = v.norm();
-      if (norm > 0) v /= norm;
-      s.vectors.push_back(v);
+      const double norm = s.columns.col(j).norm();
+      if (norm > 0) s.columns.col(j) /= norm;
+      s.vectors.push_back(s.columns.col(j));
     }
   }
   return true;
@@ -124,6 +124,20 @@ void set_phases(const std::vector<Complex>& values, std::vector<Eigen::VectorXcd
 /// method with potentials, O(n^3)): result[row] = column.
 std::vector<int> assign(const std::vector<std::vector<double>>& cost) {
   const int n = static_cast<int>(cost.size());
+  // Usually every row's cheapest column is a different one: then that is optimal.
+  {
+    std::vector<int> cheapest(static_cast<std::size_t>(n));
+    std::vector<char> taken(static_cast<std::size_t>(n), 0);
+    bool distinct = true;
+    for (std::size_t i = 0; i < cost.size() && distinct; ++i) {
+      const auto& row = cost[i];
+      const auto j = static_cast<std::size_t>(std::min_element(row.begin(), row.end()) - row.begin());
+      cheapest[i] = static_cast<int>(j);
+      distinct = !taken[j];
+      taken[j] = 1;
+    }
+    if (distinct) return cheapest;
+  }
   const double inf = std::numeric_limits<double>::infinity();
   // 1-based: column 0 is a virtual column that starts each augmenting search.
   std::vector<double> u(n + 1, 0.0), w(n + 1, 0.0);
@@ -222,6 +236,7 @@ bool sweep_eigenvalues(const MatrixAt& A, const std::vector<double>& grid, Track
   }
 
   Eigen::MatrixXd M;
+  Eigen::MatrixXcd previous;  // the last point's tracked vectors as columns
   Eigen::Index size = -1;
   for (std::size_t k = 0; k < grid.size(); ++k) {
     const double p = grid[k];
@@ -262,10 +277,12 @@ bool sweep_eigenvalues(const MatrixAt& A, const std::vector<double>& grid, Track
       double scale = 0.0;
       for (std::size_t i = 0; i < n; ++i) scale = std::max({scale, std::abs(predicted[i]), std::abs(s.values[i])});
       const double tie = 1e-8 * scale;
+      const Eigen::MatrixXd overlaps = (previous.adjoint() * s.columns).cwiseAbs();
       std::vector<std::vector<double>> cost(n, std::vector<double>(n));
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j) {
-          const double overlap = std::min(1.0, std::abs(out.vectors[k - 1][i].dot(s.vectors[j])));
+          const double overlap =
+              std::min(1.0, overlaps(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
           cost[i][j] = std::abs(predicted[i] - s.values[j]) + tie * (1.0 - overlap);
         }
       const std::vector<int> column = assign(cost);
@@ -276,6 +293,8 @@ bool sweep_eigenvalues(const MatrixAt& A, const std::vector<double>& grid, Track
       order_coalescences(last, values, vectors);
       set_phases(values, vectors, out.vectors[k - 1]);
     }
+    previous.resize(size, size);
+    for (std::size_t i = 0; i < n; ++i) previous.col(static_cast<Eigen::Index>(i)) = vectors[i];
     out.param.push_back(p);
     out.values.push_back(std::move(values));
     out.vectors.push_back(std::move(vectors));
