@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/sym/kkt_system.hpp"
 #include "mbsc/sym/symbol_set.hpp"
 
@@ -37,7 +38,8 @@ ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<Gi
                      "the Taylor coefficients the linear model is formed from (runtime/linear_model.hpp), over the\n"
                      "full layout (n0 = kNqFull coordinates, n1 = kNuFull speeds), row-major blocks in this order:\n"
                      "Kq n0 x n0, Kv n0 x n1 (d q0'/d q0, d q0'/d q1); A kNc x n1 (d velocity residual/d q1);\n"
-                     "Wq kNc x n0 (d velocity residual/d q0); P kNposc x n0 (d position residual/d q0);\n"
+                     "Wq kNc x n0 (d velocity residual/d q0); P (kNposc + kNquaternions) x n0 (d position residual/d q0,\n"
+                     "then d|e|^2/d q0 of each unit quaternion);\n"
                      "Gq kNc x n0, Gv kNc x n1 (d(A q1' + b)/d q0, d q1); My n1 x n1;\n"
                      "Fq n1 x n0, Fv n1 x n1, Fu n1 x kNin (d(hy - My q1' + A^T lambda)/d q0, d q1, d u);\n"
                      "r n1 (hy - My q1'); c kNc (A q1' + b)",
@@ -68,6 +70,14 @@ ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<Gi
     GiNaC::ex a = sys.b[r];
     for (const auto& e : sys.A[r]) a += e.value * m.speed_dots[static_cast<std::size_t>(e.col)];
     acc.push_back(fin(a));
+  }
+  // A unit quaternion's norm is a first integral of its kinematics, not a constraint: a
+  // perturbation of it is no motion of the body (its rotation matrix would scale lengths
+  // by |e|^2), so its row joins P and the tangent space leaves that direction out.
+  for (const auto& q : unit_quaternion_coords(m)) {
+    GiNaC::ex norm = 0;
+    for (int i : q) norm += GiNaC::pow(m.coords[static_cast<std::size_t>(i)].sym, 2);
+    pos.push_back(norm);
   }
   std::vector<GiNaC::ex> reactions(n1, GiNaC::ex(0));
   for (std::size_t r = 0; r < nc; ++r)
@@ -101,9 +111,22 @@ ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<Gi
   return f;
 }
 
+std::vector<std::vector<int>> unit_quaternion_coords(const model::Model& m) {
+  std::vector<std::vector<int>> out;
+  for (const auto& names : model::rigid3d::unit_quaternion_names(m)) {
+    std::vector<int> at;
+    for (const auto& n : names)
+      for (std::size_t i = 0; i < m.coords.size(); ++i)
+        if (m.coords[i].name == n) at.push_back(static_cast<int>(i));
+    if (at.size() == names.size()) out.push_back(at);
+  }
+  return out;
+}
+
 long linear_parts_size(const model::Model& m) {
   long n0 = static_cast<long>(m.coords.size()), n1 = static_cast<long>(m.speeds.size());
-  long nc = static_cast<long>(m.constraints.size()), nin = static_cast<long>(m.inputs.size()), nposc = 0;
+  long nc = static_cast<long>(m.constraints.size()), nin = static_cast<long>(m.inputs.size());
+  long nposc = static_cast<long>(unit_quaternion_coords(m).size());  // P: position rows, then quaternion norms
   for (const auto& c : m.constraints) nposc += c.level == model::Constraint::Level::Position;
   return n0 * n0 + n0 * n1 + nc * n1 + nc * n0 + nposc * n0 + nc * n0 + nc * n1 + n1 * n1 + n1 * n0 + n1 * n1 +
          n1 * nin + n1 + nc;

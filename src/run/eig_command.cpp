@@ -119,7 +119,8 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   std::map<double, std::map<std::string, double>> found;
   std::vector<int> sel, cyclic, kept;  // kept, cyclic: positions in sel
   std::vector<std::string> cyclic_names;
-  auto linear_at = [&](double value, runtime::LinearModel& lin, std::string& why) {
+  LinearReference first_ref;  // the first point's, for the steadiness check
+  auto linear_at = [&](double value, runtime::LinearModel& lin, std::string& why, bool first = false) {
     ReferenceRequest r = req;
     r.overrides[name] = value;
     LinearReference ref;
@@ -137,23 +138,30 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
     } else if (!reference_state(*m, *compiled, r, ref, why)) {
       return false;
     }
-    if (runtime::linear_model(parts_of(*compiled), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, why) != 0) return false;
+    if (runtime::linear_model(parts_of(*compiled, *m), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, why) != 0) return false;
+    if (first) first_ref = ref;
     return true;
   };
   // The minimal state, chosen at the first point and kept along the sweep (so that
   // eigenvectors keep their meaning).
   {
     runtime::LinearModel lin;
-    if (!linear_at(grid.front(), lin, error)) return fail(fmt::format("at {} = {}: {}", name, grid.front(), error));
+    if (!linear_at(grid.front(), lin, error, true)) return fail(fmt::format("at {} = {}: {}", name, grid.front(), error));
     std::vector<int> preferred;
     for (const auto& k : a.keep) {
       const int i = runtime::ModelTable::find(T.state_names, T.nx, k.c_str());
       if (i < 0) return fail(fmt::format("--keep: the model has no coordinate or speed named '{}'{}", printable(k), did_you_mean(k, state_names)));
       preferred.push_back(i);
     }
-    for (int i = 0; i < T.nq; ++i) preferred.push_back(i);
-    for (int d = 0; d < T.ndof; ++d) preferred.push_back(runtime::ModelTable::find(T.state_names, T.nx, T.dof_names[d]));
+    for (int i : default_component_order(T)) preferred.push_back(i);
     sel = runtime::minimal_components(lin, preferred);
+    const double rate = model_rate(parts_of(*compiled, *m), T, a.t, first_ref, sel);
+    if ((rate > 1e-4 || rate < 0) && !a.work.quiet)
+      err << fmt::format("mbsc: warning: at {} = {} the linear model in these components changes along the reference motion "
+                         "(relative rate {:.2g}/s): the eigenvalues are those of a time-varying model frozen at each point "
+                         "(try --keep)\n",
+                         name, grid.front(), rate);
+
     // Cyclic components (exact zero eigenvalues, Jordan blocks that rounding would split
     // into eps^(1/k) noise around zero) are left out of the sweep.
     std::vector<double> Am, Bm;
@@ -213,6 +221,19 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   };
   TrackedSweep sweep;
   if (!sweep_eigenvalues(matrix_at, grid, sweep, error, name)) return fail(error);
+  {
+    // Zeros that are not cyclic in the chosen components (a symmetry spread over several of
+    // them) stay in the sweep as a Jordan block, split by rounding into eps^(1/k) noise.
+    double big = 0.0;
+    for (const auto& z : sweep.values.front()) big = std::max(big, std::abs(z));
+    int small = 0;
+    for (const auto& z : sweep.values.front()) small += std::abs(z) <= 1e-5 * big;
+    if (small > 1 && !a.work.quiet)
+      err << fmt::format("mbsc: warning: {} eigenvalues are near zero at the first point and are not cyclic components of the "
+                         "state ({}): roots near zero may be less accurate; choose components with --keep so that the "
+                         "symmetric coordinates become cyclic\n",
+                         small, fmt::join(sel_names, ", "));
+  }
   std::vector<StabilityCrossing> crossings;
   if (!stability_crossings(matrix_at, sweep, crossings, error, 1e-12, name)) return fail(error);
 
@@ -252,7 +273,9 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   if (crossings.empty()) report << fmt::format("no mode changes stability for {} in [{}, {}]\n", name, grid.front(), grid.back());
   for (const auto& c : crossings)
     report << fmt::format("mode {} becomes {} at {} = {:.15g} (eigenvalue {:.10g} {:+.10g}i)\n", c.mode + 1,
-                          c.becomes_stable ? "stable" : "unstable", name, c.param, c.value.real(), c.value.imag());
+                          c.becomes_stable ? (c.marginal ? "marginally stable" : "stable")
+                                           : (c.marginal ? "unstable (from marginally stable)" : "unstable"),
+                          name, c.param, c.value.real(), c.value.imag());
   if (to_stdout) {
     out << text;
     return 0;

@@ -353,6 +353,28 @@ bool refine_crossing(const MatrixAt& A, Eigen::Index size, double xa, Complex la
   return true;
 }
 
+/// A mode going from unstable to marginal (or back) between xa and xb: bisection on
+/// "Re > margin" (the marginal side's real part is rounding, its sign meaningless), the
+/// mode followed as in refine_crossing. Where an unstable real pair meets at zero and
+/// becomes an imaginary pair, Re falls like the square root of the distance to that point,
+/// so the predicate changes within (margin / rate)^2 of it.
+bool refine_marginal(const MatrixAt& A, Eigen::Index size, double xa, Complex la, double xb, Complex lb, double width,
+                     double margin, StabilityCrossing& c, std::string& error, const std::string& name) {
+  const bool a_unstable = la.real() > margin;
+  for (int step = 0; step < 200 && std::abs(xb - xa) > width; ++step) {
+    const double x = 0.5 * (xa + xb);
+    if (x == xa || x == xb) break;
+    const Complex guess = la + (lb - la) * ((x - xa) / (xb - xa));
+    Complex lx;
+    if (!nearest_eigenvalue(A, x, size, guess, lx, error, name)) return false;
+    if ((lx.real() > margin) == a_unstable) xa = x, la = lx;
+    else xb = x, lb = lx;
+  }
+  c.param = 0.5 * (xa + xb);
+  c.value = a_unstable ? lb : la;  // the marginal side's
+  return true;
+}
+
 }  // namespace
 
 bool stability_crossings(const MatrixAt& A, const TrackedSweep& sweep, std::vector<StabilityCrossing>& out,
@@ -362,21 +384,38 @@ bool stability_crossings(const MatrixAt& A, const TrackedSweep& sweep, std::vect
   if (points < 2) return true;
   const std::size_t n = sweep.values.front().size();
   const double width = tol * std::abs(sweep.param.back() - sweep.param.front());
+  // Zero modes over the whole sweep: each mode's largest |lambda| against the sweep's.
+  double sweep_scale = 0.0;
+  std::vector<double> peak(n, 0.0);
+  for (const auto& point : sweep.values)
+    for (std::size_t i = 0; i < n; ++i) {
+      peak[i] = std::max(peak[i], std::abs(point[i]));
+      sweep_scale = std::max(sweep_scale, peak[i]);
+    }
   for (std::size_t k = 0; k + 1 < points; ++k) {
     const std::vector<Complex>& a = sweep.values[k];
     const std::vector<Complex>& b = sweep.values[k + 1];
     double scale = 0.0;
     for (std::size_t i = 0; i < n; ++i) scale = std::max({scale, std::abs(a[i]), std::abs(b[i])});
+    // Each end's class: unstable (+1), marginal (0) or stable (-1).
+    const double margin = kMarginalTolerance * scale;
+    auto cls = [margin](const Complex& z) { return z.real() > margin ? 1 : z.real() < -margin ? -1 : 0; };
     for (std::size_t i = 0; i < n; ++i) {
-      if ((a[i].real() < 0) == (b[i].real() < 0)) continue;
+      const int ca = cls(a[i]), cb = cls(b[i]);
+      if (ca == cb || (ca != 1 && cb != 1)) continue;  // no change into or out of instability
       const double zero = kZeroModeTolerance * scale;
       if (std::abs(a[i]) <= zero && std::abs(b[i]) <= zero) continue;  // a zero mode's rounding
+      if (peak[i] <= kZeroModeSweepTolerance * sweep_scale) continue;   // zero along the whole sweep
       if (a[i].imag() + b[i].imag() < 0) continue;                      // the pair's lower member
       StabilityCrossing c;
       c.mode = static_cast<int>(i);
-      c.becomes_stable = b[i].real() < 0;
-      if (!refine_crossing(A, static_cast<Eigen::Index>(n), sweep.param[k], a[i], sweep.param[k + 1], b[i], width,
-                           c, error, param_name)) {
+      c.becomes_stable = cb != 1;
+      c.marginal = ca == 0 || cb == 0;
+      const bool ok = c.marginal ? refine_marginal(A, static_cast<Eigen::Index>(n), sweep.param[k], a[i], sweep.param[k + 1],
+                                                   b[i], width, margin, c, error, param_name)
+                                 : refine_crossing(A, static_cast<Eigen::Index>(n), sweep.param[k], a[i], sweep.param[k + 1],
+                                                   b[i], width, c, error, param_name);
+      if (!ok) {
         out.clear();
         return false;
       }

@@ -13,6 +13,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/linear_parts.hpp"
 #include "mbsc/run/run_setup.hpp"
 
 namespace mbsc::run {
@@ -35,9 +36,10 @@ std::unique_ptr<CompiledModel> compile_for_linearization(const ReferenceRequest&
   return compile_model(c, m, sources, err, exit_code);
 }
 
-runtime::LinearParts parts_of(const CompiledModel& c) {
+runtime::LinearParts parts_of(const CompiledModel& c, const model::Model& m) {
   const runtime::ModelTable& t = c.table();
-  return runtime::LinearParts{c.linear_parts(), t.nq_full, t.nu_full, t.nc, t.nposc, t.nin};
+  return runtime::LinearParts{c.linear_parts(), t.nq_full, t.nu_full, t.nc, t.nposc, t.nin,
+                              static_cast<int>(driver::unit_quaternion_coords(m).size())};
 }
 
 bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
@@ -179,6 +181,45 @@ bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest
     return false;
   }
   return true;
+}
+
+double model_rate(const runtime::LinearParts& parts, const runtime::ModelTable& t, double time, const LinearReference& ref,
+                  const std::vector<int>& sel) {
+  std::vector<double> xd(static_cast<std::size_t>(t.nx));
+  if (t.rhs(time, ref.x.data(), ref.u.data(), ref.p.data(), xd.data()) != 0) return -1;
+  double speed = 0.0;
+  for (double v : xd) speed = std::max(speed, std::fabs(v));
+  if (speed == 0.0) return 0.0;
+  const double h = 1e-5 / speed;  // a step that moves the state by 1e-5 at most
+  std::vector<double> A[2];
+  double scale = 0.0;
+  for (int side = 0; side < 2; ++side) {
+    const double s = side == 0 ? -h : h;
+    std::vector<double> x = ref.x;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += s * xd[i];
+    runtime::LinearModel lin;
+    std::string why;
+    std::vector<double> B;
+    if (runtime::linear_model(parts, time + s, x.data(), ref.u.data(), ref.p.data(), lin, why) != 0 ||
+        !runtime::restrict_to(lin, sel, A[side], B))
+      return -1;
+    for (double e : A[side]) scale = std::max(scale, std::fabs(e));
+  }
+  double rate = 0.0;
+  for (std::size_t i = 0; i < A[0].size(); ++i) rate = std::max(rate, std::fabs(A[1][i] - A[0][i]) / (2 * h));
+  return scale > 0.0 ? rate / scale : 0.0;
+}
+
+std::vector<int> default_component_order(const runtime::ModelTable& t) {
+  std::vector<int> order, positions;
+  for (int i = 0; i < t.nq; ++i) {
+    const std::string n = t.state_names[i];
+    const bool position = n.size() > 2 && n[n.size() - 2] == '.' && (n.back() == 'x' || n.back() == 'y' || n.back() == 'z');
+    (position ? positions : order).push_back(i);
+  }
+  order.insert(order.end(), positions.begin(), positions.end());
+  for (int d = 0; d < t.ndof; ++d) order.push_back(runtime::ModelTable::find(t.state_names, t.nx, t.dof_names[d]));
+  return order;
 }
 
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n) {

@@ -113,7 +113,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     ReferenceRequest r = req;
     for (const auto& [name, v] : overrides) r.overrides[name] = v;
     if (!reference_state(*m, *compiled, r, ref, error)) return false;
-    if (runtime::linear_model(parts_of(*compiled), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, error) != 0) {
+    if (runtime::linear_model(parts_of(*compiled, *m), a.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, error) != 0) {
       error = fmt::format("model {}: cannot linearize at the reference: {}", m->name, error);
       return false;
     }
@@ -167,8 +167,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       preferred.push_back(i);
     }
     // Then the coordinates and the model's independent speeds, before the other speeds.
-    for (int i = 0; i < T.nq; ++i) preferred.push_back(i);
-    for (int d = 0; d < T.ndof; ++d) preferred.push_back(runtime::ModelTable::find(T.state_names, T.nx, T.dof_names[d]));
+    for (int i : default_component_order(T)) preferred.push_back(i);
     const std::size_t kept = a.keep.size();
     sel = runtime::minimal_components(lin, preferred);
     preferred.resize(kept);
@@ -179,6 +178,15 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     if (!runtime::restrict_to(lin, sel, A, B)) return fail("the chosen components do not parametrize the linearized constraints");
   }
   const int ns = static_cast<int>(sel.size());
+  // Whether the reference is steady in these components (then the eigenvalues describe
+  // its stability); the full layout's A is the thesis's (4.24) either way.
+  const double rate = a.state == "full" ? 0.0 : model_rate(parts_of(*compiled, *m), T, a.t, ref, sel);
+  const bool frozen = rate > 1e-4 || rate < 0;
+  if (frozen && !a.work.quiet)
+    err << fmt::format("mbsc: warning: the linear model in these components changes along the reference motion (relative "
+                       "rate {:.2g}/s): its eigenvalues are those of a time-varying model frozen at this instant and depend "
+                       "on the components chosen (try --keep, or --state full)\n",
+                       rate);
   std::vector<std::string> names;
   for (int i : sel) names.push_back(full_names[static_cast<std::size_t>(i)]);
   std::vector<int> cyclic;
@@ -254,7 +262,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     text << ",\n  \"state\": " << json_names(names) << ",\n  \"inputs\": " << json_names(inputs);
     text << ",\n  \"A\": " << json_matrix(A, ns, ns) << ",\n  \"B\": " << json_matrix(B, ns, T.nin) << ",\n  \"eigenvalues\": [";
     for (std::size_t i = 0; i < eig.size(); ++i) text << (i ? ", " : "") << "[" << num(eig[i].real()) << ", " << num(eig[i].imag()) << "]";
-    text << "],\n  \"cyclic\": " << json_names(cyclic_names);
+    text << "],\n  \"cyclic\": " << json_names(cyclic_names) << ",\n  \"model_rate\": " << num(rate);
     if (!coords.empty()) {
       const int k = form.k;
       text << ",\n  \"second_order\": {\n  \"coordinates\": " << json_names(a.second_order) << ",\n  \"M\": "
@@ -288,7 +296,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
                           lin.constraint_rank, T.nc - lin.constraint_rank);
     text << "A = d(x')/dx:\n" << matrix_text(A, ns, ns, names, names);
     if (T.nin > 0) text << "B = d(x')/du:\n" << matrix_text(B, ns, T.nin, names, inputs);
-    text << "eigenvalues:\n";
+    text << (frozen ? "eigenvalues (frozen at this instant: the model changes along the reference):\n" : "eigenvalues:\n");
     if (!cyclic.empty())
       text << fmt::format("  0 (x{}: the cyclic components {}, which nothing depends on)\n", cyclic.size(), fmt::join(cyclic_names, ", "));
     for (std::size_t i = cyclic.size(); i < eig.size(); ++i) text << fmt::format("  {:>24.16g} {:+.16g}i\n", eig[i].real(), eig[i].imag());

@@ -18,6 +18,9 @@ namespace mbsc::driver {
 ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<GiNaC::ex(const GiNaC::ex&)>& fin,
                                    std::vector<ir::Step> rebuild);
 
+/// The coordinates (indices) of every unit quaternion the model's bodies carry.
+std::vector<std::vector<int>> unit_quaternion_coords(const model::Model& m);
+
 /// The number of values it writes (kLinearPartsSize).
 long linear_parts_size(const model::Model& m);
 

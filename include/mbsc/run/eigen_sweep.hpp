@@ -52,7 +52,17 @@ struct StabilityCrossing {
   double param = 0.0;              ///< where Re(lambda) = 0, refined
   std::complex<double> value;      ///< the eigenvalue there (Im >= 0 for a complex pair)
   bool becomes_stable = false;     ///< Re goes from >= 0 to < 0 in the grid's direction
+  /// The stable side is marginal: |Re| within kMarginalTolerance of zero there (a
+  /// conservative system's oscillation, neither growing nor decaying to first order), as
+  /// where a rolling disc's unstable real pair meets at zero and leaves as an imaginary pair.
+  bool marginal = false;
 };
+
+/// Relative size (of the largest |lambda| at the point) under which a real part counts as
+/// zero: a conservative system's imaginary pairs come out of the eigensolver with real
+/// parts of rounding size and random sign, which are not crossings. A mode crosses where it
+/// goes from unstable (Re above this) to stable (below minus this) or marginal, or back.
+constexpr double kMarginalTolerance = 1e-9;
 
 /// Relative size under which an eigenvalue counts as zero: a mode with
 /// |lambda| <= kZeroModeTolerance * (the largest |lambda| at the bracket's two points) at
@@ -63,6 +73,12 @@ struct StabilityCrossing {
 /// A genuine crossing is missed only where the mode stays this small at both grid points
 /// around it (a grid step below 1e-6 of the scale over the mode's rate of change).
 constexpr double kZeroModeTolerance = 1e-6;
+
+/// A mode whose |lambda| stays below this fraction of the largest |lambda| of the whole
+/// sweep at every point is a zero mode too (a symmetry's double zero that is not cyclic in
+/// the columns, split by rounding into 1e-6-size values of changing sign, most where other
+/// eigenvalues pass through zero and make the block larger).
+constexpr double kZeroModeSweepTolerance = 1e-5;
 
 /// Every sign change of a tracked mode's real part between consecutive grid points, refined
 /// by a bracketing root finder (Illinois' regula falsi, with bisection where it stalls) on

@@ -41,7 +41,7 @@ std::unique_ptr<CompiledModel> compile_for_linearization(const ReferenceRequest&
                                                          int& exit_code);
 
 /// The runtime's view of the compiled linear_parts.
-runtime::LinearParts parts_of(const CompiledModel& c);
+runtime::LinearParts parts_of(const CompiledModel& c, const model::Model& m);
 
 /// Parameters (defaults, --set), inputs (0, --input) and the state (the model's
 /// `initial` values, --init, the rest assembled). --set values are expressions of the
@@ -58,6 +58,21 @@ bool reference_state(const model::Model& m, const CompiledModel& c, const Refere
 /// naming the largest residual rate).
 bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest& req, const std::vector<std::string>& unknowns,
                  const std::vector<std::string>& steady, LinearReference& ref, std::string& error);
+
+/// How fast the linear model in the components `sel` changes along the reference motion:
+/// max |d Am/dt| / max |Am| (1/s), by central differences of the linear model at
+/// x -+ h x' (t -+ h). Zero (to rounding) at an equilibrium or a steady motion of these
+/// components; otherwise the eigenvalues of Am are those of a time-varying model frozen at
+/// one instant and depend on the components chosen. -1 where it cannot be evaluated.
+double model_rate(const runtime::LinearParts& parts, const runtime::ModelTable& t, double time, const LinearReference& ref,
+                  const std::vector<int>& sel);
+
+/// The default order in which the minimal state takes components (after --keep): the
+/// coordinates that are not a body's position (angles, joint coordinates, a subsystem's
+/// own), then positions (names ending in .x, .y, .z), then the model's independent speeds.
+/// Positions last: a vehicle's lean and steer should be states, and its position, which
+/// nothing depends on, then stays a cyclic component.
+std::vector<int> default_component_order(const runtime::ModelTable& t);
 
 /// Eigenvalues of the n x n row-major matrix A, by real part then imaginary part.
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n);

@@ -38,11 +38,12 @@ struct LinearParts {
   using Fn = int (*)(double, const double*, const double*, const double*, double*);
   Fn parts = nullptr;
   int nq = 0, nu = 0, nc = 0, nposc = 0, nin = 0;  // kNqFull, kNuFull, kNc, kNposc, kNin
+  int nquat = 0;                                    // kNquaternions (their norms follow P's rows)
 };
 
 /// The LinearParts of the generated namespace NS (generated with linear_parts).
 #define MBSC_LINEAR_PARTS(NS) \
-  ::mbsc::runtime::LinearParts { &NS::linear_parts, NS::kNqFull, NS::kNuFull, NS::kNc, NS::kNposc, NS::kNin }
+  ::mbsc::runtime::LinearParts { &NS::linear_parts, NS::kNqFull, NS::kNuFull, NS::kNc, NS::kNposc, NS::kNin, NS::kNquaternions }
 
 struct LinearModel {
   int n = 0, nin = 0;               // n = nq + nu (full layout)
@@ -54,7 +55,8 @@ struct LinearModel {
   std::vector<double> multipliers;  // lambda at the reference (nc), minimum norm
   int constraint_rank = 0;          // rank of A_c at the reference (< nc: redundant constraints)
   double invariant_residual = 0.0;  // max |A_c q1' + b| at the reference rates (redundant, incompatible rows show here)
-  /// The increments the linearized invariants allow (position rows P dq0 = 0, velocity
+  /// The increments the linearized invariants allow (position rows P dq0 = 0 with every
+  /// unit quaternion's norm, a first integral that is no motion when it changes; velocity
   /// rows Wq dq0 + A_c dq1 = 0): an orthonormal basis, n x m row-major. A maps it into
   /// itself; the model's own motion lives there.
   std::vector<double> tangent;
@@ -88,13 +90,13 @@ struct PartBlocks {
       b.assign(out.begin() + static_cast<long>(at), out.begin() + static_cast<long>(at + k));
       at += k;
     };
-    take(Kq, s.nq, s.nq), take(Kv, s.nq, s.nu), take(Ac, s.nc, s.nu), take(Wq, s.nc, s.nq), take(P, s.nposc, s.nq);
+    take(Kq, s.nq, s.nq), take(Kv, s.nq, s.nu), take(Ac, s.nc, s.nu), take(Wq, s.nc, s.nq), take(P, s.nposc + s.nquat, s.nq);
     take(Gq, s.nc, s.nq), take(Gv, s.nc, s.nu), take(My, s.nu, s.nu), take(Fq, s.nu, s.nq), take(Fv, s.nu, s.nu);
     take(Fu, s.nu, s.nin), take(r, s.nu, 1), take(c, s.nc, 1);
   }
   static std::size_t size(const LinearParts& s) {
     const std::size_t nq = static_cast<std::size_t>(s.nq), nu = static_cast<std::size_t>(s.nu),
-                      nc = static_cast<std::size_t>(s.nc), np = static_cast<std::size_t>(s.nposc),
+                      nc = static_cast<std::size_t>(s.nc), np = static_cast<std::size_t>(s.nposc + s.nquat),
                       ni = static_cast<std::size_t>(s.nin);
     return nq * nq + nq * nu + nc * nu + nc * nq + np * nq + nc * nq + nc * nu + nu * nu + nu * nq + nu * nu + nu * ni + nu + nc;
   }
@@ -218,12 +220,12 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
       out.Bq[row * static_cast<std::size_t>(nq) + static_cast<std::size_t>(j)] = dq1dot[i * C + N + static_cast<std::size_t>(nin + j)];
   }
   // ---- the tangent space: null([P 0; Wq A_c]) ----
-  const int nr = s.nposc + nc;
+  const int np = s.nposc + s.nquat, nr = np + nc;
   std::vector<double> J(static_cast<std::size_t>(nr) * N, 0.0);
-  for (int r = 0; r < s.nposc; ++r)
+  for (int r = 0; r < np; ++r)
     for (int j = 0; j < nq; ++j) J[static_cast<std::size_t>(r) * N + static_cast<std::size_t>(j)] = b.P[static_cast<std::size_t>(r * nq + j)];
   for (int r = 0; r < nc; ++r) {
-    const std::size_t row = static_cast<std::size_t>(s.nposc + r);
+    const std::size_t row = static_cast<std::size_t>(np + r);
     for (int j = 0; j < nq; ++j) J[row * N + static_cast<std::size_t>(j)] = b.Wq[static_cast<std::size_t>(r * nq + j)];
     for (int j = 0; j < nu; ++j) J[row * N + static_cast<std::size_t>(nq + j)] = b.Ac[static_cast<std::size_t>(r) * NU + static_cast<std::size_t>(j)];
   }
