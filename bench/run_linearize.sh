@@ -14,7 +14,7 @@
 # The peers are for comparison only, not dependencies of mbsc: /usr/bin/python3 with sympy
 # and numpy (Debian python3-sympy, python3-numpy) and valgrind; as root the script installs
 # what is missing with apt-get, else those columns are "n/a". SYMPY_TIMEOUT (default
-# 1200 s) bounds the sympy script; MBSC_BUILD=DIR uses the mbsc of an existing Release build
+# 1200 s) bounds the sympy script; NO_PEERS=1 measures mbsc alone; MBSC_BUILD=DIR uses the mbsc of an existing Release build
 # folder (only its `mbsc` target is built).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -33,12 +33,16 @@ apt_install() {  # package...; true when installed
     { apt-get update >/dev/null 2>&1 && DEBIAN_FRONTEND=noninteractive apt-get install -y "$@" >/dev/null 2>&1; }
 }
 HAVE_SYMPY="" HAVE_VALGRIND=""
-if (cd /tmp && $PY -c 'import sympy, numpy') 2>/dev/null || { apt_install python3-sympy python3-numpy && (cd /tmp && $PY -c 'import sympy, numpy') 2>/dev/null; }; then
+if [ -n "${NO_PEERS:-}" ]; then
+  log "NO_PEERS: mbsc alone"
+elif (cd /tmp && $PY -c 'import sympy, numpy') 2>/dev/null || { apt_install python3-sympy python3-numpy && (cd /tmp && $PY -c 'import sympy, numpy') 2>/dev/null; }; then
   HAVE_SYMPY=1
 else
   log "no sympy + numpy for $PY: the sympy columns are n/a"
 fi
-if command -v valgrind >/dev/null || { apt_install valgrind && command -v valgrind >/dev/null; }; then
+if [ -n "${NO_PEERS:-}" ]; then
+  :
+elif command -v valgrind >/dev/null || { apt_install valgrind && command -v valgrind >/dev/null; }; then
   HAVE_VALGRIND=1
 else
   log "no valgrind: the instruction counts are n/a"
@@ -68,8 +72,14 @@ done
 
 # --- the driver ---------------------------------------------------------------------------
 log "driver"
-g++ $FLAGS -I include -I "$WORK" -I "$EIGEN" bench/linearize_driver.cpp "$WORK/ring_disc/ring_disc.cpp" \
-  "$WORK/whipple_bicycle_joints/whipple_bicycle_joints.cpp" -o "$WORK/driver"
+declare -A cc_s
+for M in ring_disc whipple_bicycle_joints; do  # the generated code's compile time (wall)
+  s=$(date +%s.%N)
+  g++ $FLAGS -I include -c "$WORK/$M/$M.cpp" -o "$WORK/$M.o"
+  e=$(date +%s.%N)
+  cc_s[$M]=$(awk -v a="$s" -v b="$e" 'BEGIN { printf "%.1f", b - a }')
+done
+g++ $FLAGS -I include -I "$WORK" -I "$EIGEN" bench/linearize_driver.cpp "$WORK/ring_disc.o" "$WORK/whipple_bicycle_joints.o" -o "$WORK/driver"
 "$WORK/driver" sweep-out "$WORK/mbsc_sweep.txt" > "$WORK/driver.txt"
 val() { sed -n "s/^$1=//p" "$WORK/driver.txt"; }
 instr() {  # callgrind's instructions per linear_model call ($1: ring or bike)
@@ -97,14 +107,15 @@ if [ -n "$HAVE_SYMPY" ]; then
   [ $rc -ne 0 ] && [ $rc -ne 124 ] && s_status="failed (rc $rc, $WORK/sympy.log)"
   [ -n "$s_status" ] && log "sympy $s_status"
 else
-  s_status="n/a (no sympy + numpy)"
+  s_status="n/a (not run)"
 fi
 
 # --- the table ----------------------------------------------------------------------------------
 # Agreement of the sweeps: the ring-disc's omega point by point; the bicycle's eigenvalues
 # as sets (each eigenvalue of one to the nearest of the other, both ways: mbsc's minimal
 # state carries 4 more zero eigenvalues, the ignorable coordinates sympy's layout drops).
-cmp_json=$(cd "$WORK" && $PY - <<'EOF' 2>/dev/null || echo '{}'
+compare() {
+  (cd "$WORK" && $PY - <<'EOF'
 import json
 def read(path):
     ring, bike = {}, {}
@@ -129,7 +140,9 @@ print(json.dumps({"ring_rel": ring, "bike_rel": worst, "bike_at_v": 10.0 * at / 
                   "sympy_bike_err_paper": max(min(abs(z - p) for z in e5) for p in paper),
                   "sympy_ring_err_thesis": abs(s["ring"]["omega"] - 2.63296508333)}))
 EOF
-)
+  )
+}
+cmp_json=$(compare 2>/dev/null || echo '{}')
 sj() {  # a value of sympy's json: $1 model, $2 key
   [ -f "$WORK/sympy/sympy_linearize.json" ] || { echo "n/a"; return; }
   $PY -c 'import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]][sys.argv[3]])' "$WORK/sympy/sympy_linearize.json" "$1" "$2"
@@ -147,7 +160,8 @@ out=bench/results/linearize.md
   echo "| bicycle, joint coordinates (45 full, $(val bike_m) minimal) | $(val bike_linear_model_ns) / $(val bike_linear_model_ns_min) ns | $bike_instr | $(val bike_sweep_ms) / $(val bike_sweep_ms_min) ms | $(fmt_s "$(sj bike derive_s)") s | $(fmt_s "$(sj bike linearize_s)") s | $(fmt_s "$(sj bike op_point_s)") s | $(fmt_s "$(sj bike sweep_setup_s)") s | $(fmt_s "$bs") s | $(ratio "$(val bike_sweep_ms)" "$(awk -v x="$bs" 'BEGIN { print (x == "n/a") ? x : x * 1000 }')") | 5 m/s: weave, capsize, castering $(val bike_err_paper) from Meijaard et al. Table 2 (sympy $(cj sympy_bike_err_paper)); sweep: largest difference to sympy's eigenvalues $(cj bike_rel) (relative to the largest, at v = $(cj bike_at_v) m/s); central differences of rhs $(val bike_fd_rel_diff) |"
   echo
   [ -n "$s_status" ] && { echo "sympy: $s_status"; echo; }
-  echo "mbsc generate --linear-parts (wall, best of 3): ring_disc ${gen_s[ring_disc]} s, whipple_bicycle_joints ${gen_s[whipple_bicycle_joints]} s."
+  echo "mbsc generate --linear-parts (wall, best of 3): ring_disc ${gen_s[ring_disc]} s, whipple_bicycle_joints ${gen_s[whipple_bicycle_joints]} s;" \
+    "g++ $FLAGS of the generated code (wall, once): ${cc_s[ring_disc]} s and ${cc_s[whipple_bicycle_joints]} s."
   echo "mbsc's bicycle eigenvalues at 5 m/s (minimal state keeping lean, steer and their rates): $(val bike_eigs)"
   echo
   echo "$(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores, $(lscpu | sed -n 's/Model name: *//p'), g++ $FLAGS," \

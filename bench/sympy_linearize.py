@@ -213,7 +213,7 @@ def main(argv):
     t6 = time.perf_counter()
     out["bike"].update({"sweep_setup_s": t5 - t4, "sweep_s": t6 - t5})
     for k, e in enumerate(eigs):
-        sweep_lines.append(f"bike {k} " + " ".join(f"{z.real!r} {z.imag!r}" for z in e))
+        sweep_lines.append(f"bike {k} " + " ".join(f"{float(z.real)!r} {float(z.imag)!r}" for z in e))
     sys.stderr.write(f"sympy_linearize: bicycle {json.dumps(out['bike'])}\n")
 
     with open(os.path.join(outdir, "sympy_linearize.json"), "w") as f:
