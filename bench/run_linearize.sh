@@ -14,7 +14,8 @@
 # The peers are for comparison only, not dependencies of mbsc: /usr/bin/python3 with sympy
 # and numpy (Debian python3-sympy, python3-numpy) and valgrind; as root the script installs
 # what is missing with apt-get, else those columns are "n/a". SYMPY_TIMEOUT (default
-# 1200 s) bounds the sympy script; NO_PEERS=1 measures mbsc alone; MBSC_BUILD=DIR uses the mbsc of an existing Release build
+# 1200 s) bounds the sympy script; SYMPY_NUMERIC_DATA=1 derives sympy's bicycle with its
+# data as numbers (a smaller symbolic linearization); NO_PEERS=1 measures mbsc alone; MBSC_BUILD=DIR uses the mbsc of an existing Release build
 # folder (only its `mbsc` target is built).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -100,7 +101,7 @@ s_status=""
 if [ -n "$HAVE_SYMPY" ]; then
   log "sympy linearize (timeout $SYMPY_TIMEOUT s)"
   set +e
-  timeout "$SYMPY_TIMEOUT" $PY bench/sympy_linearize.py "$WORK/sympy" 1000 > "$WORK/sympy.log" 2>&1
+  timeout "$SYMPY_TIMEOUT" $PY bench/sympy_linearize.py "$WORK/sympy" 1000 ${SYMPY_NUMERIC_DATA:+--numeric-data} > "$WORK/sympy.log" 2>&1
   rc=$?
   set -e
   [ $rc -eq 124 ] && s_status="did not finish in $SYMPY_TIMEOUT s"

@@ -53,12 +53,13 @@ PARAMS = [("w", 1.02), ("c", 0.08), ("lam", "pi/10"), ("g", 9.81),
           ("rF", 0.35), ("mF", 3.0), ("IFxx", 0.1405), ("IFyy", 0.28)]
 
 
-def kanes_method(dependent_order=(0, 1, 2)):
+def kanes_method(dependent_order=(0, 1, 2), numeric_data=False):
     """The bicycle's KanesMethod after kanes_equations, its parameter symbols, coordinates
     (q1, q2, q3, q4) and speeds (u1 .. u6); bench/sympy_linearize.py linearizes it.
     dependent_order permutes the dependent speeds (u1, u4, u6): sympy eliminates them by
-    an LU without pivoting on symbolic entries, in this order."""
-    P = {name: sm.Symbol(name) for name, _ in PARAMS}
+    an LU without pivoting on symbolic entries, in this order. numeric_data: Table 1's
+    values in place of the parameter symbols from the start."""
+    P = {name: (sm.sympify(v) if numeric_data else sm.Symbol(name)) for name, v in PARAMS}
     w, c, lam, g = P["w"], P["c"], P["lam"], P["g"]
     rR, rF = P["rR"], P["rF"]
     q1, q2, q3, q4 = me.dynamicsymbols("q1 q2 q3 q4")

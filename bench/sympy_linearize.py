@@ -20,7 +20,9 @@ The ring-disc sweeps the mass ratio m2/m1 over (0, 5] at the thesis incline with
 steady angle theta_bar solved per point (the relation of Ex 4.2(h), Newton); the bicycle
 sweeps the forward speed v over [0, 10] m/s, upright and straight.
 
-Usage: /usr/bin/python3 bench/sympy_linearize.py OUTDIR [NPTS]
+Usage: /usr/bin/python3 bench/sympy_linearize.py OUTDIR [NPTS] [--numeric-data]
+(--numeric-data: the bicycle derived with its data as numbers from the start, a smaller
+symbolic problem; the ring-disc always keeps its data symbolic.)
 Writes OUTDIR/sympy_linearize.json (timings, the check-point eigenvalues) and
 OUTDIR/sympy_sweep.txt (every sweep point's eigenvalues, as the mbsc driver writes them).
 """
@@ -38,6 +40,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sympy_bicycle import PARAMS as BIKE_PARAMS, kanes_method  # noqa: E402
 
 T = me.dynamicsymbols._t
+NUMERIC_DATA = False  # --numeric-data: the bicycle derived with Table 1's numbers, not symbols
 
 
 # ---------------- the ring-disc (models/ring_disc.mbs) ----------------
@@ -121,10 +124,11 @@ def bike_op(P, qs, us, v):
     spin rates relative to their frames, -v/rR and -v/rF; every acceleration zero."""
     q1, q2, q3, q4 = qs
     u1, u2, u3, u4, u5, u6 = us
-    pv = {P[n]: sm.sympify(val) for n, val in BIKE_PARAMS}
+    pv = {} if NUMERIC_DATA else {P[n]: sm.sympify(val) for n, val in BIKE_PARAMS}
+    rR, rF = sm.sympify(dict(BIKE_PARAMS)["rR"]), sm.sympify(dict(BIKE_PARAMS)["rF"])
     op = {q: 0 for q in qs}
     op.update({q.diff(T): 0 for q in qs})
-    op.update({u1: 0, u2: 0, u4: 0, u5: 0, u3: -v / pv[P["rR"]], u6: -v / pv[P["rF"]]})
+    op.update({u1: 0, u2: 0, u4: 0, u5: 0, u3: -v / rR, u6: -v / rF})
     op.update({u.diff(T): 0 for u in us})
     return op, pv
 
@@ -141,6 +145,10 @@ def main(argv):
     if len(argv) < 2:
         sys.stderr.write(__doc__)
         return 2
+    global NUMERIC_DATA
+    if "--numeric-data" in argv:
+        NUMERIC_DATA = True
+        argv = [a for a in argv if a != "--numeric-data"]
     outdir = argv[1]
     npts = int(argv[2]) if len(argv) > 2 else 1000
     os.makedirs(outdir, exist_ok=True)
@@ -183,6 +191,7 @@ def main(argv):
     out["ring"].update({"sweep_setup_s": t5 - t4, "sweep_s": t6 - t5})
     sweep_lines += [f"ring {k} {w!r}" for k, w in enumerate(omegas)]
     sys.stderr.write(f"sympy_linearize: ring-disc {json.dumps(out['ring'])}\n")
+    write(outdir, out, sweep_lines)  # kept should the bicycle not finish
 
     # ---- bicycle ----
     t0 = time.perf_counter()
@@ -193,7 +202,7 @@ def main(argv):
     # upright and sympy's elimination gives 0/0 there (that file's C code returns NaN
     # exactly upright): the same equations, the elimination ordered to be finite at the
     # operating point.
-    kane, Pb, qs, us = kanes_method(dependent_order=(2, 0, 1))
+    kane, Pb, qs, us = kanes_method(dependent_order=(2, 0, 1), numeric_data=NUMERIC_DATA)
     t1 = time.perf_counter()
     lin = kane.to_linearizer()
     M, A, _ = lin.linearize(A_and_B=False)
@@ -204,7 +213,7 @@ def main(argv):
     Amin = lin.perm_mat.T * Ms.LUsolve(As)
     t3 = time.perf_counter()
     eig = eig_list(numeric(Amin))
-    out["bike"] = {"derive_s": t1 - t0, "linearize_s": t2 - t1, "op_point_s": t3 - t2, "m": Amin.shape[0], "eigenvalues": eig}
+    out["bike"] = {"numeric_data": NUMERIC_DATA, "derive_s": t1 - t0, "linearize_s": t2 - t1, "op_point_s": t3 - t2, "m": Amin.shape[0], "eigenvalues": eig}
     t4 = time.perf_counter()
     v_s = sm.Symbol("v")
     op_s, _ = bike_op(Pb, qs, us, v_s)
@@ -223,11 +232,15 @@ def main(argv):
         sweep_lines.append(f"bike {k} " + " ".join(f"{float(z.real)!r} {float(z.imag)!r}" for z in e))
     sys.stderr.write(f"sympy_linearize: bicycle {json.dumps(out['bike'])}\n")
 
+    write(outdir, out, sweep_lines)
+    return 0
+
+
+def write(outdir, out, sweep_lines):
     with open(os.path.join(outdir, "sympy_linearize.json"), "w") as f:
         json.dump(out, f, indent=1)
     with open(os.path.join(outdir, "sympy_sweep.txt"), "w") as f:
         f.write("\n".join(sweep_lines) + "\n")
-    return 0
 
 
 def msubs_all(Mx, op, params):
