@@ -146,7 +146,7 @@ EOF
 cmp_json=$(compare 2>/dev/null || echo '{}')
 sj() {  # a value of sympy's json: $1 model, $2 key
   [ -f "$WORK/sympy/sympy_linearize.json" ] || { echo "n/a"; return; }
-  $PY -c 'import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]][sys.argv[3]])' "$WORK/sympy/sympy_linearize.json" "$1" "$2"
+  $PY -c 'import json, sys; print(json.load(open(sys.argv[1])).get(sys.argv[2], {}).get(sys.argv[3], "n/a"))' "$WORK/sympy/sympy_linearize.json" "$1" "$2"
 }
 cj() { $PY -c 'import json, sys; d = json.loads(sys.argv[1]); print("%.2g" % d[sys.argv[2]] if sys.argv[2] in d else "n/a")' "$cmp_json" "$1"; }
 fmt_s() { awk -v x="$1" 'BEGIN { if (x == "n/a" || x == "") print "n/a"; else printf "%.3g", x }'; }
@@ -161,6 +161,7 @@ out=bench/results/linearize.md
   echo "| bicycle, joint coordinates (45 full, $(val bike_m) minimal) | $(val bike_linear_model_ns) / $(val bike_linear_model_ns_min) ns | $bike_instr | $(val bike_sweep_ms) / $(val bike_sweep_ms_min) ms | $(fmt_s "$(sj bike derive_s)") s | $(fmt_s "$(sj bike linearize_s)") s | $(fmt_s "$(sj bike op_point_s)") s | $(fmt_s "$(sj bike sweep_setup_s)") s | $(fmt_s "$bs") s | $(ratio "$(val bike_sweep_ms)" "$(awk -v x="$bs" 'BEGIN { print (x == "n/a") ? x : x * 1000 }')") | 5 m/s: weave, capsize, castering $(val bike_err_paper) from Meijaard et al. Table 2 (sympy $(cj sympy_bike_err_paper)); sweep: largest difference to sympy's eigenvalues $(cj bike_rel) (relative to the largest, at v = $(cj bike_at_v) m/s); central differences of rhs $(val bike_fd_rel_diff) |"
   echo
   [ -n "$s_status" ] && { echo "sympy: $s_status"; echo; }
+  [ "$(sj bike numeric_data)" = True ] && { echo "sympy's bicycle derived with Table 1's data as numbers (SYMPY_NUMERIC_DATA=1); the ring-disc's data symbolic."; echo; }
   echo "mbsc generate --linear-parts (wall, best of 3): ring_disc ${gen_s[ring_disc]} s, whipple_bicycle_joints ${gen_s[whipple_bicycle_joints]} s;" \
     "g++ $FLAGS of the generated code (wall, once): ${cc_s[ring_disc]} s and ${cc_s[whipple_bicycle_joints]} s."
   echo "mbsc's bicycle eigenvalues at 5 m/s (minimal state keeping lean, steer and their rates): $(val bike_eigs)"
