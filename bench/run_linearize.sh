@@ -8,7 +8,8 @@
 # sympy.physics.mechanics' KanesMethod.linearize on the same models
 # (bench/sympy_linearize.py), in ONE run; callgrind's instructions per linear_model call
 # when valgrind is there.
-#   bash bench/run_linearize.sh     (from the repository root; ~4 min on 2 cores, sympy ~2 min)
+#   bash bench/run_linearize.sh     (from the repository root; mbsc ~2 min on 2 cores; sympy's
+#   bicycle linearization is long: docs/benchmarks.md "Issue 13")
 # Writes bench/results/linearize.md (and prints it). Scratch in bench/work/linearize (ignored).
 #
 # The peers are for comparison only, not dependencies of mbsc: /usr/bin/python3 with sympy
