@@ -53,8 +53,13 @@ PARAMS = [("w", 1.02), ("c", 0.08), ("lam", "pi/10"), ("g", 9.81),
           ("rF", 0.35), ("mF", 3.0), ("IFxx", 0.1405), ("IFyy", 0.28)]
 
 
-def derive():
-    P = {name: sm.Symbol(name) for name, _ in PARAMS}
+def kanes_method(dependent_order=(0, 1, 2), numeric_data=False):
+    """The bicycle's KanesMethod after kanes_equations, its parameter symbols, coordinates
+    (q1, q2, q3, q4) and speeds (u1 .. u6); bench/sympy_linearize.py linearizes it.
+    dependent_order permutes the dependent speeds (u1, u4, u6): sympy eliminates them by
+    an LU without pivoting on symbolic entries, in this order. numeric_data: Table 1's
+    values in place of the parameter symbols from the start."""
+    P = {name: (sm.sympify(v) if numeric_data else sm.Symbol(name)) for name, v in PARAMS}
     w, c, lam, g = P["w"], P["c"], P["lam"], P["g"]
     rR, rF = P["rR"], P["rF"]
     q1, q2, q3, q4 = me.dynamicsymbols("q1 q2 q3 q4")
@@ -111,8 +116,13 @@ def derive():
     config = [me.dot(front_contact.pos_from(rear_contact), Y.z)]
     vel = [me.dot(front_contact.vel(N), Y.x), me.dot(front_contact.vel(N), Y.y), me.dot(front_contact.vel(N), Y.z)]
     kane = me.KanesMethod(N, q_ind=[q1, q2, q4], u_ind=[u2, u3, u5], kd_eqs=kd, q_dependent=[q3],
-                          configuration_constraints=config, u_dependent=[u1, u4, u6], velocity_constraints=vel)
+                          configuration_constraints=config, u_dependent=[[u1, u4, u6][k] for k in dependent_order], velocity_constraints=vel)
     kane.kanes_equations(bodies, loads)
+    return kane, P, (q1, q2, q3, q4), (u1, u2, u3, u4, u5, u6)
+
+
+def derive():
+    kane, P, (q1, q2, q3, q4), (u1, u2, u3, u4, u5, u6) = kanes_method()
     M, F = kane.mass_matrix, kane.forcing
     sub = {}
     for k, q in enumerate([q1, q2, q4, q3]):
