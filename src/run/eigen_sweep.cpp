@@ -392,34 +392,72 @@ bool stability_crossings(const MatrixAt& A, const TrackedSweep& sweep, std::vect
       peak[i] = std::max(peak[i], std::abs(point[i]));
       sweep_scale = std::max(sweep_scale, peak[i]);
     }
-  for (std::size_t k = 0; k + 1 < points; ++k) {
-    const std::vector<Complex>& a = sweep.values[k];
-    const std::vector<Complex>& b = sweep.values[k + 1];
-    double scale = 0.0;
-    for (std::size_t i = 0; i < n; ++i) scale = std::max({scale, std::abs(a[i]), std::abs(b[i])});
-    // Each end's class: unstable (+1), marginal (0) or stable (-1).
-    const double margin = kMarginalTolerance * scale;
-    auto cls = [margin](const Complex& z) { return z.real() > margin ? 1 : z.real() < -margin ? -1 : 0; };
-    for (std::size_t i = 0; i < n; ++i) {
-      const int ca = cls(a[i]), cb = cls(b[i]);
-      if (ca == cb || (ca != 1 && cb != 1)) continue;  // no change into or out of instability
+  // Each point's class for each mode: unstable (+1), marginal (0: |Re| within
+  // kMarginalTolerance of the point's largest |lambda|) or stable (-1).
+  std::vector<double> point_scale(points, 0.0);
+  for (std::size_t k = 0; k < points; ++k)
+    for (const Complex& z : sweep.values[k]) point_scale[k] = std::max(point_scale[k], std::abs(z));
+  auto cls = [&](std::size_t k, std::size_t i) {
+    const double margin = kMarginalTolerance * point_scale[k], re = sweep.values[k][i].real();
+    return re > margin ? 1 : re < -margin ? -1 : 0;
+  };
+  struct Run {
+    int cls;
+    std::size_t first, last;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (peak[i] <= kZeroModeSweepTolerance * sweep_scale) continue;  // zero along the whole sweep
+    std::vector<Run> runs;
+    for (std::size_t k = 0; k < points; ++k) {
+      const int c = cls(k, i);
+      if (runs.empty() || runs.back().cls != c) runs.push_back({c, k, k});
+      else runs.back().last = k;
+    }
+    // One event between grid points ka < kb: a sign change refined by Illinois, or a change
+    // between unstable and marginal refined by bisection.
+    auto event = [&](std::size_t ka, std::size_t kb, bool marginal) {
+      const Complex la = sweep.values[ka][i], lb = sweep.values[kb][i];
+      const double scale = std::max(point_scale[ka], point_scale[kb]);
       const double zero = kZeroModeTolerance * scale;
-      if (std::abs(a[i]) <= zero && std::abs(b[i]) <= zero) continue;  // a zero mode's rounding
-      if (peak[i] <= kZeroModeSweepTolerance * sweep_scale) continue;   // zero along the whole sweep
-      if (a[i].imag() + b[i].imag() < 0) continue;                      // the pair's lower member
+      if (std::abs(la) <= zero && std::abs(lb) <= zero) return true;  // a zero mode's rounding
+      if (la.imag() + lb.imag() < 0) return true;                       // the pair's lower member
       StabilityCrossing c;
       c.mode = static_cast<int>(i);
-      c.becomes_stable = cb != 1;
-      c.marginal = ca == 0 || cb == 0;
-      const bool ok = c.marginal ? refine_marginal(A, static_cast<Eigen::Index>(n), sweep.param[k], a[i], sweep.param[k + 1],
-                                                   b[i], width, margin, c, error, param_name)
-                                 : refine_crossing(A, static_cast<Eigen::Index>(n), sweep.param[k], a[i], sweep.param[k + 1],
-                                                   b[i], width, c, error, param_name);
-      if (!ok) {
-        out.clear();
-        return false;
+      c.becomes_stable = cls(kb, i) != 1;
+      c.marginal = marginal;
+      const bool ok = marginal ? refine_marginal(A, static_cast<Eigen::Index>(n), sweep.param[ka], la, sweep.param[kb], lb,
+                                                 width, kMarginalTolerance * scale, c, error, param_name)
+                               : refine_crossing(A, static_cast<Eigen::Index>(n), sweep.param[ka], la, sweep.param[kb], lb,
+                                                 width, c, error, param_name);
+      if (ok) out.push_back(c);
+      return ok;
+    };
+    bool ok = true;
+    for (std::size_t j = 0; ok && j + 1 < runs.size(); ++j) {
+      const Run& r = runs[j];
+      const Run& next = runs[j + 1];
+      if (r.cls == 0) {
+        // A sweep that starts marginal: a change to unstable is an event of its own.
+        if (j == 0 && next.cls == 1) ok = event(r.last, next.first, true);
+        continue;  // otherwise the run before it handled it
       }
-      out.push_back(c);
+      if (next.cls == -r.cls) {
+        ok = event(r.last, next.first, false);
+        continue;
+      }
+      // next is marginal: through it to the other sign is a crossing like any other (the
+      // grid passed close to the root); otherwise only the unstable side's changes count.
+      const Run* after = j + 2 < runs.size() ? &runs[j + 2] : nullptr;
+      if (after && after->cls == -r.cls) {
+        ok = event(r.last, after->first, false);
+      } else if (r.cls == 1) {
+        ok = event(r.last, next.first, true);
+        if (ok && after && after->cls == 1) ok = event(next.last, after->first, true);
+      }
+    }
+    if (!ok) {
+      out.clear();
+      return false;
     }
   }
   // Brackets come in grid order; a bracket's crossings by parameter, then mode.

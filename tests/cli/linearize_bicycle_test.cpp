@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -48,8 +49,14 @@ void check_matrix(const std::string& name, const std::vector<double>& got, const
 
 }  // namespace
 
+// One cache for this file's commands: the bicycle is compiled once.
+const std::filesystem::path& bicycle_cache() {
+  static const std::filesystem::path dir = mbsc_test::fresh_dir("lin_bicycle");
+  return dir;
+}
+
 TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are the published ones", "[linear]") {
-  const auto cache = mbsc_test::fresh_dir("lin_bicycle");
+  const auto& cache = bicycle_cache();
   const std::string cmd = std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
                           "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
                           " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
@@ -91,5 +98,47 @@ TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are 
   }
   // The cyclic components are named.
   CHECK(r.output.find("\"cyclic\": [\"") != std::string::npos);
-  std::filesystem::remove_all(cache);
+}
+
+TEST_CASE("eig: the benchmark bicycle's weave and capsize speeds are the published ones", "[linear]") {
+  const auto csv = bicycle_cache() / "eig.csv";
+  const std::string cmd = std::string(MBSC_BINARY) + " eig " + MBSC_SOURCE_DIR +
+                          "/models/whipple_bicycle_joints.mbs --sweep v=0:10:0.05 --let v=5 --init 'theta_R_dot=-v/rR'"
+                          " --init rear_frame.wx=0 --init delta_dot=0 --ratio delta/rear_frame.theta -q -o " +
+                          csv.string() + " --cache-dir " + bicycle_cache().string();
+  const auto r = mbsc_test::run(cmd);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // "mode K becomes stable at v = X (...)": the weave; "becomes unstable": the capsize.
+  auto speed = [&](const std::string& what) {
+    const auto at = r.output.find(what + " at v = ");
+    REQUIRE(at != std::string::npos);
+    return std::strtod(r.output.c_str() + at + what.size() + 7, nullptr);
+  };
+  // Meijaard et al. (2007), section 5: v_w = 4.29238253634111, v_c = 6.02426201538837 m/s.
+  CHECK(std::fabs(speed("becomes stable") - 4.29238253634111) < 1e-9);
+  CHECK(std::fabs(speed("becomes unstable") - 6.02426201538837) < 1e-9);
+  // Two stability changes, no more (the cyclic zeros are left out, not crossings).
+  std::size_t count = 0;
+  for (auto at = r.output.find(" becomes "); at != std::string::npos; at = r.output.find(" becomes ", at + 1)) ++count;
+  CHECK(count == 2);
+  // The CSV: 201 rows of the 4 lateral modes and the ratio columns; at v = 0 the paper's
+  // real eigenvalues +-3.13164324790656, +-5.53094371765393.
+  std::ifstream in(csv);
+  std::string header, first;
+  REQUIRE(std::getline(in, header));
+  REQUIRE(std::getline(in, first));
+  CHECK(header.rfind("v,re_1,im_1,re_2,im_2,re_3,im_3,re_4,im_4,abs(delta/rear_frame.theta)_1", 0) == 0);
+  std::vector<double> row;
+  for (std::size_t at = 0; at != std::string::npos; at = first.find(',', at + 1))
+    row.push_back(std::strtod(first.c_str() + (at ? at + 1 : 0), nullptr));
+  REQUIRE(row.size() >= 9);
+  const std::vector<double> published = {-5.53094371765393, -3.13164324790656, 3.13164324790656, 5.53094371765393};
+  for (int k = 0; k < 4; ++k) {
+    CHECK(std::fabs(row[static_cast<std::size_t>(1 + 2 * k)] - published[static_cast<std::size_t>(k)]) < 1e-11);
+    CHECK(row[static_cast<std::size_t>(2 + 2 * k)] == 0.0);
+  }
+  std::size_t lines = 2;
+  for (std::string line; std::getline(in, line);) ++lines;
+  CHECK(lines == 202);
 }

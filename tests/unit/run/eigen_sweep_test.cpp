@@ -133,7 +133,23 @@ TEST_CASE("eig sweep: real parts that cross do not swap the curves", "[run][eig]
       CHECK(std::abs(s.vectors[k][0](1)) == 1.0);
     }
     const std::vector<StabilityCrossing> c = crossings(A, s);
-    CHECK(c.empty());  // both stay >= 0 (0 at the first point counts as not stable)
+    if (g.front() == 0.0) {
+      // Mode 0 starts at exactly 0 (marginal) and turns unstable at once, mode 1 ends at
+      // exactly 0 at v = 1: changes between unstable and marginal at the grid's two ends.
+      REQUIRE(c.size() == 2);
+      CHECK(c[0].mode == 0);
+      CHECK(c[0].marginal);
+      CHECK_FALSE(c[0].becomes_stable);
+      // A change from marginal is placed where Re leaves the band |Re| <= 1e-9 |lambda|
+      // (kMarginalTolerance): here, where it grows linearly from 0, within 1e-9 of the root.
+      CHECK(std::abs(c[0].param) < 2e-9);
+      CHECK(c[1].mode == 1);
+      CHECK(c[1].marginal);
+      CHECK(c[1].becomes_stable);
+      CHECK(std::abs(c[1].param - 1.0) < 2e-9);
+    } else {
+      CHECK(c.empty());  // both stay > 0
+    }
   }
 }
 
