@@ -47,11 +47,11 @@ ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<Gi
                      "kLinearPartsSize",
                      std::move(rebuild),
                      {}};
+  f.third_arg = "w";
   if (!m.frictions.empty()) {
     f.undefined_reason = "the model has Coulomb friction, whose force is not differentiable where a joint slides";
     return f;
   }
-  f.third_arg = "w";
   // w = (u, q1' of every speed, lambda of every constraint)
   std::vector<GiNaC::symbol> lambda;
   for (std::size_t k = 0; k < nin; ++k) f.third_bindings.push_back({m.inputs[k].sym, fmt::format("w[{}]", k)});

@@ -565,6 +565,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     for (const char* own : {"rhs", "multipliers", "reaction_forces", "conditioning"}) rest.functions.erase(own);
     if (opt.functions.empty() && !eom.has_energy) rest.functions.erase("energy");  // undefined_energy below
     specs = multiplier_specs(m, eom, opt, gains, diags);
+    if (rest.functions.empty() && rest.linear_parts) rest.functions = {"linear_parts"};  // (empty would mean all)
     if (!rest.functions.empty())
       for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(std::move(f));
   } else {
@@ -674,6 +675,8 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   if (opt.linear_parts || opt.functions.count("linear_parts")) {
     g.int_constants.push_back({"kLinearPartsSize", linear_parts_size(m)});
     g.int_constants.push_back({"kLinearWSize", static_cast<long>(m.inputs.size() + m.speeds.size() + m.constraints.size())});
+    // Every unit quaternion of the full layout (kNquaternions counts those the state keeps).
+    g.int_constants.push_back({"kLinearQuaternions", static_cast<long>(unit_quaternion_coords(m).size())});
   }
   // The CSR patterns of the Jacobians (constraint_jacobian_values, position_jacobian_values).
   for (const SparseJacobian& sj : sparse) {

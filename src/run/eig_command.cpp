@@ -59,8 +59,8 @@ bool parse_sweep(const std::string& text, std::string& name, std::vector<double>
     return false;
   }
   const double count = std::floor((to - from) / step * (1 + 1e-12)) + 1;
-  if (count > 1e6) {
-    error = fmt::format("--sweep {}: {:.0f} points; at most a million", printable(name), count);
+  if (count > 1e5) {
+    error = fmt::format("--sweep {}: {:.0f} points; at most 100 000", printable(name), count);
     return false;
   }
   grid.clear();
@@ -113,6 +113,11 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
                               printable(name), did_you_mean(name, pool)));
   }
   const auto state_names = runtime::ModelTable::names_of(T.state_names, T.nx);
+  if (a.find.size() != a.steady.size())
+    return fail(fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", a.find.size(),
+                            a.steady.size()));
+  if (std::find(a.find.begin(), a.find.end(), name) != a.find.end())
+    return fail(fmt::format("--find {}: that is the swept value; a steady motion solves for other unknowns", printable(name)));
 
   // The steady motion found at each grid point (continuation: each starts from the nearest
   // point solved before).

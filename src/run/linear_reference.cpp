@@ -113,7 +113,7 @@ bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest
   std::vector<double> z;
   for (const auto& name : unknowns) {
     if (const int i = runtime::ModelTable::find(t.state_names, t.nx, name.c_str()); i >= 0) z.push_back(ref.x[static_cast<std::size_t>(i)]);
-    else if (lets.count(name)) z.push_back(lets[name]);
+    else if (lets.count(name)) z.push_back(req.overrides.count(name) ? req.overrides.at(name) : lets[name]);
     else if (const int p = runtime::ModelTable::find(t.param_names, t.np, name.c_str()); p >= 0) z.push_back(ref.p[static_cast<std::size_t>(p)]);
     else {
       std::vector<std::string> pool = state;
@@ -190,7 +190,7 @@ double model_rate(const runtime::LinearParts& parts, const runtime::ModelTable& 
   double speed = 0.0;
   for (double v : xd) speed = std::max(speed, std::fabs(v));
   if (speed == 0.0) return 0.0;
-  const double h = 1e-5 / speed;  // a step that moves the state by 1e-5 at most
+  const double h = 1e-5 / std::max(speed, 1.0);  // a step that moves the state by 1e-5 at most
   std::vector<double> A[2];
   double scale = 0.0;
   for (int side = 0; side < 2; ++side) {
@@ -229,6 +229,7 @@ std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& 
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) M(i, j) = A[static_cast<std::size_t>(i * n + j)];
   Eigen::EigenSolver<Eigen::MatrixXd> es(M, false);
+  if (es.info() != Eigen::Success) return std::vector<std::complex<double>>(static_cast<std::size_t>(n), std::complex<double>(NAN, NAN));
   for (int i = 0; i < n; ++i) out.push_back(es.eigenvalues()[i]);
   std::sort(out.begin(), out.end(), [](const std::complex<double>& a, const std::complex<double>& b) {
     return a.real() != b.real() ? a.real() < b.real() : a.imag() < b.imag();

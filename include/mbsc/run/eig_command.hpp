@@ -31,7 +31,7 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err);
 
 /// "NAME=FROM:TO:STEP" -> the name and the grid FROM, FROM + STEP, ... up to TO (TO
 /// included when it is on the grid to rounding). False with `error` for a malformed
-/// text, a zero, non-finite or wrong-signed step (an empty range), or over 10^6 points.
+/// text, a zero, non-finite or wrong-signed step (an empty range), or over 10^5 points.
 bool parse_sweep(const std::string& text, std::string& name, std::vector<double>& grid, std::string& error);
 
 }  // namespace mbsc::run

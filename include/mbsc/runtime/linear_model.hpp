@@ -15,7 +15,8 @@
 /// derivative of the complement (Prop 4.4's C_j) contracted with the reference forces.
 /// Redundant constraints (A_c rank-deficient at the reference) are handled by the
 /// rank-revealing factorization: N spans the true null space and the invariants are
-/// solved in the least-squares (minimum-norm) sense.
+/// solved, with the minimum norm, on the independent rows the pivoting chose (the others
+/// follow where the redundancy is compatible; their residual is invariant_residual).
 ///
 ///   #include "four_bar/four_bar.hpp"   // generated with --outputs ...,linear_parts
 ///   #include "mbsc/runtime/linear_model.hpp"
@@ -38,12 +39,12 @@ struct LinearParts {
   using Fn = int (*)(double, const double*, const double*, const double*, double*);
   Fn parts = nullptr;
   int nq = 0, nu = 0, nc = 0, nposc = 0, nin = 0;  // kNqFull, kNuFull, kNc, kNposc, kNin
-  int nquat = 0;                                    // kNquaternions (their norms follow P's rows)
+  int nquat = 0;                                    // kLinearQuaternions (their norms follow P's rows)
 };
 
 /// The LinearParts of the generated namespace NS (generated with linear_parts).
 #define MBSC_LINEAR_PARTS(NS) \
-  ::mbsc::runtime::LinearParts { &NS::linear_parts, NS::kNqFull, NS::kNuFull, NS::kNc, NS::kNposc, NS::kNin, NS::kNquaternions }
+  ::mbsc::runtime::LinearParts { &NS::linear_parts, NS::kNqFull, NS::kNuFull, NS::kNc, NS::kNposc, NS::kNin, NS::kLinearQuaternions }
 
 struct LinearModel {
   int n = 0, nin = 0;               // n = nq + nu (full layout)
@@ -104,7 +105,8 @@ struct PartBlocks {
 
 }  // namespace detail
 
-/// The linear model at (t, x, u) with parameters p (x in the full layout). Returns 0, or
+/// The linear model at (t, x, u) with parameters p: x is the generated model's own state
+/// (a --state minimal model's linear_parts rebuilds the rest); A, B are over the full layout. Returns 0, or
 /// 1 with `why` set: linear_parts failed (its status), the mass matrix is singular on the
 /// constraints' null space, or a value is not finite.
 inline int linear_model(const LinearParts& s, double t, const double* x, const double* u, const double* p, LinearModel& out,
@@ -237,6 +239,12 @@ inline int linear_model(const LinearParts& s, double t, const double* x, const d
       why = "the linear model has a value that is not finite at the reference";
       return 1;
     }
+  for (const auto* v : {&out.B, &out.Bq, &out.tangent})
+    for (double e : *v)
+      if (!std::isfinite(e)) {
+        why = "the linear model has a value that is not finite at the reference";
+        return 1;
+      }
   for (double e : out.B)
     if (!std::isfinite(e)) {
       why = "the linear model has a value that is not finite at the reference";
