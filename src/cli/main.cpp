@@ -317,7 +317,7 @@ int main(int argc, char** argv) {
   inv_work.add_to(iv);
 
   mbsc::run::LinearizeArgs lin;
-  std::vector<std::string> lin_keep, lin_second, lin_find, lin_steady;
+  std::vector<std::string> lin_keep, lin_second, lin_find, lin_steady, lin_symbolic;
   auto* li = app.add_subcommand("linearize", "linear model about a reference state (thesis section 4.5): A, B and the "
                                              "eigenvalues, as text, CSV or JSON");
   li->add_option("model", lin.model, "model file (.mbs)")->required();
@@ -339,7 +339,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"minimal", "full"}))
       ->default_val("minimal");
   li->add_option("--keep", lin_keep, "components the minimal state takes first (e.g. lean,steer)");
-  li->add_option("--format", lin.format, "text, csv or json")->check(CLI::IsMember({"text", "csv", "json"}))->default_val("text");
+  li->add_option("--format", lin.format, "text, csv or json; latex with --symbolic")
+      ->check(CLI::IsMember({"text", "csv", "json", "latex"}))
+      ->default_val("text");
+  li->add_option("--symbolic", lin_symbolic, "parameters or --let names left as symbols in A and B (comma-separated, or "
+                                             "all): the model written symbolically");
   li->add_option("-o,--out", lin.out, "output file (default: standard output)");
   li->add_option("--cache-dir", lin.cache_dir, "where compiled models are kept");
   WorkFlags lin_work;
@@ -410,6 +414,7 @@ int main(int argc, char** argv) {
       lin.work = lin_work.args();
       lin.keep = split_list(lin_keep);
       lin.second_order = split_list(lin_second);
+      lin.symbolic = split_list(lin_symbolic);
       lin.find = split_list(lin_find);
       lin.steady = split_list(lin_steady);
       return mbsc::run::run_linearize(lin, std::cout, std::cerr);

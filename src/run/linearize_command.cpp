@@ -23,6 +23,7 @@
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/run/second_order_form.hpp"
+#include "mbsc/run/symbolic_linearize.hpp"
 
 namespace mbsc::run {
 
@@ -93,6 +94,8 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   };
   if (a.speed.empty() != a.gravity.empty()) return fail("--speed and --gravity go together (the names of v and g)");
   if (!a.speed.empty() && a.second_order.empty()) return fail("--speed and --gravity split the form of --second-order: name its coordinates");
+  if (a.format == "latex" && a.symbolic.empty()) return fail("--format latex writes a symbolic model: name its symbols with --symbolic");
+  if (!a.symbolic.empty() && a.format == "csv") return fail("--symbolic writes text, latex or json (not --format csv)");
   std::vector<std::string> sources;
   const std::optional<model::Model> m = read_model(a.model, a.work, sources, err);
   if (!m) return 1;
@@ -108,6 +111,16 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   const auto compiled = compile_for_linearization(req, *m, sources, err, code);
   if (!compiled) return code;
   const runtime::ModelTable& T = compiled->table();
+  auto write_text = [&](const std::string& text) {
+    if (a.out == "-") {
+      out << text;
+      return 0;
+    }
+    driver::StagedFile file;
+    if (!file.stage(a.out, text, "-o", error) || !file.commit(error)) return fail(error);
+    if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.out));
+    return 0;
+  };
   // The linear model at the reference the request (with overrides) gives.
   auto linearize_at = [&](const std::map<std::string, double>& overrides, LinearReference& ref, runtime::LinearModel& lin) {
     ReferenceRequest r = req;
@@ -187,6 +200,22 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
                        "rate {:.2g}/s): its eigenvalues are those of a time-varying model frozen at this instant and depend "
                        "on the components chosen (try --keep, or --state full)\n",
                        rate);
+  if (!a.symbolic.empty()) {
+    // The same model with names left as symbols; the reference recomputed with one
+    // symbol moved at a time shows which values follow them.
+    const ReferenceAt reference_at = [&](const std::map<std::string, double>& moved, LinearReference& r, std::string& e) {
+      ReferenceRequest q = req;
+      for (const auto& [name, v] : moved) q.overrides[name] = v;
+      if (!a.find.empty()) return find_steady(*m, *compiled, q, a.find, a.steady, r, e);
+      return reference_state(*m, *compiled, q, r, e);
+    };
+    std::string text;
+    if (!symbolic_linear_text(a, *m, T, req, NumericLinearModel{&ref, sel, &A, &B}, reference_at, text, error, code)) {
+      err << "mbsc: error: " << error << "\n";
+      return code;
+    }
+    return write_text(text);
+  }
   std::vector<std::string> names;
   for (int i : sel) names.push_back(full_names[static_cast<std::size_t>(i)]);
   std::vector<int> cyclic;
@@ -314,14 +343,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       }
     }
   }
-  if (a.out == "-") {
-    out << text.str();
-    return 0;
-  }
-  driver::StagedFile file;
-  if (!file.stage(a.out, text.str(), "-o", error) || !file.commit(error)) return fail(error);
-  if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.out));
-  return 0;
+  return write_text(text.str());
 }
 
 }  // namespace mbsc::run

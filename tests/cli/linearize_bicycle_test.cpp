@@ -4,6 +4,8 @@
 // published by Meijaard, Papadopoulos, Ruina and Schwab (Proc. R. Soc. A 463 (2007)
 // 1955-1982, their equations (A 19)-(A 21) / Table 2), the acceptance test of issue 13.
 #include <catch2/catch.hpp>
+#include <ginac/ginac.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -98,6 +100,68 @@ TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are 
   }
   // The cyclic components are named.
   CHECK(r.output.find("\"cyclic\": [\"") != std::string::npos);
+}
+
+TEST_CASE("linearize --symbolic v,g: the bicycle's form is exactly M q'' + v C1 q' + (g K0 + v^2 K2) q", "[linear]") {
+  // The same reference with v and g left as symbols: the exact elimination gives M, C and
+  // K as expressions, and C1, K0, K2 are read off them (no differences of three points):
+  // they are the published ones, and A is polynomial in v and g (degree 2 and 1) and equals
+  // the numeric A at v = 5, g = 9.81 (the other test's command, also run here).
+  const auto& cache = bicycle_cache();
+  const std::string common = std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
+                             "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
+                             " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
+                             " --speed v --gravity g --format json -q --cache-dir " +
+                             cache.string();
+  const auto r = mbsc_test::run(common + " --symbolic v,g");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("\"split\": \"M q'' + v C1 q' + (g K0 + v^2 K2) q = T exactly\"") != std::string::npos);
+  GiNaC::symtab table;
+  const GiNaC::symbol v("v"), g("g");
+  table["v"] = v, table["g"] = g;
+  auto strings = [&](const std::string& key) {
+    std::vector<GiNaC::ex> out;
+    auto at = r.output.find("\"" + key + "\":");
+    REQUIRE(at != std::string::npos);
+    const auto end = r.output.find("]\n  ]", at);
+    for (at = r.output.find('"', r.output.find('[', at)); at < end; at = r.output.find('"', at + 1)) {
+      const auto close = r.output.find('"', at + 1);
+      GiNaC::parser reader(table);
+      out.push_back(reader(r.output.substr(at + 1, close - at - 1)));
+      at = close;
+    }
+    return out;
+  };
+  auto numbers = [&](const std::string& key) {
+    std::vector<double> out;
+    for (const auto& e : strings(key)) {
+      REQUIRE(GiNaC::is_a<GiNaC::numeric>(e.evalf()));
+      out.push_back(GiNaC::ex_to<GiNaC::numeric>(e.evalf()).to_double());
+    }
+    return out;
+  };
+  check_matrix("M", numbers("M"), {80.81722, 2.31941332208709, 2.31941332208709, 0.29784188199686}, 1e-12, 0);
+  check_matrix("C1", numbers("C1"), {0, 33.86641391492494, -0.85035641456978, 1.68540397397560}, 1e-12, 1e-11);
+  check_matrix("K0", numbers("K0"), {-80.95, -2.59951685249872, -2.59951685249872, -0.80329488458618}, 1e-12, 0);
+  check_matrix("K2", numbers("K2"), {0, 76.59734589573222, 0, 2.65431523794604}, 1e-12, 1e-11);
+  const auto numeric = mbsc_test::run(common);
+  REQUIRE(numeric.exit_code == 0);
+  const std::vector<double> A5 = json_numbers(numeric.output, "A");
+  const std::vector<GiNaC::ex> A = strings("A");
+  REQUIRE(A.size() == A5.size());
+  double scale = 0;
+  for (double a : A5) scale = std::max(scale, std::fabs(a));
+  for (std::size_t i = 0; i < A.size(); ++i) {
+    INFO("A entry " << i << " = " << A[i] << ", numeric " << A5[i]);
+    const GiNaC::ex e = GiNaC::normal(A[i]);
+    CHECK(!e.denom().has(v));
+    CHECK(!e.denom().has(g));
+    CHECK(e.numer().expand().degree(v) <= 2);
+    CHECK(e.numer().expand().degree(g) <= 1);
+    const double at5 = GiNaC::ex_to<GiNaC::numeric>(e.subs(GiNaC::lst{v == 5, g == 9.81}).evalf()).to_double();
+    CHECK(std::fabs(at5 - A5[i]) <= 1e-12 * scale);
+  }
 }
 
 TEST_CASE("eig: the benchmark bicycle's weave and capsize speeds are the published ones", "[linear]") {

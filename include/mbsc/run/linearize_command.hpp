@@ -29,7 +29,10 @@ struct LinearizeArgs {
   /// --speed NAME, --gravity NAME (a --let or a parameter each): split that form as
   /// M q'' + v C1 q' + (g K0 + v^2 K2) q = T (the benchmark bicycle's form).
   std::string speed, gravity;
-  std::string format = "text";                   // --format text|csv|json
+  /// --symbolic NAMES: parameters or --let names left as symbols (or "all"); the model is
+  /// then written symbolically (run/symbolic_linearize.hpp) as text, LaTeX or JSON.
+  std::vector<std::string> symbolic;
+  std::string format = "text";                   // --format text|csv|json|latex (latex: with --symbolic)
   std::string out = "-";                         // -o FILE (default: standard output)
   std::string cache_dir;
   driver::WorkArgs work;

@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// `mbsc linearize --symbolic NAMES`: the linear model with those parameters (or --let
+/// names) left as symbols, written as text, LaTeX or JSON (docs/linearization.md,
+/// "Symbolic linear models"). The numeric model at the same reference chooses the minimal
+/// state and checks the symbolic one at the nominal values.
+#include <string>
+#include <vector>
+
+#include "mbsc/model/model.hpp"
+#include "mbsc/run/linear_reference.hpp"
+#include "mbsc/run/linearize_command.hpp"
+#include "mbsc/run/symbolic_reference.hpp"
+
+namespace mbsc::run {
+
+/// What the numeric linearization found: the reference, the state written (indices of
+/// the full layout) and its A, B.
+struct NumericLinearModel {
+  const LinearReference* ref = nullptr;
+  std::vector<int> sel;
+  const std::vector<double>* A = nullptr;
+  const std::vector<double>* B = nullptr;
+};
+
+/// The symbolic model's text in a.format (text, latex, json). False with `error` (and
+/// `exit_code` 1 for the user's request, 2 when the symbolic and numeric models disagree).
+bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
+                          const NumericLinearModel& numeric, const ReferenceAt& reference_at, std::string& text,
+                          std::string& error, int& exit_code);
+
+}  // namespace mbsc::run
