@@ -102,7 +102,9 @@ TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are 
   CHECK(r.output.find("\"cyclic\": [\"") != std::string::npos);
 }
 
-TEST_CASE("linearize --symbolic v,g: the bicycle's form is exactly M q'' + v C1 q' + (g K0 + v^2 K2) q", "[linear]") {
+// Its own ctest entry (linearize_symbolic_bicycle), left to the Release run: scripts/sanitize.sh.
+TEST_CASE("linearize --symbolic v,g: the bicycle's form is exactly M q'' + v C1 q' + (g K0 + v^2 K2) q",
+          "[linear_symbolic_bicycle]") {
   // The same reference with v and g left as symbols: the exact elimination gives M, C and
   // K as expressions, and C1, K0, K2 are read off them (no differences of three points):
   // they are the published ones, and A is polynomial in v and g (degree 2 and 1) and equals
