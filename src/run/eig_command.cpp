@@ -152,14 +152,7 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   {
     runtime::LinearModel lin;
     if (!linear_at(grid.front(), lin, error, true)) return fail(fmt::format("at {} = {}: {}", name, grid.front(), error));
-    std::vector<int> preferred;
-    for (const auto& k : a.keep) {
-      const int i = runtime::ModelTable::find(T.state_names, T.nx, k.c_str());
-      if (i < 0) return fail(fmt::format("--keep: the model has no coordinate or speed named '{}'{}", printable(k), did_you_mean(k, state_names)));
-      preferred.push_back(i);
-    }
-    for (int i : default_component_order(T)) preferred.push_back(i);
-    sel = runtime::minimal_components(lin, preferred);
+    if (!minimal_state(lin, T, a.keep, sel, error)) return fail(error);
     const double rate = model_rate(parts_of(*compiled, *m), T, a.t, first_ref, sel);
     if ((rate > 1e-4 || rate < 0) && !a.work.quiet)
       err << fmt::format("mbsc: warning: at {} = {} the linear model in these components changes along the reference motion "

@@ -222,6 +222,32 @@ std::vector<int> default_component_order(const runtime::ModelTable& t) {
   return order;
 }
 
+bool minimal_state(const runtime::LinearModel& lin, const runtime::ModelTable& t, const std::vector<std::string>& keep,
+                   std::vector<int>& sel, std::string& error) {
+  const auto names = runtime::ModelTable::names_of(t.state_names, t.nx);
+  std::vector<int> preferred;
+  for (const auto& name : keep) {
+    const int i = runtime::ModelTable::find(t.state_names, t.nx, name.c_str());
+    if (i < 0) {
+      error = fmt::format("--keep: the model has no coordinate or speed named '{}'{}", printable(name), did_you_mean(name, names));
+      return false;
+    }
+    preferred.push_back(i);
+  }
+  const std::size_t kept = preferred.size();
+  for (int i : default_component_order(t)) preferred.push_back(i);
+  sel = runtime::minimal_components(lin, preferred);
+  preferred.resize(kept);
+  for (int i : preferred)
+    if (std::find(sel.begin(), sel.end(), i) == sel.end()) {
+      error = fmt::format("--keep: {} cannot be part of the minimal state together with the components before it (the "
+                          "linearized constraints fix it)",
+                          names[static_cast<std::size_t>(i)]);
+      return false;
+    }
+  return true;
+}
+
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n) {
   std::vector<std::complex<double>> out;
   if (n == 0) return out;

@@ -173,21 +173,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
     for (int i = 0; i < lin.n; ++i) sel.push_back(i);
     A = lin.A, B = lin.B;
   } else {
-    std::vector<int> preferred;
-    for (const auto& name : a.keep) {
-      int i = 0;
-      if (!index_of("--keep", name, false, i)) return fail(error);
-      preferred.push_back(i);
-    }
-    // Then the coordinates and the model's independent speeds, before the other speeds.
-    for (int i : default_component_order(T)) preferred.push_back(i);
-    const std::size_t kept = a.keep.size();
-    sel = runtime::minimal_components(lin, preferred);
-    preferred.resize(kept);
-    for (int i : preferred)
-      if (std::find(sel.begin(), sel.end(), i) == sel.end())
-        return fail(fmt::format("--keep: {} cannot be part of the minimal state together with the components before it (the "
-                                "linearized constraints fix it)", full_names[static_cast<std::size_t>(i)]));
+    if (!minimal_state(lin, T, a.keep, sel, error)) return fail(error);
     if (!runtime::restrict_to(lin, sel, A, B)) return fail("the chosen components do not parametrize the linearized constraints");
   }
   const int ns = static_cast<int>(sel.size());

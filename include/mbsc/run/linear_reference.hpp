@@ -74,6 +74,12 @@ double model_rate(const runtime::LinearParts& parts, const runtime::ModelTable& 
 /// nothing depends on, then stays a cyclic component.
 std::vector<int> default_component_order(const runtime::ModelTable& t);
 
+/// The minimal state: the components named by --keep first (each must be taken: an
+/// error names one the linearized constraints fix given those before it), then
+/// default_component_order's. False with `error` for an unknown or refused name.
+bool minimal_state(const runtime::LinearModel& lin, const runtime::ModelTable& t, const std::vector<std::string>& keep,
+                   std::vector<int>& sel, std::string& error);
+
 /// Eigenvalues of the n x n row-major matrix A, by real part then imaginary part.
 std::vector<std::complex<double>> sorted_eigenvalues(const std::vector<double>& A, int n);
 
