@@ -342,7 +342,7 @@ int main(int argc, char** argv) {
   li->add_option("--format", lin.format, "text, csv or json; latex with --symbolic")
       ->check(CLI::IsMember({"text", "csv", "json", "latex"}))
       ->default_val("text");
-  li->add_option("--symbolic", lin_symbolic, "parameters or --let names left as symbols in A and B (comma-separated, or "
+  auto* lin_symbolic_option = li->add_option("--symbolic", lin_symbolic, "parameters or --let names left as symbols in A and B (comma-separated, or "
                                              "all): the model written symbolically");
   li->add_option("-o,--out", lin.out, "output file (default: standard output)");
   li->add_option("--cache-dir", lin.cache_dir, "where compiled models are kept");
@@ -415,6 +415,10 @@ int main(int argc, char** argv) {
       lin.keep = split_list(lin_keep);
       lin.second_order = split_list(lin_second);
       lin.symbolic = split_list(lin_symbolic);
+      if (lin_symbolic_option->count() > 0 && lin.symbolic.empty()) {
+        std::cerr << "mbsc: error: --symbolic: no names given (parameters or --let names, comma-separated, or all)\n";
+        return 1;
+      }
       lin.find = split_list(lin_find);
       lin.steady = split_list(lin_steady);
       return mbsc::run::run_linearize(lin, std::cout, std::cerr);

@@ -195,8 +195,19 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       if (!a.find.empty()) return find_steady(*m, *compiled, q, a.find, a.steady, r, e);
       return reference_state(*m, *compiled, q, r, e);
     };
+    NumericLinearModel numeric{&ref, &lin, sel, &A, &B, {}};
+    numeric.at_moved = [&](const std::map<std::string, double>& moved, std::vector<double>& Am, std::vector<double>& Bm,
+                           std::string& e) {
+      LinearReference r;
+      runtime::LinearModel l;
+      if (!reference_at(moved, r, e)) return false;
+      if (runtime::linear_model(parts_of(*compiled, *m), a.t, r.x.data(), r.u.data(), r.p.data(), l, e) != 0) return false;
+      if (a.state == "full") return Am = l.A, Bm = l.B, true;
+      if (!runtime::restrict_to(l, sel, Am, Bm)) return e = "the minimal state does not parametrize the constraints there", false;
+      return true;
+    };
     std::string text;
-    if (!symbolic_linear_text(a, *m, T, req, NumericLinearModel{&ref, sel, &A, &B}, reference_at, text, error, code)) {
+    if (!symbolic_linear_text(a, *m, T, req, numeric, reference_at, text, error, code)) {
       err << "mbsc: error: " << error << "\n";
       return code;
     }

@@ -115,18 +115,23 @@ matrix times(const matrix& X, const matrix& Y) {
 
 // Entries below 1e-12 of the largest in their row and in their column at the nominal
 // values are the remains of a reference known to rounding (a generic angle's sine): zero.
-void drop_rounding(matrix& M, const GiNaC::exmap& nominal) {
-  const Eigen::MatrixXd V = values(M, nominal).cwiseAbs();
+void drop_rounding(matrix& M, const std::vector<GiNaC::exmap>& points) {
+  if (M.rows() == 0 || M.cols() == 0) return;
+  std::vector<Eigen::MatrixXd> V;
+  for (const auto& at : points) V.push_back(values(M, at).cwiseAbs());
   for (unsigned i = 0; i < M.rows(); ++i)
-    for (unsigned j = 0; j < M.cols(); ++j)
-      if (V(i, j) < 1e-12 * std::max(V.row(i).maxCoeff(), V.col(j).maxCoeff())) M(i, j) = 0;
+    for (unsigned j = 0; j < M.cols(); ++j) {
+      bool negligible = true;
+      for (const auto& v : V) negligible = negligible && v(i, j) < 1e-12 * std::max(v.row(i).maxCoeff(), v.col(j).maxCoeff());
+      if (negligible) M(i, j) = 0;
+    }
 }
 
 // M q'' + C q' + K q = T in the coordinates in.coords: the state changed to
 // xi = (q, q', completing components) = L z, z the written state (x = T z), so that
 // xi' = L A L^-1 xi; its q' rows give -M^-1 K and -M^-1 C, and L Bq's give M^-1.
-bool second_order(const SymbolicLinearInput& in, const matrix& T, const matrix& qT, SymbolicLinearModel& out,
-                  std::string& error) {
+bool second_order(const SymbolicLinearInput& in, const std::vector<GiNaC::exmap>& points, const matrix& T, const matrix& qT,
+                  SymbolicLinearModel& out, std::string& error) {
   const unsigned ns = static_cast<unsigned>(in.sel.size()), k = static_cast<unsigned>(in.coords.size());
   std::vector<std::vector<ex>> rows;
   for (int c : in.coords) {
@@ -150,10 +155,16 @@ bool second_order(const SymbolicLinearInput& in, const matrix& T, const matrix& 
             "allow";
     return false;
   }
-  for (unsigned i = 0; i < ns && rows.size() < ns; ++i) {
-    rows.emplace_back(ns, ex(0));
-    rows.back()[i] = 1;
+  // Completed by the full layout's components in layout order (x_i = T(i, :) z), as
+  // run/second_order_form.cpp does: the same "rest" held fixed, the same M, C, K.
+  for (unsigned i = 0; i < T.rows() && rows.size() < ns; ++i) {
+    rows.emplace_back();
+    for (unsigned j = 0; j < ns; ++j) rows.back().push_back(T(i, j));
     if (rank_of() < rows.size()) rows.pop_back();
+  }
+  if (rows.size() != ns) {
+    error = "--second-order: cannot complete the coordinates to a state of the linear model";
+    return false;
   }
   matrix L(ns, ns), I(ns, ns);
   for (unsigned i = 0; i < ns; ++i) {
@@ -186,9 +197,9 @@ bool second_order(const SymbolicLinearInput& in, const matrix& T, const matrix& 
   double size = 1e-300, coupled = 0.0;
   for (unsigned i = 0; i < k; ++i) {
     for (unsigned j = 0; j < k; ++j) {
-      out.M(i, j) = tidy_entry(M(i, j), in.nominal);
-      out.K(i, j) = tidy_entry(-K(i, j), in.nominal);
-      out.C(i, j) = tidy_entry(-C(i, j), in.nominal);
+      out.M(i, j) = tidy_entry(M(i, j), points);
+      out.K(i, j) = tidy_entry(-K(i, j), points);
+      out.C(i, j) = tidy_entry(-C(i, j), points);
       size = std::max({size, std::fabs(nominal_value(out.K(i, j), in.nominal)), std::fabs(nominal_value(out.C(i, j), in.nominal))});
     }
     for (unsigned j = 0; j < rest.cols(); ++j) coupled = std::max(coupled, std::fabs(nominal_value(rest(i, j), in.nominal)));
@@ -245,11 +256,12 @@ ex fold_constants(const ex& e) {
   }
   if (GiNaC::is_a<GiNaC::symbol>(e)) return e;
   if (!has_symbol(e)) {
-    const ex v = e.evalf();
+    // Inner functions first (3/10*cos(-pi/2 in doubles) is 0, not 2e-17).
+    const ex v = (GiNaC::is_a<GiNaC::function>(e) ? e : e.map([](const ex& x) { return fold_constants(x); })).evalf();
     if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real()) return e;
     // cos(-pi/2) of a reference angle in doubles is 6e-17: a zero.
     const double x = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
-    return exact_number(std::fabs(x) < 1e-14 ? 0.0 : x);
+    return exact_number(GiNaC::is_a<GiNaC::function>(e) && std::fabs(x) < 1e-14 ? 0.0 : x);
   }
   return e.map([](const ex& x) { return fold_constants(x); });
 }
@@ -261,18 +273,22 @@ double nominal_value(const ex& e, const GiNaC::exmap& nominal) {
   return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
 }
 
-ex tidy_entry(const ex& e, const GiNaC::exmap& nominal) {
+ex tidy_entry(const ex& e, const std::vector<GiNaC::exmap>& points) {
   const ex f = GiNaC::normal(e);
   if (GiNaC::is_a<GiNaC::numeric>(f)) return f;
   auto chop = [&](const ex& poly) {
     const ex x = poly.expand();
     if (!GiNaC::is_a<GiNaC::add>(x)) return x;
-    std::vector<double> size(x.nops());
-    double largest = 0.0;
-    for (std::size_t i = 0; i < x.nops(); ++i) largest = std::max(largest, size[i] = std::fabs(nominal_value(x.op(i), nominal)));
+    std::vector<bool> negligible(x.nops(), true);
+    for (const auto& at : points) {
+      std::vector<double> size(x.nops());
+      double largest = 0.0;
+      for (std::size_t i = 0; i < x.nops(); ++i) largest = std::max(largest, size[i] = std::fabs(nominal_value(x.op(i), at)));
+      for (std::size_t i = 0; i < x.nops(); ++i) negligible[i] = negligible[i] && size[i] < 1e-12 * largest;
+    }
     ex kept = 0;
     for (std::size_t i = 0; i < x.nops(); ++i)
-      if (!(size[i] < 1e-12 * largest)) kept += x.op(i);
+      if (!negligible[i]) kept += x.op(i);
     return kept;
   };
   const ex nd = f.numer_denom();
@@ -284,6 +300,8 @@ ex tidy_entry(const ex& e, const GiNaC::exmap& nominal) {
 bool symbolic_linear_model(const SymbolicLinearInput& in, SymbolicLinearModel& out, std::string& error) {
   const unsigned nq = static_cast<unsigned>(in.nq), nu = static_cast<unsigned>(in.nu), nc = static_cast<unsigned>(in.nc),
                  np = static_cast<unsigned>(in.np), nin = static_cast<unsigned>(in.nin), n = nq + nu;
+  std::vector<GiNaC::exmap> points{in.nominal};
+  points.insert(points.end(), in.elsewhere.begin(), in.elsewhere.end());
   // ---- the blocks at the reference, w still symbolic ----
   std::size_t at = 0;
   auto take = [&](unsigned rows, unsigned cols) {
@@ -297,7 +315,7 @@ bool symbolic_linear_model(const SymbolicLinearInput& in, SymbolicLinearModel& o
   const matrix My = take(nu, nu);
   matrix Fq = take(nu, nq), Fv = take(nu, nu), Fu = take(nu, nin), r = take(nu, 1), c = take(nc, 1);
   if (at != in.parts.size()) {
-    error = fmt::format("linear_parts has {} outputs, the layout {}", in.parts.size(), at);
+    error = fmt::format("internal: linear_parts has {} outputs, the layout {}", in.parts.size(), at);
     return false;
   }
   out.smallest_pivot = 1.0;
@@ -423,14 +441,14 @@ bool symbolic_linear_model(const SymbolicLinearInput& in, SymbolicLinearModel& o
   out.A = matrix(ns, ns), out.B = matrix(ns, nin), out.Bq = matrix(ns, nq);
   for (unsigned a = 0; a < ns; ++a) {
     const unsigned row = static_cast<unsigned>(in.sel[a]);
-    for (unsigned k = 0; k < ns; ++k) out.A(a, k) = tidy_entry(row < nq ? qT(row, k) : d(row - nq, k), in.nominal);
+    for (unsigned k = 0; k < ns; ++k) out.A(a, k) = tidy_entry(row < nq ? qT(row, k) : d(row - nq, k), points);
     if (row < nq) continue;
-    for (unsigned k = 0; k < nin; ++k) out.B(a, k) = tidy_entry(d(row - nq, ns + k), in.nominal);
-    for (unsigned k = 0; k < nq; ++k) out.Bq(a, k) = tidy_entry(d(row - nq, ns + nin + k), in.nominal);
+    for (unsigned k = 0; k < nin; ++k) out.B(a, k) = tidy_entry(d(row - nq, ns + k), points);
+    for (unsigned k = 0; k < nq; ++k) out.Bq(a, k) = tidy_entry(d(row - nq, ns + nin + k), points);
   }
-  drop_rounding(out.A, in.nominal);
-  drop_rounding(out.B, in.nominal);
-  return in.coords.empty() || second_order(in, T, qT, out, error);
+  drop_rounding(out.A, points);
+  drop_rounding(out.B, points);
+  return in.coords.empty() || second_order(in, points, T, qT, out, error);
 }
 
 }  // namespace mbsc::run

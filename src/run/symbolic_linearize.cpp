@@ -22,6 +22,7 @@
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/kkt_system.hpp"
 #include "mbsc/sym/tidy.hpp"
+#include "mbsc/run/second_order_form.hpp"
 #include "mbsc/run/symbolic_linear_model.hpp"
 
 namespace mbsc::run {
@@ -30,16 +31,23 @@ namespace {
 
 using GiNaC::ex;
 
+// An entry as shown: numerator over denominator, kept apart (GiNaC would rewrite
+// num * den^-1 with the sign of den's first term in its own, run-dependent term order).
+struct Shown {
+  ex num, den = 1;
+  bool is_zero() const { return num.is_zero(); }
+};
+
 // Entries for people: a number that is not a small fraction becomes a decimal of `digits`
 // significant digits (a symbol named by that text, so the canonical printer sets it as
 // written); `decimals` collects their LaTeX.
 class Display {
  public:
   explicit Display(int digits) : digits_(digits) {}
-  ex operator()(const ex& e) {
+  Shown operator()(const ex& e) {
     const ex f = GiNaC::normal(e);
     const ex nd = f.numer_denom();
-    if (GiNaC::is_a<GiNaC::numeric>(nd.op(1))) return numbers(f.expand());
+    if (GiNaC::is_a<GiNaC::numeric>(nd.op(1))) return {numbers(f.expand())};
     // The denominator scaled so that its largest coefficient is 1 (among equal ones, that
     // of the term first in printed order: GiNaC's own term order changes between runs,
     // and with it the sign normal() gives a fraction).
@@ -60,7 +68,7 @@ class Display {
       if (GiNaC::abs(k) > GiNaC::abs(largest) || (GiNaC::abs(k) == GiNaC::abs(largest) && text < first)) largest = k, first = text;
     }
     if (!largest.is_zero()) num = (num / largest).expand(), den = (den / largest).expand();
-    return numbers(num) * GiNaC::pow(numbers(den), -1);
+    return {numbers(num), numbers(den)};
   }
   std::map<std::string, std::string> decimals;
 
@@ -183,7 +191,9 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
             in.nq = T.nq_full, in.nu = T.nu_full, in.nc = T.nc, in.nin = T.nin;
             in.np = T.nposc + static_cast<int>(driver::unit_quaternion_coords(m).size());
             in.at = sref.at, in.nominal = sref.nominal, in.sel = numeric.sel, in.coords = coords;
+            for (const auto& probe : sref.moved) in.elsewhere.push_back(probe.second);
             ok = symbolic_linear_model(in, lin, error);
+            if (!ok && error.rfind("internal:", 0) == 0) exit_code = 2;
             if (!ok) error = fmt::format("--symbolic: model {}: {}", m.name, error);
           }
         }
@@ -199,23 +209,51 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
   }
   if (!ok) return false;
 
-  // The symbolic model at the nominal values is the numeric one.
+  // The symbolic model is the numeric one at the nominal values and with each symbol
+  // moved (the reference recomputed there): A, B, and M, C, K of the second-order form.
   const int ns = static_cast<int>(numeric.sel.size());
-  double scale = 0.0, worst = 0.0;
-  for (double v : *numeric.A) scale = std::max(scale, std::fabs(v));
-  for (double v : *numeric.B) scale = std::max(scale, std::fabs(v));
-  for (int i = 0; i < ns; ++i) {
-    for (int j = 0; j < ns; ++j)
-      worst = std::max(worst, std::fabs(nominal_value(lin.A(static_cast<unsigned>(i), static_cast<unsigned>(j)), sref.nominal) -
-                                        (*numeric.A)[static_cast<std::size_t>(i * ns + j)]));
-    for (int j = 0; j < T.nin; ++j)
-      worst = std::max(worst, std::fabs(nominal_value(lin.B(static_cast<unsigned>(i), static_cast<unsigned>(j)), sref.nominal) -
-                                        (*numeric.B)[static_cast<std::size_t>(i * T.nin + j)]));
-  }
-  if (!(worst <= 1e-7 * std::max(1.0, scale))) {
-    error = fmt::format("internal: the symbolic linear model differs from the numeric one by {:.3g} at the nominal values", worst);
+  auto differs = [&](const GiNaC::matrix& S, const std::vector<double>& N, const GiNaC::exmap& at, double& scale) {
+    double worst = 0.0;
+    for (double x : N) scale = std::max(scale, std::fabs(x));
+    for (unsigned i = 0; i < S.rows(); ++i)
+      for (unsigned j = 0; j < S.cols(); ++j)
+        worst = std::max(worst, std::fabs(nominal_value(S(i, j), at) - N[static_cast<std::size_t>(i * S.cols() + j)]));
+    return worst;
+  };
+  auto check = [&](const GiNaC::matrix& A, const GiNaC::matrix& B, const std::vector<double>& An, const std::vector<double>& Bn,
+                   const GiNaC::exmap& at, const std::string& where) {
+    double scale = 0.0;
+    const double worst = std::max(differs(A, An, at, scale), differs(B, Bn, at, scale));
+    if (worst <= 1e-7 * scale || worst == 0.0) return true;
+    error = fmt::format("internal: the symbolic linear model differs from the numeric one by {:.3g} (of {:.3g}) {}", worst, scale,
+                        where);
     exit_code = 2;
     return false;
+  };
+  if (!check(lin.A, lin.B, *numeric.A, *numeric.B, sref.nominal, "at the nominal values")) return false;
+  for (const auto& [moved, at] : sref.moved) {
+    std::vector<double> An, Bn;
+    if (!numeric.at_moved(moved, An, Bn, error)) {
+      error = fmt::format("--symbolic {}: the numeric model at {} = {} (the check of the symbolic one): {}", moved.begin()->first,
+                          moved.begin()->first, moved.begin()->second, error);
+      return false;
+    }
+    if (!check(lin.A, lin.B, An, Bn, at, fmt::format("at {} = {}", moved.begin()->first, moved.begin()->second))) return false;
+  }
+  if (!coords.empty()) {
+    SecondOrderForm f;
+    std::string why;
+    if (second_order_form(*numeric.lin, T.nq, coords, f, why)) {
+      double scale = 0.0;
+      const double worst = std::max({differs(lin.M, f.M, sref.nominal, scale), differs(lin.C, f.C, sref.nominal, scale),
+                                     differs(lin.K, f.K, sref.nominal, scale)});
+      if (!(worst <= 1e-7 * scale || worst == 0.0)) {
+        error = fmt::format("internal: the symbolic second-order form differs from the numeric one by {:.3g} (of {:.3g})", worst,
+                            scale);
+        exit_code = 2;
+        return false;
+      }
+    }
   }
 
   // ---- the text ----
@@ -227,7 +265,7 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
   // Text and LaTeX for reading, JSON for reading back: every digit of a double.
   Display display(a.format == "json" ? 17 : 12);
   auto cells = [&](const GiNaC::matrix& M) {
-    std::vector<std::vector<ex>> out(M.rows());
+    std::vector<std::vector<Shown>> out(M.rows());
     for (unsigned i = 0; i < M.rows(); ++i)
       for (unsigned j = 0; j < M.cols(); ++j) out[i].push_back(display(M(i, j)));
     return out;
@@ -261,15 +299,26 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
                                        a.speed, a.gravity, a.speed, a.speed, a.gravity);
     }
   }
-  std::vector<std::pair<std::string, std::vector<std::vector<ex>>>> formd;
+  std::vector<std::pair<std::string, std::vector<std::vector<Shown>>>> formd;
   for (const auto& [label, M] : form) formd.push_back({label, cells(M)});
-  std::vector<ex> refd;
+  std::vector<Shown> refd;
   for (const auto& e : sref.state) refd.push_back(display(e));
   std::map<std::string, std::string> latex_names = m.latex_symbols;
   for (const auto& [name, latex] : display.decimals) latex_names[name] = latex;
   const driver::LatexSymbolScope scope(latex_names);
   const bool latex = a.format == "latex";
-  auto str = [&](const ex& e) { return driver::canonical_text(e, latex); };
+  auto str = [&](const Shown& e) {
+    const std::string n = driver::canonical_text(e.num, latex);
+    if (e.den.is_equal(ex(1))) return n;
+    const std::string d = driver::canonical_text(e.den, latex);
+    if (latex) {
+      // -\frac{g}{r}, not \frac{-g}{r}, for a numerator of one term.
+      if (!GiNaC::is_a<GiNaC::add>(e.num) && !n.empty() && n[0] == '-') return "-\\frac{" + n.substr(1) + "}{" + d + "}";
+      return "\\frac{" + n + "}{" + d + "}";
+    }
+    const bool wrap_n = GiNaC::is_a<GiNaC::add>(e.num), wrap_d = GiNaC::is_a<GiNaC::add>(e.den) || GiNaC::is_a<GiNaC::mul>(e.den);
+    return (wrap_n ? "(" + n + ")" : n) + "/" + (wrap_d ? "(" + d + ")" : d);
+  };
   constexpr std::size_t kLongest = 20000;  // characters of one entry: beyond, not readable
   for (const auto* block : {&Ad, &Bd})
     for (const auto& row : *block)
@@ -316,6 +365,7 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
       if (!split_note.empty()) out += ",\n  \"split\": " + json_string(split_note);
       out += "}";
     }
+    out += fmt::format(",\n  \"smallest_pivot\": {:.17g}", lin.smallest_pivot);
     out += "\n}\n";
   } else if (latex) {
     std::vector<driver::LatexEquation> refs;
@@ -324,7 +374,10 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
     out = fmt::format("% linear model of {} about t = {}, symbols {}: d/dt dx = A dx + B du, x = ({})\n", m.name, a.t,
                       fmt::join(symbols, ", "), fmt::join(names, ", "));
     out += driver::latex_equations("the reference", refs);
-    auto strings = [&](const std::vector<std::vector<ex>>& block) {
+    if (lin.smallest_pivot < 1e-6)
+      out += fmt::format("% a pivot of the elimination is {:.2g} of its matrix at the nominal values: the expressions hold near them\n",
+                         lin.smallest_pivot);
+    auto strings = [&](const std::vector<std::vector<Shown>>& block) {
       std::vector<std::vector<std::string>> s;
       for (const auto& row : block) {
         s.emplace_back();
@@ -343,7 +396,7 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
                       a.state == "full" ? "full" : "minimal", ns, fmt::join(symbols, ", "));
     out += "reference:\n";
     for (std::size_t i = 0; i < full.size(); ++i) out += fmt::format("  {} = {}\n", full[i], str(refd[i]));
-    auto entries = [&](const char* label, const std::vector<std::vector<ex>>& block, const std::vector<std::string>& cols) {
+    auto entries = [&](const char* label, const std::vector<std::vector<Shown>>& block, const std::vector<std::string>& cols) {
       std::string s = fmt::format("{} (nonzero entries; row: the rate of that component):\n", label);
       bool any = false;
       for (std::size_t i = 0; i < block.size(); ++i)

@@ -44,6 +44,12 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
       for (const auto& [n, v] : lets) kept.push_back(n);
       continue;
     }
+    if (m.structural.count(name)) {
+      error = fmt::format("--symbolic: '{}' is a structural parameter (it sets a bound or an index of the model's "
+                          "structure): it cannot be left symbolic",
+                          printable(name));
+      return false;
+    }
     if (runtime::ModelTable::find(T.param_names, T.np, name.c_str()) < 0 && !lets.count(name)) {
       std::vector<std::string> pool = params;
       for (const auto& [n, v] : lets) pool.push_back(n);
@@ -83,6 +89,22 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   if (out.symbols.empty()) {
     error = "--symbolic: no names given";
     return false;
+  }
+  // --set values that are expressions of the symbols (--set m=k/2 with k symbolic).
+  {
+    GiNaC::parser reader(table);
+    reader.strict = true;
+    for (const auto& [name, text] : texts_of(req.sets)) {
+      const auto p = std::find_if(m.params.begin(), m.params.end(), [&](const model::Variable& v) { return v.name == name; });
+      if (p == m.params.end() || out.nominal.count(p->sym)) continue;
+      GiNaC::ex e;
+      try {
+        e = fold_constants(reader(text));
+      } catch (const std::exception&) {
+        continue;  // the numeric reference has read it: a number
+      }
+      if (!e.info(GiNaC::info_flags::numeric)) out.at[p->sym] = e, table[name] = e;
+    }
   }
 
   // The expressions given for the state and the inputs.
@@ -126,6 +148,7 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
     GiNaC::exmap at_moved = out.nominal;
     at_moved[out.symbols[k]] = exact_number(v + h);
     probes.push_back({at_moved, moved});
+    out.moved.push_back({{{name, v + h}}, at_moved});
   }
   // Whether e follows the reference at the nominal values and at every probe; else `why`.
   auto follows = [&](const GiNaC::ex& e, std::size_t slot, bool input, std::string& why) {

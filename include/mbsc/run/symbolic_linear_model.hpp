@@ -29,6 +29,10 @@ struct SymbolicLinearInput {
   GiNaC::exmap at;
   /// The kept symbols -> their nominal values (pivot choices and the closing check).
   GiNaC::exmap nominal;
+  /// Other values of the symbols (each moved in turn): a term or an entry is dropped as
+  /// rounding only where it is negligible at these too (a symbol whose nominal value is
+  /// 0 makes its terms vanish there, not everywhere).
+  std::vector<GiNaC::exmap> elsewhere;
   /// The components of the state written (indices into the full layout q0, q1); the
   /// others follow from the linearized invariants.
   std::vector<int> sel;
@@ -67,7 +71,7 @@ bool solve_overdetermined(const GiNaC::matrix& J, const GiNaC::matrix& R, const 
 GiNaC::ex exact_number(double v);
 
 /// Every subexpression without symbols (sin(3/10), Pi, sqrt(2)) replaced by the exact
-/// rational of its double value (below 1e-14: zero, as cos(-pi/2) in doubles); numbers
+/// rational of its double value (a function's value below 1e-14: zero, as cos(-pi/2) in doubles); numbers
 /// stay rationals, so elimination is exact.
 GiNaC::ex fold_constants(const GiNaC::ex& e);
 
@@ -75,9 +79,9 @@ GiNaC::ex fold_constants(const GiNaC::ex& e);
 /// does not evaluate to a real number.
 double nominal_value(const GiNaC::ex& e, const GiNaC::exmap& nominal);
 
-/// e brought to one fraction, each numerator and denominator term whose value at the
-/// nominal point is below 1e-12 of that polynomial's largest term dropped (the remains of
+/// e brought to one fraction, each numerator and denominator term dropped whose value is
+/// below 1e-12 of that polynomial's largest term at every one of `points` (the remains of
 /// cancellations that were exact only in real arithmetic, such as sin^2 + cos^2 - 1).
-GiNaC::ex tidy_entry(const GiNaC::ex& e, const GiNaC::exmap& nominal);
+GiNaC::ex tidy_entry(const GiNaC::ex& e, const std::vector<GiNaC::exmap>& points);
 
 }  // namespace mbsc::run

@@ -4,6 +4,8 @@
 /// names) left as symbols, written as text, LaTeX or JSON (docs/linearization.md,
 /// "Symbolic linear models"). The numeric model at the same reference chooses the minimal
 /// state and checks the symbolic one at the nominal values.
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -18,9 +20,15 @@ namespace mbsc::run {
 /// the full layout) and its A, B.
 struct NumericLinearModel {
   const LinearReference* ref = nullptr;
+  const runtime::LinearModel* lin = nullptr;  // over the full layout
   std::vector<int> sel;
   const std::vector<double>* A = nullptr;
   const std::vector<double>* B = nullptr;
+  /// A and B in the same components with some names moved (name -> value): the symbolic
+  /// model is checked there too.
+  std::function<bool(const std::map<std::string, double>& moved, std::vector<double>& A, std::vector<double>& B,
+                     std::string& error)>
+      at_moved;
 };
 
 /// The symbolic model's text in a.format (text, latex, json). False with `error` (and
