@@ -58,8 +58,10 @@ symbolized "$BUILD/build.log" cmake --build "$BUILD" -j"$(nproc)"
 # `cli` entry's print commands), the printer's entry (every shipped model printed and read
 # back, 76 s under ASan), the 1000-period pendulum (the same generated code and
 # integrator as pendulum_periods_test, which runs here) and the 40-window rank-loss chain
-# (over five minutes under ASan; the same rank-loss code as rank_loss_test, which runs here).
+# (over five minutes under ASan; the same rank-loss code as rank_loss_test, which runs here)
+# and the tadpole tricycle's sweep (its generation alone over a minute in Release; the
+# same linearize and eig code as the `linearize` entry's bicycle, which runs here).
 symbolized "$BUILD/ctest.log" ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" \
-  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test)$'
+  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_tricycle)$'
 # The fuzzer symbolizes as it goes (its reports are rare and come with the input).
 ASAN_OPTIONS=$CHECKS FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh
