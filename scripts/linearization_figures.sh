@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 # The figures of docs/linearization.md, made with mbsc eig (and gnuplot):
 #   docs/figures/bicycle_eig.svg           the benchmark bicycle's eigenvalues against speed
+#   docs/figures/tricycle_eig.svg          the tadpole tricycle's (thesis section 5.2, Fig 5.4)
 #   docs/figures/ring_disc_continuation.svg the ring-disc's steady angle and oscillation
 #                                           frequency against the incline, several mass ratios
 # Usage: MBSC=build/mbsc bash scripts/linearization_figures.sh
@@ -15,6 +16,11 @@ mkdir -p docs/figures
 "$MBSC" eig models/whipple_bicycle_joints.mbs --sweep v=0:10:0.01 --let v=5 --init 'theta_R_dot=-v/rR' \
   --init rear_frame.wx=0 --init delta_dot=0 --keep rear_frame.theta,delta,rear_frame.wx,delta_dot \
   --ratio delta/rear_frame.theta -o "$out/bicycle.csv" --plot docs/figures/bicycle_eig.svg -q --cache-dir "$out/cache"
+
+# The tadpole tricycle (its model is compiled in over a minute).
+"$MBSC" eig tests/data/linear/tadpole_tricycle.mbs --sweep v=0:10:0.02 --let v=5 --init 'theta_W_dot=-v/rW' \
+  --init rear_frame.wx=0 --init delta_dot=0 --keep rear_frame.theta,delta,rear_frame.wx,delta_dot \
+  --ratio delta/rear_frame.theta -o "$out/tricycle.csv" --plot docs/figures/tricycle_eig.svg -q --cache-dir "$out/cache"
 
 # Ring-disc (thesis Ex 4.2/4.7): the ring's mass fixed, the disc's mass m2 = ratio * m1.
 plots_theta="" plots_omega=""
