@@ -14,29 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "json_numbers.hpp"
 #include "run_command.hpp"
 
 namespace {
 
-// The numbers of the JSON array that follows "key": in `text` (nested brackets flattened).
-std::vector<double> json_numbers(const std::string& text, const std::string& key) {
-  std::vector<double> out;
-  auto at = text.find("\"" + key + "\":");
-  if (at == std::string::npos) return out;
-  at = text.find('[', at);
-  int depth = 0;
-  for (std::size_t i = at; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '[') ++depth;
-    else if (c == ']' && --depth == 0) break;
-    else if (c == '-' || c == '.' || (c >= '0' && c <= '9')) {
-      char* end = nullptr;
-      out.push_back(std::strtod(text.c_str() + i, &end));
-      i = static_cast<std::size_t>(end - text.c_str()) - 1;
-    }
-  }
-  return out;
-}
+using mbsc_test::json_numbers;
 
 // Entry by entry: relative `rel` where the published value is not zero, else absolute `abs`.
 void check_matrix(const std::string& name, const std::vector<double>& got, const std::vector<double>& published, double rel,

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "json_numbers.hpp"
 #include "run_command.hpp"
 
 using namespace mbsc_test;
@@ -47,26 +48,6 @@ std::vector<std::string> json_strings(const std::string& text, const std::string
       const std::size_t end = text.find('"', i + 1);
       out.push_back(text.substr(i + 1, end - i - 1));
       i = end;
-    }
-  }
-  return out;
-}
-
-// The numbers of the JSON array after "key": (nested arrays flattened).
-std::vector<double> json_numbers(const std::string& text, const std::string& key) {
-  std::vector<double> out;
-  auto at = text.find("\"" + key + "\":");
-  REQUIRE(at != std::string::npos);
-  at = text.find('[', at);
-  int depth = 0;
-  for (std::size_t i = at; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '[') ++depth;
-    else if (c == ']' && --depth == 0) break;
-    else if (c == '-' || c == '.' || (c >= '0' && c <= '9')) {
-      char* end = nullptr;
-      out.push_back(std::strtod(text.c_str() + i, &end));
-      i = static_cast<std::size_t>(end - text.c_str()) - 1;
     }
   }
   return out;
