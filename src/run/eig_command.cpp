@@ -154,11 +154,8 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
     if (!linear_at(grid.front(), lin, error, true)) return fail(fmt::format("at {} = {}: {}", name, grid.front(), error));
     if (!minimal_state(lin, T, a.keep, sel, error)) return fail(error);
     const double rate = model_rate(parts_of(*compiled, *m), T, a.t, first_ref, sel);
-    if ((rate > 1e-4 || rate < 0) && !a.work.quiet)
-      err << fmt::format("mbsc: warning: at {} = {} the linear model in these components changes along the reference motion "
-                         "(relative rate {:.2g}/s): the eigenvalues are those of a time-varying model frozen at each point "
-                         "(try --keep)\n",
-                         name, grid.front(), rate);
+    if (const std::string w = model_rate_warning(rate); !w.empty() && !a.work.quiet)
+      err << fmt::format("mbsc: warning: at {} = {}: {} (try --keep)\n", name, grid.front(), w);
 
     // Cyclic components (exact zero eigenvalues, Jordan blocks that rounding would split
     // into eps^(1/k) noise around zero) are left out of the sweep.

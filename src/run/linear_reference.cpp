@@ -222,6 +222,18 @@ std::vector<int> default_component_order(const runtime::ModelTable& t) {
   return order;
 }
 
+std::string model_rate_warning(double rate) {
+  if (rate >= 0 && rate <= 1e-4) return "";
+  if (rate < 0)
+    return "cannot tell whether the linear model in these components changes along the reference motion (the "
+           "right-hand side cannot be evaluated there, as where redundant constraints make its solve singular): if the "
+           "reference is not steady in them, the eigenvalues are those of a time-varying model frozen at this instant";
+  return fmt::format("the linear model in these components changes along the reference motion (relative rate {:.2g}/s): "
+                     "its eigenvalues are those of a time-varying model frozen at this instant and depend on the "
+                     "components chosen",
+                     rate);
+}
+
 bool minimal_state(const runtime::LinearModel& lin, const runtime::ModelTable& t, const std::vector<std::string>& keep,
                    std::vector<int>& sel, std::string& error) {
   const auto names = runtime::ModelTable::names_of(t.state_names, t.nx);

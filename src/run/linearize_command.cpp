@@ -181,11 +181,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   // its stability); the full layout's A is the thesis's (4.24) either way.
   const double rate = a.state == "full" ? 0.0 : model_rate(parts_of(*compiled, *m), T, a.t, ref, sel);
   const bool frozen = rate > 1e-4 || rate < 0;
-  if (frozen && !a.work.quiet)
-    err << fmt::format("mbsc: warning: the linear model in these components changes along the reference motion (relative "
-                       "rate {:.2g}/s): its eigenvalues are those of a time-varying model frozen at this instant and depend "
-                       "on the components chosen (try --keep, or --state full)\n",
-                       rate);
+  if (frozen && !a.work.quiet) err << "mbsc: warning: " << model_rate_warning(rate) << " (try --keep, or --state full)\n";
   if (!a.symbolic.empty()) {
     // The same model with names left as symbols; the reference recomputed with one
     // symbol moved at a time shows which values follow them.
@@ -322,7 +318,9 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
                           lin.constraint_rank, T.nc - lin.constraint_rank);
     text << "A = d(x')/dx:\n" << matrix_text(A, ns, ns, names, names);
     if (T.nin > 0) text << "B = d(x')/du:\n" << matrix_text(B, ns, T.nin, names, inputs);
-    text << (frozen ? "eigenvalues (frozen at this instant: the model changes along the reference):\n" : "eigenvalues:\n");
+    text << (rate > 1e-4  ? "eigenvalues (frozen at this instant: the model changes along the reference):\n"
+             : rate < 0   ? "eigenvalues (whether the model changes along the reference could not be measured):\n"
+                          : "eigenvalues:\n");
     if (!cyclic.empty())
       text << fmt::format("  0 (x{}: the cyclic components {}, which nothing depends on)\n", cyclic.size(), fmt::join(cyclic_names, ", "));
     for (std::size_t i = cyclic.size(); i < eig.size(); ++i) text << fmt::format("  {:>24.16g} {:+.16g}i\n", eig[i].real(), eig[i].imag());

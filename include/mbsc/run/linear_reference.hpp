@@ -67,6 +67,12 @@ bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest
 double model_rate(const runtime::LinearParts& parts, const runtime::ModelTable& t, double time, const LinearReference& ref,
                   const std::vector<int>& sel);
 
+/// The warning a model_rate calls for ("" when the reference is steady in those
+/// components): the model changes along the reference (its eigenvalues are those of a
+/// frozen time-varying model), or the rate cannot be measured (the rhs fails there, as
+/// where redundant constraints make its solve singular).
+std::string model_rate_warning(double rate);
+
 /// The default order in which the minimal state takes components (after --keep): the
 /// coordinates that are not a body's position (angles, joint coordinates, a subsystem's
 /// own), then positions (names ending in .x, .y, .z), then the model's independent speeds.
