@@ -94,7 +94,8 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   {
     GiNaC::parser reader(table);
     reader.strict = true;
-    for (const auto& [name, text] : texts_of(req.sets)) {
+    for (const auto& [set_name, text] : texts_of(req.sets)) {
+      const std::string& name = set_name;  // (a structured binding cannot be captured in C++17)
       const auto p = std::find_if(m.params.begin(), m.params.end(), [&](const model::Variable& v) { return v.name == name; });
       if (p == m.params.end() || out.nominal.count(p->sym)) continue;
       GiNaC::ex e;
