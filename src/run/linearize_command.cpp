@@ -19,6 +19,7 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/json_text.hpp"
 #include "mbsc/run/linear_reference.hpp"
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
@@ -45,19 +46,6 @@ std::string matrix_text(const std::vector<double>& M, int rows, int cols, const 
     out += "\n";
   }
   return out;
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<int>(c));
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
 }
 
 std::string json_names(const std::vector<std::string>& names) {
@@ -192,11 +180,8 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       return reference_state(*m, *compiled, q, r, e);
     };
     NumericLinearModel numeric{&ref, &lin, sel, &A, &B, {}};
-    numeric.at_moved = [&](const std::map<std::string, double>& moved, std::vector<double>& Am, std::vector<double>& Bm,
-                           std::string& e) {
-      LinearReference r;
+    numeric.at_moved = [&](const LinearReference& r, std::vector<double>& Am, std::vector<double>& Bm, std::string& e) {
       runtime::LinearModel l;
-      if (!reference_at(moved, r, e)) return false;
       if (runtime::linear_model(parts_of(*compiled, *m), a.t, r.x.data(), r.u.data(), r.p.data(), l, e) != 0) return false;
       if (a.state == "full") return Am = l.A, Bm = l.B, true;
       if (!runtime::restrict_to(l, sel, Am, Bm)) return e = "the minimal state does not parametrize the constraints there", false;

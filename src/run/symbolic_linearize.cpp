@@ -22,6 +22,7 @@
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/kkt_system.hpp"
 #include "mbsc/sym/tidy.hpp"
+#include "mbsc/run/json_text.hpp"
 #include "mbsc/run/second_order_form.hpp"
 #include "mbsc/run/symbolic_linear_model.hpp"
 
@@ -107,15 +108,6 @@ class Display {
   int digits_;
 };
 
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
 }  // namespace
 
 bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
@@ -191,7 +183,7 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
             in.nq = T.nq_full, in.nu = T.nu_full, in.nc = T.nc, in.nin = T.nin;
             in.np = T.nposc + static_cast<int>(driver::unit_quaternion_coords(m).size());
             in.at = sref.at, in.nominal = sref.nominal, in.sel = numeric.sel, in.coords = coords;
-            for (const auto& probe : sref.moved) in.elsewhere.push_back(probe.second);
+            for (const auto& probe : sref.moved) in.elsewhere.push_back(probe.at);
             ok = symbolic_linear_model(in, lin, error);
             if (!ok && error.rfind("internal:", 0) == 0) exit_code = 2;
             if (!ok) error = fmt::format("--symbolic: model {}: {}", m.name, error);
@@ -231,14 +223,14 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
     return false;
   };
   if (!check(lin.A, lin.B, *numeric.A, *numeric.B, sref.nominal, "at the nominal values")) return false;
-  for (const auto& [moved, at] : sref.moved) {
+  for (const auto& probe : sref.moved) {
     std::vector<double> An, Bn;
-    if (!numeric.at_moved(moved, An, Bn, error)) {
-      error = fmt::format("--symbolic {}: the numeric model at {} = {} (the check of the symbolic one): {}", moved.begin()->first,
-                          moved.begin()->first, moved.begin()->second, error);
+    if (!numeric.at_moved(probe.ref, An, Bn, error)) {
+      error = fmt::format("--symbolic {}: the numeric model at {} = {} (the check of the symbolic one): {}", probe.name, probe.name,
+                          probe.value, error);
       return false;
     }
-    if (!check(lin.A, lin.B, An, Bn, at, fmt::format("at {} = {}", moved.begin()->first, moved.begin()->second))) return false;
+    if (!check(lin.A, lin.B, An, Bn, probe.at, fmt::format("at {} = {}", probe.name, probe.value))) return false;
   }
   if (!coords.empty()) {
     SecondOrderForm f;

@@ -133,7 +133,6 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   const auto state_names = runtime::ModelTable::names_of(T.state_names, T.nx);
   const auto input_names = runtime::ModelTable::names_of(T.input_names, T.nin);
   std::vector<std::optional<std::string>> moved_by(state_names.size() + input_names.size());
-  std::vector<std::pair<GiNaC::exmap, LinearReference>> probes;
   for (std::size_t k = 0; k < out.symbols.size(); ++k) {
     const std::string& name = out.symbols[k].get_name();
     const double v = nominal_of.at(name), h = 1e-3 * std::max(1.0, std::fabs(v));
@@ -148,8 +147,7 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
       if (!close(moved.u[i], ref.u[i]) && !moved_by[state_names.size() + i]) moved_by[state_names.size() + i] = name;
     GiNaC::exmap at_moved = out.nominal;
     at_moved[out.symbols[k]] = exact_number(v + h);
-    probes.push_back({at_moved, moved});
-    out.moved.push_back({{{name, v + h}}, at_moved});
+    out.moved.push_back({name, v + h, at_moved, moved});
   }
   // Whether e follows the reference at the nominal values and at every probe; else `why`.
   auto follows = [&](const GiNaC::ex& e, std::size_t slot, bool input, std::string& why) {
@@ -158,10 +156,10 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
       why = fmt::format("{} at the nominal values, the reference {}", nominal_value(e, out.nominal), here);
       return false;
     }
-    for (const auto& [at_moved, moved] : probes) {
-      const double want = input ? moved.u[slot - state_names.size()] : moved.x[slot];
-      if (!close(nominal_value(e, at_moved), want)) {
-        why = fmt::format("{} instead of {} when the symbols move", nominal_value(e, at_moved), want);
+    for (const auto& probe : out.moved) {
+      const double want = input ? probe.ref.u[slot - state_names.size()] : probe.ref.x[slot];
+      if (!close(nominal_value(e, probe.at), want)) {
+        why = fmt::format("{} instead of {} when the symbols move", nominal_value(e, probe.at), want);
         return false;
       }
     }

@@ -24,11 +24,9 @@ struct NumericLinearModel {
   std::vector<int> sel;
   const std::vector<double>* A = nullptr;
   const std::vector<double>* B = nullptr;
-  /// A and B in the same components with some names moved (name -> value): the symbolic
-  /// model is checked there too.
-  std::function<bool(const std::map<std::string, double>& moved, std::vector<double>& A, std::vector<double>& B,
-                     std::string& error)>
-      at_moved;
+  /// A and B in the same components at another reference (one symbol moved: the symbolic
+  /// model is checked there too).
+  std::function<bool(const LinearReference& ref, std::vector<double>& A, std::vector<double>& B, std::string& error)> at_moved;
 };
 
 /// The symbolic model's text in a.format (text, latex, json). False with `error` (and

@@ -25,8 +25,15 @@ struct SymbolicReference {
   /// Every coordinate, speed, input, the time and every parameter not kept -> its value.
   GiNaC::exmap at;
   std::vector<GiNaC::ex> state;  // the full layout's reference values (as in `at`)
-  /// The probes: one symbol moved (its name -> value), and all the symbols' values there.
-  std::vector<std::pair<std::map<std::string, double>, GiNaC::exmap>> moved;
+  /// The probes: one symbol moved, the symbols' values there and the numeric reference
+  /// recomputed there.
+  struct Probe {
+    std::string name;
+    double value = 0.0;
+    GiNaC::exmap at;
+    LinearReference ref;
+  };
+  std::vector<Probe> moved;
 };
 
 /// The numeric reference at the request's values with some names moved (name -> value).
