@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "json_numbers.hpp"
+#include "json_arrays.hpp"
 #include "run_command.hpp"
 
 namespace {
@@ -40,14 +40,18 @@ const std::filesystem::path& bicycle_cache() {
   return dir;
 }
 
+// mbsc linearize at 5 m/s, upright, in lean and steer: the second-order form split in v
+// and g, as JSON.
+static std::string bicycle_linearize() {
+  return std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
+         "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
+         " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
+         " --speed v --gravity g --format json -q --cache-dir " +
+         bicycle_cache().string();
+}
+
 TEST_CASE("linearize: the benchmark bicycle's M, C1, K0, K2 and eigenvalues are the published ones", "[linear]") {
-  const auto& cache = bicycle_cache();
-  const std::string cmd = std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
-                          "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
-                          " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
-                          " --speed v --gravity g --format json -q --cache-dir " +
-                          cache.string();
-  const auto r = mbsc_test::run(cmd);
+  const auto r = mbsc_test::run(bicycle_linearize());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   // The paper's (A 19)-(A 21), 14 significant digits. Its lean is our rear frame's roll
@@ -92,12 +96,7 @@ TEST_CASE("linearize --symbolic v,g: the bicycle's form is exactly M q'' + v C1 
   // K as expressions, and C1, K0, K2 are read off them (no differences of three points):
   // they are the published ones, and A is polynomial in v and g (degree 2 and 1) and equals
   // the numeric A at v = 5, g = 9.81 (the other test's command, also run here).
-  const auto& cache = bicycle_cache();
-  const std::string common = std::string(MBSC_BINARY) + " linearize " + MBSC_SOURCE_DIR +
-                             "/models/whipple_bicycle_joints.mbs --let v=5 --init 'theta_R_dot=-v/rR' --init rear_frame.wx=0"
-                             " --init delta_dot=0 --keep rear_frame.theta,delta --second-order rear_frame.theta,delta"
-                             " --speed v --gravity g --format json -q --cache-dir " +
-                             cache.string();
+  const std::string common = bicycle_linearize();
   const auto r = mbsc_test::run(common + " --symbolic v,g");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
@@ -105,16 +104,13 @@ TEST_CASE("linearize --symbolic v,g: the bicycle's form is exactly M q'' + v C1 
   GiNaC::symtab table;
   const GiNaC::symbol v("v"), g("g");
   table["v"] = v, table["g"] = g;
+  // The entries of a matrix read back (the key required).
   auto strings = [&](const std::string& key) {
+    REQUIRE(r.output.find("\"" + key + "\":") != std::string::npos);
     std::vector<GiNaC::ex> out;
-    auto at = r.output.find("\"" + key + "\":");
-    REQUIRE(at != std::string::npos);
-    const auto end = r.output.find("]\n  ]", at);
-    for (at = r.output.find('"', r.output.find('[', at)); at < end; at = r.output.find('"', at + 1)) {
-      const auto close = r.output.find('"', at + 1);
+    for (const auto& entry : mbsc_test::json_strings(r.output, key)) {
       GiNaC::parser reader(table);
-      out.push_back(reader(r.output.substr(at + 1, close - at - 1)));
-      at = close;
+      out.push_back(reader(entry));
     }
     return out;
   };

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "json_numbers.hpp"
+#include "json_arrays.hpp"
 #include "run_command.hpp"
 
 using namespace mbsc_test;
@@ -33,24 +33,10 @@ std::string linearize(const std::string& model, const std::string& args) {
          quote((cache() / "cache").string());
 }
 
-// The JSON strings of the array after "key": (nested arrays flattened).
-std::vector<std::string> json_strings(const std::string& text, const std::string& key) {
-  std::vector<std::string> out;
-  auto at = text.find("\"" + key + "\":");
-  REQUIRE(at != std::string::npos);
-  at = text.find('[', at);
-  int depth = 0;
-  for (std::size_t i = at; i < text.size(); ++i) {
-    const char c = text[i];
-    if (c == '[') ++depth;
-    else if (c == ']' && --depth == 0) break;
-    else if (c == '"') {
-      const std::size_t end = text.find('"', i + 1);
-      out.push_back(text.substr(i + 1, end - i - 1));
-      i = end;
-    }
-  }
-  return out;
+// The strings of the array after "key": (json_arrays.hpp), the key required.
+std::vector<std::string> entries(const std::string& text, const std::string& key) {
+  REQUIRE(text.find("\"" + key + "\":") != std::string::npos);
+  return json_strings(text, key);
 }
 
 struct Symbols {
@@ -86,8 +72,8 @@ TEST_CASE("linearize --symbolic: the spherical pendulum's closed forms, g and r 
     INFO(res.output);
     REQUIRE(res.exit_code == 0);
     CHECK(res.output.find("\"state\": [\"bob.y\", \"bob.z\", \"bob.v\", \"bob.w\"]") != std::string::npos);
-    CHECK(json_strings(res.output, "symbols") == std::vector<std::string>{"m", "r", "g"});
-    check_exact(s, json_strings(res.output, "A"), {0, 0, 1, 0, 0, 0, 0, 1, -w, 0, 0, 0, 0, -w, 0, 0});
+    CHECK(entries(res.output, "symbols") == std::vector<std::string>{"m", "r", "g"});
+    check_exact(s, entries(res.output, "A"), {0, 0, 1, 0, 0, 0, 0, 1, -w, 0, 0, 0, 0, -w, 0, 0});
   }
   SECTION("thesis Ex 4.6: released from rest at (4/5, 3/5, 0) r, its matrix (k)") {
     const auto res = run(linearize("models/spherical_pendulum_extra_speed.mbs",
@@ -95,7 +81,7 @@ TEST_CASE("linearize --symbolic: the spherical pendulum's closed forms, g and r 
                                    "--init bob.v=0 --init bob.w=0 --symbolic g,r --format json"));
     INFO(res.output);
     REQUIRE(res.exit_code == 0);
-    const std::vector<std::string> A = json_strings(res.output, "A");
+    const std::vector<std::string> A = entries(res.output, "A");
     REQUIRE(A.size() == 49);
     // x' = u, y' = v, z' = w and x'' = -72/125 g/r x + 96/125 g/r y, y'' = 21/125 g/r x -
     // 28/125 g/r y, z'' = -4/5 g/r z: the thesis's matrix (k), stated there for r = 1 (the
@@ -143,7 +129,7 @@ TEST_CASE("linearize --symbolic: redundant constraints, the compound pendulum ex
     INFO(res.output);
     REQUIRE(res.exit_code == 0);
     CHECK(res.output.find("\"state\": [\"crank1.theta\", \"crank1.w\"]") != std::string::npos);
-    check_exact(s, json_strings(res.output, "A"), {0, 1, -K, 0});
+    check_exact(s, entries(res.output, "A"), {0, 1, -K, 0});
   }
   // Away from equilibrium (phi = -1, phi' = 1.3) the reference is known to rounding: the
   // entries agree with K sin(phi) to 1e-12 at other values of the symbols.
@@ -152,7 +138,7 @@ TEST_CASE("linearize --symbolic: redundant constraints, the compound pendulum ex
                                  "--symbolic g,m_crank,m_coupler --format json"));
   INFO(res.output);
   REQUIRE(res.exit_code == 0);
-  const std::vector<std::string> A = json_strings(res.output, "A");
+  const std::vector<std::string> A = entries(res.output, "A");
   REQUIRE(A.size() == 4);
   for (const auto& [gv, mcv, mkv] : std::vector<std::tuple<double, double, double>>{{9.81, 0.3, 0.5}, {1.62, 2.0, 0.1}}) {
     const GiNaC::exmap at{{g, gv}, {mc, mcv}, {mk, mkv}};
@@ -171,7 +157,7 @@ TEST_CASE("linearize --symbolic: a symbol at zero, --set expressions, the second
     const auto sym = run(linearize("models/four_bar.mbs", "--symbolic tau0 --format json"));
     INFO(sym.output);
     REQUIRE(sym.exit_code == 0);
-    const std::vector<std::string> A = json_strings(sym.output, "A");
+    const std::vector<std::string> A = entries(sym.output, "A");
     REQUIRE(A.size() == 4);
     CHECK(A[2].find("tau0") != std::string::npos);
     const auto num = run(linearize("models/four_bar.mbs", "--set tau0=0.7 --format json"));
@@ -185,7 +171,7 @@ TEST_CASE("linearize --symbolic: a symbol at zero, --set expressions, the second
     const auto sym = run(linearize("models/heavy_top.mbs", "--let k=2 --set m=k/2 --symbolic k --format json"));
     INFO(sym.output);
     REQUIRE(sym.exit_code == 0);
-    const std::vector<std::string> A = json_strings(sym.output, "A");
+    const std::vector<std::string> A = entries(sym.output, "A");
     const auto num = run(linearize("models/heavy_top.mbs", "--set m=2 --format json"));
     REQUIRE(num.exit_code == 0);
     Symbols s;
@@ -213,7 +199,7 @@ TEST_CASE("linearize --symbolic: a symbol at zero, --set expressions, the second
     Symbols s;
     const GiNaC::ex m1 = s["m1"];
     for (const char* key : {"M", "C", "K"}) {
-      const std::vector<std::string> got = json_strings(sym.output, key);
+      const std::vector<std::string> got = entries(sym.output, key);
       REQUIRE(got.size() == 1);
       const double at = GiNaC::ex_to<GiNaC::numeric>(s.parse(got[0]).subs(m1 == GiNaC::numeric(17, 10)).evalf()).to_double();
       const auto second = num.output.find("\"second_order\"");

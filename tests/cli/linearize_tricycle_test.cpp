@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "json_numbers.hpp"
+#include "json_arrays.hpp"
 #include "run_command.hpp"
 
 namespace {
