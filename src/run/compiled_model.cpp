@@ -22,7 +22,10 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/pipeline.hpp"
+#include "mbsc/model/option_expression.hpp"
+#include "mbsc/run/model_cache.hpp"
 #include "mbsc/run/process.hpp"
+#include "mbsc/run/sha256.hpp"
 
 namespace fs = std::filesystem;
 
@@ -137,31 +140,95 @@ bool fill_table(void* h, const std::string& kStem, runtime::ModelTable& t, int (
   return ok;
 }
 
-/// Removes the temporary folders of runs that were killed while compiling
-/// (".NAME-KEY.tmpPID" whose process is gone).
-void remove_stale_entries(const fs::path& root) {
-  std::error_code ec;
-  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    const auto at = name.rfind(".tmp");
-    if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
-    const std::string pid_text = name.substr(at + 4);
-    if (pid_text.empty() || pid_text.find_first_not_of("0123456789") != std::string::npos) continue;
-    const long pid = std::strtol(pid_text.c_str(), nullptr, 10);
-    if (pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(it->path(), ec);
-  }
+/// Sets the umask for as long as it lives: what mbsc writes into the cache is private
+/// whatever the user's umask.
+class UmaskGuard {
+ public:
+  explicit UmaskGuard(mode_t mask) : old_(::umask(mask)) {}
+  ~UmaskGuard() { ::umask(old_); }
+  UmaskGuard(const UmaskGuard&) = delete;
+  UmaskGuard& operator=(const UmaskGuard&) = delete;
+
+ private:
+  mode_t old_;
+};
+
+/// The compiler's output, each of its first lines made safe to print.
+std::string compiler_lines(const std::string& output) {
+  std::string shown;
+  std::istringstream lines(output.substr(0, 4000));
+  for (std::string line; std::getline(lines, line);) shown += "  " + printable(line) + "\n";
+  return shown;
 }
 
-/// Objects from the cache are loaded into this process: an existing cache folder must be
-/// this user's and writable by nobody else.
-bool safe_cache_folder(const fs::path& root, std::ostream& err) {
-  struct stat st {};
-  if (stat(root.c_str(), &st) != 0) return true;  // created below, by us
-  if (st.st_uid == getuid() && (st.st_mode & 022) == 0) return true;
-  err << fmt::format("mbsc: error: the cache folder '{}' belongs to another user or is writable by others; mbsc "
-                     "loads compiled code from it (choose another with --cache-dir)\n",
-                     printable(root.string()));
-  return false;
+/// Generates the model into a work folder of the cache, compiles it there and publishes
+/// it as `entry`. False with the messages on `err` and `exit_code` set.
+bool build_entry(const CompileRequest& req, const CacheFolder& cache, const std::string& entry, const std::string& key,
+                 const std::string& stem, const std::string& cxx, const std::vector<std::string>& flags,
+                 const std::string& shim, std::ostream& err, int& exit_code) {
+  std::string error;
+  cache.tidy(entry);
+  const auto work = cache.start_work(error);
+  if (!work) {
+    err << "mbsc: error: " << error << "\n";
+    return false;
+  }
+  driver::GenerateArgs gen;
+  gen.model = req.model_path;
+  gen.out_dir = work->folder_path();
+  gen.name = stem;
+  gen.multipliers = req.multipliers;
+  gen.minimal_state = req.minimal_state;
+  gen.solver = req.solver;
+  gen.linear_parts = req.linear_parts;
+  gen.work = req.work;
+  gen.work.quiet = true;
+  std::ostringstream sink;
+  if (const int g = driver::run_generate(gen, sink, err); g != 0) {
+    exit_code = g;
+    return false;
+  }
+  const int folder = work->open_subfolder(stem);
+  if (folder < 0 || !work->write_file(folder, "shim.cpp", shim, error)) {
+    if (folder >= 0) ::close(folder);
+    err << "mbsc: error: " << (error.empty() ? "the generated code is missing from the cache folder" : error) << "\n";
+    return false;
+  }
+  ProcessOptions options;
+  options.working_folder = folder;
+  options.private_files = true;
+  options.memory_mib = req.work.budget.memory_mib;
+  options.timeout_seconds = std::max(1.0, req.work.budget.seconds_left());
+  std::vector<std::string> cmd = {cxx};
+  cmd.insert(cmd.end(), flags.begin(), flags.end());
+  cmd.insert(cmd.end(), {"-o", "lib.so", stem + ".cpp", "shim.cpp"});
+  const ProcessResult cc = run_process(cmd, options);
+  ::close(folder);
+  if (cc.timed_out) {
+    err << fmt::format("mbsc: error: the C++ compiler '{}' was stopped when the time budget of {:g} s ran out (it "
+                       "covers the whole command; raise it with --budget SECONDS)\n",
+                       printable(cxx), req.work.budget.seconds);
+    return false;
+  }
+  if (cc.exit_code != 0) {
+    const bool memory = cc.output.find("memory exhausted") != std::string::npos ||
+                        cc.output.find("Cannot allocate memory") != std::string::npos ||
+                        cc.output.find("out of memory") != std::string::npos || cc.output.find("bad_alloc") != std::string::npos;
+    if (memory)
+      err << fmt::format("mbsc: error: the C++ compiler '{}' ran out of the memory budget of {} MiB on the generated "
+                         "code (raise it with --max-memory MIB):\n{}",
+                         printable(cxx), req.work.budget.memory_mib, compiler_lines(cc.output));
+    else
+      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}{}):\n{}",
+                         printable(cxx), cc.exit_code, cc.spawn_error.empty() ? "" : ", " + cc.spawn_error,
+                         compiler_lines(cc.output));
+    return false;
+  }
+  if (!work->publish(stem, entry, key, error)) {
+    err << "mbsc: error: " << error << "\n";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -180,33 +247,16 @@ std::string cache_folder(const std::string& requested) {
 }
 
 std::string input_expression_cpp(const model::Model& m, const std::string& text, std::string& error) {
-  GiNaC::symtab table;
-  table["t"] = m.time;
-  GiNaC::exmap to_p;
-  for (std::size_t i = 0; i < m.params.size(); ++i) {
-    table[m.params[i].name] = m.params[i].sym;
-    to_p[m.params[i].sym] = GiNaC::symbol(fmt::format("p[{}]", i));
-  }
-  table["pi"] = GiNaC::Pi;
-  GiNaC::parser reader(table);
-  reader.strict = true;
-  GiNaC::ex e;
-  try {
-    e = reader(text);
-  } catch (const std::exception& ex) {
-    std::string why = ex.what();
-    if (why.find("unknown symbol") != std::string::npos || why.find("find_or_insert_symbol") != std::string::npos)
-      why = "it names something that is neither t nor a parameter";
-    else if (why.find("GiNaC") != std::string::npos || why.find(".cpp") != std::string::npos)
-      why = "an unknown function, or not an expression";
-    error = fmt::format("cannot read '{}' as an expression of t and the parameters ({})", printable(text), printable(why));
-    return "";
-  }
+  model::OptionNames names;
+  std::map<std::string, std::string> cpp_names;
+  names["t"] = m.time, cpp_names["t"] = "t";
   // Frozen (structural) parameters keep their p[] slot; every name is known here.
-  e = e.subs(GiNaC::Pi == GiNaC::ex(GiNaC::Pi).evalf()).subs(to_p);
-  std::ostringstream out;
-  out << GiNaC::csrc_double << e;
-  return out.str();
+  for (std::size_t i = 0; i < m.params.size(); ++i) {
+    names[m.params[i].name] = m.params[i].sym;
+    cpp_names[m.params[i].name] = fmt::format("p[{}]", i);
+  }
+  if (!model::read_option_expression(text, names, "t and the model's parameters", error)) return "";
+  return model::option_expression_cpp(text, cpp_names);
 }
 
 std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const model::Model& m,
@@ -255,105 +305,66 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   if (req.linear_parts) key_text += "linear_parts\n";
   key_text += inputs_body;
   for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
-  const std::string key = driver::text_hash(key_text);
-  const std::string kStem = stem_of(key);
-  const fs::path root = cache_folder(req.cache_dir);
-  const fs::path entry = root / (m.name + "-" + key);
-  const fs::path object = entry / "lib.so";
+  // The entry's name: the model's and 16 hex digits of the key's hash; its record holds
+  // the whole hash, checked on loading.
+  const std::string key = sha256_hex(key_text);
+  const std::string kStem = stem_of(key.substr(0, 16));
+  const std::string entry = m.name.substr(0, 64) + "-" + key.substr(0, 16);
 
   auto result = std::unique_ptr<CompiledModel>(new CompiledModel());
-  std::error_code ec;
-  if (!safe_cache_folder(root, err)) return nullptr;
-  if (!fs::exists(object, ec)) {
-    // ---- generate + compile into a temporary folder, then rename it into place ----
-    fs::create_directories(root, ec);
-    if (ec) {
-      err << fmt::format("mbsc: error: cannot create the cache folder '{}': {} (choose another with --cache-dir)\n",
-                         printable(root.string()), ec.message());
+  const UmaskGuard private_files(077);
+  std::string error;
+  const auto cache = CacheFolder::open(cache_folder(req.cache_dir), error);
+  if (!cache) {
+    err << "mbsc: error: " << error << "\n";
+    return nullptr;
+  }
+  const std::string entry_path = (fs::path(cache->path()) / entry).string();
+  std::string why;
+  int object = cache->open_object(entry, key, why);
+  if (object < 0 && !why.empty()) {
+    err << fmt::format("mbsc: warning: the cached model '{}' cannot be used: {}; compiling it again\n",
+                       printable(entry_path), why);
+    cache->remove_entry(entry);
+  }
+  result->from_cache_ = object >= 0;
+  if (object < 0) {
+    if (!build_entry(req, *cache, entry, key, kStem, cxx, flags, shim_source(kStem, inputs_body, req.multipliers), err,
+                     exit_code))
       return nullptr;
-    }
-    remove_stale_entries(root);
-    const fs::path tmp = root / fmt::format(".{}-{}.tmp{}", m.name, key, static_cast<long>(getpid()));
-    fs::remove_all(tmp, ec);
-    driver::GenerateArgs gen;
-    gen.model = req.model_path;
-    gen.out_dir = tmp.string();
-    gen.name = kStem;
-    gen.multipliers = req.multipliers;
-    gen.minimal_state = req.minimal_state;
-    gen.solver = req.solver;
-    gen.linear_parts = req.linear_parts;
-    gen.work = req.work;
-    gen.work.quiet = true;
-    std::ostringstream sink;
-    const int g = driver::run_generate(gen, sink, err);
-    if (g != 0) {
-      fs::remove_all(tmp, ec);
-      exit_code = g;
-      return nullptr;
-    }
-    const fs::path src = tmp / kStem;
-    {
-      std::ofstream shim(src / "shim.cpp", std::ios::binary);
-      shim << shim_source(kStem, inputs_body, req.multipliers);
-      if (!shim) {
-        err << fmt::format("mbsc: error: cannot write into the cache folder '{}'\n", printable(tmp.string()));
-        fs::remove_all(tmp, ec);
-        return nullptr;
-      }
-    }
-    std::vector<std::string> cmd = {cxx};
-    cmd.insert(cmd.end(), flags.begin(), flags.end());
-    cmd.insert(cmd.end(), {"-o", (src / "lib.so").string(), (src / (kStem + ".cpp")).string(),
-                           (src / "shim.cpp").string()});
-    const ProcessResult cc = run_process(cmd, "", req.work.budget.seconds);
-    if (cc.timed_out) {
-      err << fmt::format("mbsc: error: the C++ compiler '{}' took more than the time budget of {:g} s on the generated "
-                         "code and was stopped (raise it with --budget SECONDS)\n",
-                         printable(cxx), req.work.budget.seconds);
-      fs::remove_all(tmp, ec);
-      return nullptr;
-    }
-    if (cc.exit_code != 0) {
-      // Its first lines, each made safe to print.
-      std::string shown;
-      std::istringstream lines(cc.output.substr(0, 4000));
-      for (std::string line; std::getline(lines, line);) shown += "  " + printable(line) + "\n";
-      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}{}):\n{}",
-                         printable(cxx), cc.exit_code, cc.spawn_error.empty() ? "" : ", " + cc.spawn_error, shown);
-      fs::remove_all(tmp, ec);
-      return nullptr;
-    }
-    fs::rename(src, entry, ec);  // another run may have put the same entry in place meanwhile: fine
-    fs::remove_all(tmp, ec);
-    if (!fs::exists(object)) {
-      err << fmt::format("mbsc: error: cannot move the compiled model into the cache folder '{}'\n",
-                         printable(entry.string()));
+    object = cache->open_object(entry, key, why);
+    if (object < 0) {
+      err << fmt::format("mbsc: error: the compiled model '{}' cannot be loaded: {}\n", printable(entry_path),
+                         why.empty() ? "it is not in the cache folder" : why);
       return nullptr;
     }
     if (!req.work.quiet)
       err << fmt::format("mbsc: compiled {} ({}) into {}\n", m.name, req.multipliers ? "multipliers" : "complement",
-                         printable(entry.string()));
-  } else {
-    result->from_cache_ = true;
+                         printable(entry_path));
   }
-  result->folder_ = entry.string();
-  result->handle_ = dlopen(object.c_str(), RTLD_NOW | RTLD_LOCAL);
+  // Loaded through the descriptor that was checked: the file verified is the file loaded.
+  // The descriptor stays open for the rest of the process: the dynamic loader knows an
+  // object by the name it was loaded under, and GCC's unique symbols (the generated
+  // inline tables) keep an object loaded after dlclose, so a later object loaded under
+  // a reused /proc/self/fd/N would be taken for this one.
+  result->folder_ = entry_path;
+  result->handle_ = dlopen(fmt::format("/proc/self/fd/{}", object).c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!result->handle_) ::close(object);
   if (!result->handle_) {
-    const char* why = dlerror();
+    const char* dl = dlerror();
     err << fmt::format("mbsc: error: cannot load the compiled model '{}': {} (remove that folder to rebuild it)\n",
-                       printable(object.string()), printable(why ? why : "unknown reason"));
+                       printable(entry_path), printable(dl ? dl : "unknown reason"));
     return nullptr;
   }
   std::string missing;
   if (!fill_table(result->handle_, kStem, result->table_, result->inputs_, missing)) {
     err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
-                       printable(object.string()), missing);
+                       printable(entry_path), missing);
     return nullptr;
   }
   if (req.linear_parts && !symbol(result->handle_, "mbsc_" + kStem + "_linear_parts", result->linear_parts_, missing)) {
     err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
-                       printable(object.string()), missing);
+                       printable(entry_path), missing);
     return nullptr;
   }
   exit_code = 0;
