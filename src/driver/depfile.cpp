@@ -29,25 +29,47 @@ std::string make_escaped(const std::string& path) {
   return out;
 }
 
+namespace {
+
+/// Why make or ninja would read `c` in a depfile as something other than part of a name
+/// (nullptr when it is safe, or escaped by make_escaped).
+const char* special_meaning(char c) {
+  switch (c) {
+    case ';': return "starts a recipe, a command make runs";
+    case ':': return "ends a rule's targets";
+    case '=': return "makes a target-specific variable assignment";
+    case '|': return "separates order-only prerequisites";
+    case '%': return "makes a pattern rule";
+    case '*': case '?': case '[': case ']': return "is a wildcard make expands";
+    case '(': case ')': return "names an archive member";
+    case '&': return "groups targets";
+    default: break;
+  }
+  const auto b = static_cast<unsigned char>(c);
+  if (c != '\t' && (b < 0x20 || b == 0x7f)) return "is a control character (a line break ends the rule)";
+  return nullptr;
+}
+
+}  // namespace
+
 bool depfile_text(const std::vector<std::string>& targets, const std::vector<std::string>& prerequisites,
                   std::string& text, std::string& error) {
   for (const auto* list : {&targets, &prerequisites})
-    for (const auto& p : *list)
-      if (p.find_first_of("\n\r") != std::string::npos) {
-        error = fmt::format("mbsc: error: the path '{}' has a line break, which a depfile cannot hold", printable(p));
-        return false;
-      } else if (p.find("\\#") != std::string::npos) {
+    for (const auto& p : *list) {
+      for (char c : p)
+        if (const char* why = special_meaning(c)) {
+          error = fmt::format("mbsc: error: the path '{}' holds '{}', which {} in a depfile; a depfile cannot hold it "
+                              "(rename the file or folder, or generate without --depfile)",
+                              printable(p), printable(std::string(1, c)), why);
+          return false;
+        }
+      if (p.find("\\#") != std::string::npos) {
         error = fmt::format("mbsc: error: the path '{}' has a '\\' before a '#', which make and ninja read differently "
                             "in a depfile (rename the file or folder, or generate without --depfile)",
                             printable(p));
         return false;
-      } else if (p.find(':') != std::string::npos) {
-        // make reads a ':' as the end of the targets.
-        error = fmt::format("mbsc: error: the path '{}' has a ':', which make reads as the end of a rule's targets; "
-                            "a depfile cannot hold it (rename the file or folder, or generate without --depfile)",
-                            printable(p));
-        return false;
       }
+    }
   text.clear();
   for (std::size_t i = 0; i < targets.size(); ++i) text += (i ? " " : "") + make_escaped(targets[i]);
   text += ":";

@@ -12,6 +12,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
@@ -156,6 +157,8 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
   sim.t_end = a.t_end;
   sim.dt_out = dt_out;
   sim.projection = runtime::SimulationOptions::Projection::Auto;
+  // The time budget covers the whole command: a run it cuts short fails (reported below).
+  sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
   const std::string ref_method =
       std::find(known.begin(), known.end(), "dop853") != known.end() ? "dop853" : integrators.front();
   if (a.reference.empty()) {
@@ -290,14 +293,17 @@ int run_bench(const BenchArgs& a, std::ostream& out, std::ostream& err) {
 
   // ---- CSV, table, plot ----
   {
-    std::ofstream o(csv_path);
-    if (!o) return fail(fmt::format("-o: cannot write '{}'", printable(csv_path)));
-    o << "tool,model,formulation,method,tol,cpu_s,steps,rhs_evals,err_final,err_max,position_residual,"
-         "velocity_residual,energy_drift,status\n";
+    std::string text =
+        "tool,model,formulation,method,tol,cpu_s,steps,rhs_evals,err_final,err_max,position_residual,"
+        "velocity_residual,energy_drift,status\n";
     for (const auto& r : rows)
-      o << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.tool, m->name, r.formulation, r.method, r.tol,
-                       r.cpu, r.steps, r.rhs, r.err_final, r.err_max, r.pos_res, r.vel_res, r.drift, r.status);
-    if (!o) return fail(fmt::format("-o: writing '{}' failed", printable(csv_path)));
+      text += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", r.tool, m->name, r.formulation, r.method, r.tol,
+                          r.cpu, r.steps, r.rhs, r.err_final, r.err_max, r.pos_res, r.vel_res, r.drift, r.status);
+    driver::StagedFile file;
+    if (!file.stage(csv_path, text, "-o", error) || !file.commit(error)) {
+      err << error << "\n";
+      return 1;
+    }
   }
   out << fmt::format("{} to t = {:g} s; reference: {}; error = max over {} of |x - x_ref|\n\n", m->name, a.t_end,
                      a.reference.empty() ? ref_method + " at rtol 1e-13" : a.reference,

@@ -3,6 +3,7 @@
 #include "mbsc/run/csv_table.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fmt/format.h>
 
@@ -11,47 +12,47 @@
 
 namespace mbsc::run {
 
-CsvTable::~CsvTable() {
-  std::string ignored;
-  close(ignored);
-}
-
 bool CsvTable::open(const std::string& path, const std::vector<std::string>& columns, std::string& error) {
   path_ = path;
-  if (path == "-") {
-    f_ = stdout;
-    owned_ = false;
-  } else {
-    f_ = std::fopen(path.c_str(), "w");
-    owned_ = true;
-    if (!f_) {
-      error = fmt::format("cannot write '{}': {}", printable(path), std::strerror(errno));
-      return false;
-    }
-  }
+  to_stdout_ = path == "-";
   std::string header;
   for (std::size_t i = 0; i < columns.size(); ++i) header += (i ? "," : "") + columns[i];
-  std::fprintf(f_, "%s\n", header.c_str());
+  header += '\n';
+  if (to_stdout_) {
+    std::fwrite(header.data(), 1, header.size(), stdout);
+    return true;
+  }
+  if (!file_.open(path, "-o", error)) return false;
+  file_.write(header);
   return true;
 }
 
 void CsvTable::row(const std::vector<double>& values) {
-  if (!f_) return;
   std::string line;
   for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format(i ? ",{}" : "{}", values[i]);
   line += '\n';
-  std::fwrite(line.data(), 1, line.size(), f_);
-  std::fflush(f_);
+  if (to_stdout_) {
+    std::fwrite(line.data(), 1, line.size(), stdout);
+    std::fflush(stdout);
+  } else {
+    file_.write(line);
+  }
   ++rows_;
 }
 
 bool CsvTable::close(std::string& error) {
-  if (!f_) return true;
-  bool ok = std::fflush(f_) == 0 && !std::ferror(f_);
-  if (owned_ && std::fclose(f_) != 0) ok = false;
-  f_ = nullptr;
-  if (!ok) error = fmt::format("writing '{}' failed: {}", printable(path_), std::strerror(errno));
-  return ok;
+  if (!to_stdout_) return file_.commit(error);
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout)) return true;
+  error = fmt::format("mbsc: error: writing the CSV to standard output failed: {}", std::strerror(errno));
+  return false;
+}
+
+std::string CsvTable::keep() {
+  if (to_stdout_) {
+    std::fflush(stdout);
+    return "-";
+  }
+  return file_.keep();
 }
 
 bool choose_columns(const std::vector<std::string>& available, const std::vector<std::string>& wanted,

@@ -126,6 +126,11 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
   std::vector<std::string> cyclic_names;
   LinearReference first_ref;  // the first point's, for the steadiness check
   auto linear_at = [&](double value, runtime::LinearModel& lin, std::string& why, bool first = false) {
+    if (a.work.budget.seconds_left() <= 0) {
+      why = fmt::format("the time budget of {:g} s for the whole command ran out (raise it with --budget SECONDS)",
+                        a.work.budget.seconds);
+      return false;
+    }
     ReferenceRequest r = req;
     r.overrides[name] = value;
     LinearReference ref;
@@ -276,7 +281,10 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
     return 0;
   }
   driver::StagedFile file;
-  if (!file.stage(csv_path, text, "-o", error) || !file.commit(error)) return fail(error);
+  if (!file.stage(csv_path, text, "-o", error) || !file.commit(error)) {
+    err << error << "\n";
+    return 1;
+  }
   if (!a.work.quiet) err << fmt::format("mbsc: wrote {} ({} points, {} modes)\n", printable(csv_path), grid.size(), nmodes);
   if (!a.plot.empty()) {
     std::vector<PlotPanel> panels = {{"Re(lambda), 1/s", {}}, {"Im(lambda), rad/s", {}}};

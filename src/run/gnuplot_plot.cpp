@@ -2,13 +2,12 @@
 // Plots through gnuplot (include/mbsc/run/gnuplot_plot.hpp).
 #include "mbsc/run/gnuplot_plot.hpp"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/process.hpp"
 
 namespace fs = std::filesystem;
@@ -17,10 +16,15 @@ namespace mbsc::run {
 
 namespace {
 
-/// A gnuplot string literal: single quotes, with a quote doubled.
+/// A gnuplot string literal for a label: single quotes, a quote doubled (gnuplot reads
+/// nothing else inside single quotes as special) and control characters, which could end
+/// the string and the command, replaced by spaces.
 std::string quoted(const std::string& s) {
   std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  for (char c : s) {
+    const auto b = static_cast<unsigned char>(c);
+    out += c == '\'' ? std::string("''") : b < 0x20 || b == 0x7f ? std::string(" ") : std::string(1, c);
+  }
   return out + "'";
 }
 
@@ -30,26 +34,47 @@ std::string terminal(const std::string& format, int width, int height) {
                                        width, height);
 }
 
-/// Runs the script; the image goes to a temporary name first.
-bool render(const std::string& script_body, const std::string& format, int width, int height, const std::string& image,
-            std::string& error) {
-  const std::string tmp = image + fmt::format(".tmp{}", static_cast<long>(getpid()));
-  const std::string script = terminal(format, width, height) + "set output " + quoted(tmp) + "\n" + script_body +
-                             "unset output\n";
-  const ProcessResult r = run_process({"gnuplot"}, script);
+/// A data file's name for a gnuplot script: absolute (so never '<' or '|', which gnuplot
+/// reads as a command to run), quoted, and refused when it holds a control character
+/// (a line break would end the string and start a command). False with `error`.
+bool data_file_name(const std::string& csv, std::string& quoted_name, std::string& error) {
+  for (unsigned char c : csv)
+    if (c < 0x20 || c == 0x7f) {
+      error = fmt::format("the file name '{}' holds a control character, which mbsc does not pass to gnuplot",
+                          printable(csv));
+      return false;
+    }
   std::error_code ec;
-  if (r.exit_code != 0 || !fs::exists(tmp, ec) || fs::file_size(tmp, ec) == 0) {
-    fs::remove(tmp, ec);
-    if (!r.spawn_error.empty() || r.exit_code == 127)
-      error = "gnuplot is needed for --plot and was not found (install the Debian package gnuplot-nox)";
-    else
-      error = fmt::format("gnuplot failed (exit code {}): {}", r.exit_code, printable(r.output.substr(0, 2000)));
+  const fs::path absolute = fs::absolute(csv, ec);
+  if (ec) {
+    error = fmt::format("cannot resolve '{}': {}", printable(csv), ec.message());
     return false;
   }
-  fs::rename(tmp, image, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    error = fmt::format("cannot write the plot '{}': {}", printable(image), ec.message());
+  quoted_name = quoted(absolute.string());
+  return true;
+}
+
+/// Runs the script with the image on gnuplot's standard output (gnuplot opens no file of
+/// ours for writing), then writes the image all or nothing.
+bool render(const std::string& script_body, const std::string& format, int width, int height, const std::string& image,
+            std::string& error) {
+  ProcessOptions options;
+  options.input = terminal(format, width, height) + "set output\n" + script_body + "unset output\n";
+  options.separate_errors = true;
+  options.timeout_seconds = 300;
+  const ProcessResult r = run_process({"gnuplot"}, options);
+  if (r.exit_code != 0 || r.output.empty()) {
+    if (!r.spawn_error.empty() || r.exit_code == 127)
+      error = "gnuplot is needed for --plot and was not found (install the Debian package gnuplot-nox)";
+    else if (r.timed_out)
+      error = "gnuplot did not finish within 300 s";
+    else
+      error = fmt::format("gnuplot failed (exit code {}): {}", r.exit_code, printable(r.errors.substr(0, 2000)));
+    return false;
+  }
+  driver::StagedFile file;
+  if (!file.stage(image, r.output, "--plot", error) || !file.commit(error)) {
+    if (error.rfind("mbsc: error: ", 0) == 0) error = error.substr(13);
     return false;
   }
   return true;
@@ -72,13 +97,15 @@ bool plot_columns(const std::string& csv, const std::vector<std::string>& names,
     error = fmt::format("--plot: '{}' should end in .svg or .png", printable(image));
     return false;
   }
+  std::string data;
+  if (!data_file_name(csv, data, error)) return false;
   const int n = static_cast<int>(ycols.size());
   std::string s = "set datafile separator ','\nset grid\nunset key\n";
   s += fmt::format("set multiplot layout {},1 title {}\n", n, quoted(title));
   for (int k = 0; k < n; ++k) {
     s += fmt::format("set ylabel {}\n", quoted(names[static_cast<std::size_t>(ycols[static_cast<std::size_t>(k)])]));
     s += k == n - 1 ? fmt::format("set xlabel {}\n", quoted(names[static_cast<std::size_t>(xcol)])) : "unset xlabel\n";
-    s += fmt::format("plot {} using {}:{} every ::1 with lines lw 1.5\n", quoted(csv), xcol + 1,
+    s += fmt::format("plot {} using {}:{} every ::1 with lines lw 1.5\n", data, xcol + 1,
                      ycols[static_cast<std::size_t>(k)] + 1);
   }
   s += "unset multiplot\n";
@@ -92,6 +119,8 @@ bool plot_panels(const std::string& csv, const std::vector<std::string>& names, 
     error = fmt::format("--plot: '{}' should end in .svg or .png", printable(image));
     return false;
   }
+  std::string data;
+  if (!data_file_name(csv, data, error)) return false;
   const int n = static_cast<int>(panels.size());
   std::string s = "set datafile separator ','\nset grid\nset key outside right\n";
   s += fmt::format("set multiplot layout {},1 title {}\n", n, quoted(title));
@@ -101,7 +130,7 @@ bool plot_panels(const std::string& csv, const std::vector<std::string>& names, 
     s += k == n - 1 ? fmt::format("set xlabel {}\n", quoted(names[static_cast<std::size_t>(xcol)])) : "unset xlabel\n";
     std::string plot = "plot ";
     for (std::size_t c = 0; c < panel.ycols.size(); ++c)
-      plot += fmt::format("{}{} using {}:{} every ::1 with lines lw 1.5 title {}", c ? ", " : "", quoted(csv), xcol + 1,
+      plot += fmt::format("{}{} using {}:{} every ::1 with lines lw 1.5 title {}", c ? ", " : "", data, xcol + 1,
                           panel.ycols[c] + 1, quoted(names[static_cast<std::size_t>(panel.ycols[c])]));
     s += panel.ycols.empty() ? "plot 0 notitle\n" : plot + "\n";
   }

@@ -64,6 +64,7 @@ int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
   opt.t_end = a.t_end;
   opt.dt_out = dt_out;
   opt.output_csv = to_stdout ? "" : csv_path;
+  opt.seconds_left = [&a] { return a.work.budget.seconds_left(); };
   // The branch: where the model's own initial state (and --init) assembles, when it does;
   // else the raw values given.
   std::vector<double> p;

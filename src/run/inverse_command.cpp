@@ -220,6 +220,13 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     const double t = k > steps || (k == steps && opt.t_start + steps * opt.dt_out > opt.t_end)
                          ? opt.t_end
                          : opt.t_start + k * opt.dt_out;
+    if (opt.seconds_left && opt.seconds_left() <= 0) {
+      out.exit_code = 1;
+      out.message = fmt::format("mbsc inverse: error: the time budget of the command ran out at t = {} (raise it with "
+                                "--budget SECONDS)",
+                                t);
+      break;
+    }
     runtime::InverseSample s;
     if (!inv.solve(t, x, s)) {
       out.exit_code = 2;
@@ -234,16 +241,20 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
   }
 
   if (!opt.output_csv.empty()) {
+    // All or nothing: a complete table replaces the destination; the rows computed before
+    // a failure stay in a temporary beside it, named in the message.
     driver::StagedFile file;
     std::string error;
-    if (!file.stage(opt.output_csv, inverse_csv(out.table), "-o", error) || !file.commit(error)) {
-      out.message = (out.message.empty() ? std::string() : out.message + "\n") + "-o: error: " + error;
+    if (!file.stage(opt.output_csv, inverse_csv(out.table), "-o", error) ||
+        (out.exit_code == 0 && !file.commit(error))) {
+      out.message = (out.message.empty() ? std::string() : out.message + "\n") + error;
       out.exit_code = out.exit_code == 0 ? 1 : out.exit_code;
       return out;
     }
-    if (out.exit_code == 2)
-      out.message += fmt::format("\nmbsc inverse: note: {} holds the {} row(s) computed before the failure", opt.output_csv,
-                                 out.table.rows.size());
+    if (out.exit_code != 0)
+      out.message += fmt::format("\nmbsc inverse: note: {} was left as it was; {} holds the {} row(s) computed before "
+                                 "the failure",
+                                 printable(opt.output_csv), printable(file.keep()), out.table.rows.size());
   }
   return out;
 }

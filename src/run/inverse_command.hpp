@@ -9,6 +9,7 @@
 /// functions (sin, cos, ^, pi, ...; docs/language.md), in t and the model's parameters;
 /// their first and second time derivatives are taken symbolically (GiNaC) and evaluated
 /// numerically at each sample.
+#include <functional>
 #include <map>
 #include <string>
 #include <utility>
@@ -34,6 +35,8 @@ struct InverseCommandOptions {
   double t_end = 1.0;
   double dt_out = 0.01;
   std::string output_csv;  // empty: no file
+  /// The command's seconds left (its --budget); the solve stops where it returns <= 0.
+  std::function<double()> seconds_left;
 };
 
 /// The computed table: t, every coordinate and speed (kStateNames), every input

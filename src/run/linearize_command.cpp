@@ -105,7 +105,10 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       return 0;
     }
     driver::StagedFile file;
-    if (!file.stage(a.out, text, "-o", error) || !file.commit(error)) return fail(error);
+    if (!file.stage(a.out, text, "-o", error) || !file.commit(error)) {
+      err << error << "\n";
+      return 1;
+    }
     if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.out));
     return 0;
   };

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/process.hpp"
 
 namespace fs = std::filesystem;
@@ -35,6 +36,17 @@ bool check_outputs(const std::vector<std::pair<std::string, std::string>>& outpu
       error = fmt::format("{}: '{}' is a folder; name a file", flag, printable(path));
       return false;
     }
+    if (const std::string why = driver::not_a_plain_file(path); !why.empty()) {
+      error = fmt::format("{}: '{}' {}", flag, printable(path), why);
+      return false;
+    }
+    // gnuplot reads the CSV by name and a line break would end its string: no output
+    // name holds a control character.
+    for (unsigned char c : path)
+      if (c < 0x20 || c == 0x7f) {
+        error = fmt::format("{}: '{}' holds a control character; name the file without one", flag, printable(path));
+        return false;
+      }
     for (const auto& s : sources)
       if (same_file(path, s)) {
         error = fmt::format("{}: '{}' is {}; mbsc will not overwrite it", flag, printable(path),

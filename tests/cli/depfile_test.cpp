@@ -125,6 +125,15 @@ TEST_CASE("generate --depfile is written with the code or not at all", "[cli][de
   r = run(in(dir, kMbsc + " generate main.mbs -o out --depfile lib --quiet"));
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("names a folder") != std::string::npos);
+  // A ';' in a path would start a recipe: make would run what follows as a command.
+  fs::create_directories(dir / "a;touch PWNED");
+  r = run(in(dir, kMbsc + " generate main.mbs -o 'a;touch PWNED' --depfile x.d --quiet"));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("starts a recipe") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "x.d"));
+  CHECK_FALSE(fs::exists(dir / "PWNED"));
+  fs::remove_all(dir / "a;touch PWNED");
   CHECK_FALSE(fs::exists(dir / "out" / "pend"));
   // No temporary file left anywhere.
   for (const auto& e : fs::recursive_directory_iterator(dir))

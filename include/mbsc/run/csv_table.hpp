@@ -1,33 +1,40 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// The CSV a run writes: a header of column names, then one row per output time, each
-/// number in the shortest form that reads back to the same double. The file is opened
-/// before the run starts (an unwritable path is an error before any work) and flushed
-/// row by row, so a run that fails keeps every row up to the failure.
-#include <cstdio>
+/// number in the shortest form that reads back to the same double ("nan", "inf" and
+/// "-inf" for values that are not finite). The rows go to a temporary file beside the
+/// destination (driver/staged_file.hpp), opened before the run starts (an unwritable
+/// path is an error before any work); close() renames it into place. A run that fails
+/// calls keep() instead: the destination is left as it was and the temporary, with every
+/// row up to the failure, stays for the message to name.
 #include <string>
 #include <vector>
+
+#include "mbsc/driver/staged_file.hpp"
 
 namespace mbsc::run {
 
 class CsvTable {
  public:
   CsvTable() = default;
-  ~CsvTable();
   CsvTable(const CsvTable&) = delete;
   CsvTable& operator=(const CsvTable&) = delete;
 
-  /// Opens `path` ("-" for standard output) and writes the header. False with `error`.
+  /// Opens `path` ("-" for standard output) and writes the header. False with `error`
+  /// (a whole "mbsc: error: ..." line).
   bool open(const std::string& path, const std::vector<std::string>& columns, std::string& error);
   void row(const std::vector<double>& values);
-  /// Flushes and closes; false with `error` when a write failed (disk full).
+  /// Moves the file into place; false with `error` when a write failed (disk full).
   bool close(std::string& error);
+  /// Leaves the destination alone and the rows in the temporary; returns its path ("-"
+  /// for standard output).
+  std::string keep();
   long rows() const { return rows_; }
   const std::string& path() const { return path_; }
 
  private:
-  std::FILE* f_ = nullptr;
-  bool owned_ = false;
+  driver::StagedFile file_;
+  bool to_stdout_ = false;
   long rows_ = 0;
   std::string path_;
 };

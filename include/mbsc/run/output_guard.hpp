@@ -2,7 +2,9 @@
 #pragma once
 /// Checks on the files `run`, `inverse` and `bench` will write, made before any work:
 /// an output must not be the model or a file it includes (also through a link), not a
-/// folder, not another output of the same command, and its folder must be writable; a
+/// folder or anything else that is not a plain file (a FIFO would block the run), not
+/// another output of the same command, hold no control character (a plot's script names
+/// the CSV), and its folder must be writable; a
 /// plot needs gnuplot. So a mistyped -o never destroys a user's file, and a run is not
 /// thrown away for a plot that cannot be drawn.
 #include <string>

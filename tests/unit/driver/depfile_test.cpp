@@ -27,9 +27,9 @@ TEST_CASE("depfile: paths are escaped as make reads them", "[driver][depfile]") 
 TEST_CASE("depfile: a path with a colon, or a backslash before '#', is refused, naming it", "[driver][depfile]") {
   std::string text = "unchanged", error;
   CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", "lib/a:b.mbs"}, text, error));
-  CHECK(error.find("'lib/a:b.mbs' has a ':'") != std::string::npos);
+  CHECK(error.find("'lib/a:b.mbs' holds ':'") != std::string::npos);
   CHECK_FALSE(depfile_text({"o:/x/x.hpp"}, {"x.mbs"}, text, error));
-  CHECK(error.find("'o:/x/x.hpp' has a ':'") != std::string::npos);
+  CHECK(error.find("'o:/x/x.hpp' holds ':'") != std::string::npos);
   // A path a\#b: make reads a depfile's a\\\#b as a\#b, ninja as a\\#b; ninja reads a\\#b
   // as a\#b, make as a\ and a comment.
   CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", "lib/a\\#b.mbs"}, text, error));
@@ -59,4 +59,22 @@ TEST_CASE("depfile: a path with a line break is refused, naming it", "[driver][d
   CHECK(error.find("line break") != std::string::npos);
   CHECK(error.find("bad\\x0Aname.mbs") != std::string::npos);
   CHECK_FALSE(depfile_text({"o/\rx/x.hpp"}, {"x.mbs"}, text, error));
+}
+
+TEST_CASE("depfile: every character make or ninja would read as syntax is refused, naming it", "[driver][depfile]") {
+  // ';' starts a recipe (a command make runs), '=' a target-specific variable, '|'
+  // order-only prerequisites, '%' a pattern rule, '&' grouped targets, parentheses an
+  // archive member, wildcards a glob; control characters end the rule.
+  for (const char c : std::string(";=|%&()*?[]\n\r\x01\x7f")) {
+    const std::string path = std::string("dir/a") + c + "b.mbs";
+    std::string text = "unchanged", error;
+    INFO(static_cast<int>(c));
+    CHECK_FALSE(depfile_text({"o/x/x.hpp"}, {"x.mbs", path}, text, error));
+    CHECK(text == "unchanged");
+    CHECK(error.find("a depfile cannot hold it") != std::string::npos);
+    CHECK_FALSE(depfile_text({"o/x" + std::string(1, c) + "/x.hpp"}, {"x.mbs"}, text, error));
+  }
+  // What has an escape stays allowed: spaces, tabs, '#', '$'.
+  std::string text, error;
+  CHECK(depfile_text({"o/x y/x.hpp"}, {"a b.mbs", "c\td.mbs", "e#f.mbs", "g$h.mbs"}, text, error));
 }
