@@ -38,6 +38,18 @@ class Parser {
  public:
   Parser(std::vector<Token> tokens, Diagnostics& diags) : toks_(std::move(tokens)), diags_(diags) {}
 
+  // expression := expr End (an option's value; false when it was reported)
+  ExprPtr parse_lone_expression() {
+    try {
+      ExprPtr e = parse_expr();
+      while (toks_[i_].kind == TK::Newline) ++i_;
+      if (!at(TK::End)) fail_expected("the end of the expression");
+      return e;
+    } catch (const SyntaxError&) {
+      return nullptr;
+    }
+  }
+
   // file := stmt*
   std::vector<StatementPtr> parse_file() {
     std::vector<StatementPtr> out;
@@ -963,6 +975,15 @@ bool parse_source(const std::string& text, const std::string& file, Diagnostics&
   out.path = file;
   out.statements = parser.parse_file();
   return diags.error_count() == errors_before;
+}
+
+ast::ExprPtr parse_expression(const std::string& text, const std::string& origin, Diagnostics& diags) {
+  const int errors_before = diags.error_count();
+  auto tokens = lex(text, origin);
+  if (diags.error_count() != errors_before) return nullptr;
+  Parser parser(std::move(tokens), diags);
+  ast::ExprPtr e = parser.parse_lone_expression();
+  return diags.error_count() == errors_before ? e : nullptr;
 }
 
 std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags,

@@ -14,36 +14,10 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/work_monitor.hpp"
+#include "mbsc/model/expr_convert.hpp"
+#include "mbsc/model/option_expression.hpp"
 
 namespace mbsc::run {
-
-namespace {
-
-/// A number, or a constant expression of the symbols in `table` (and pi).
-bool evaluate(const std::string& text, GiNaC::symtab table, const GiNaC::exmap& values, double& value, std::string& why) {
-  table["pi"] = GiNaC::Pi;
-  GiNaC::parser reader(table);
-  reader.strict = true;
-  try {
-    const GiNaC::ex e = GiNaC::evalf(reader(text).subs(values));
-    if (!GiNaC::is_a<GiNaC::numeric>(e) || !GiNaC::ex_to<GiNaC::numeric>(e).is_real()) {
-      why = "it is not a real number";
-      return false;
-    }
-    value = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
-  } catch (const std::exception& ex) {
-    const std::string w = ex.what();
-    why = w.find("symbol") != std::string::npos ? "it names something unknown here" : "it is not an expression";
-    return false;
-  }
-  if (!std::isfinite(value)) {
-    why = "its value is not finite";
-    return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 std::optional<model::Model> read_model(const std::string& path, const driver::WorkArgs& work,
                                        std::vector<std::string>& sources, std::ostream& err) {
@@ -70,34 +44,27 @@ bool parse_assignments(const std::vector<std::string>& items, const std::string&
 
 bool parse_assignments(const std::vector<std::string>& items, const std::string& flag,
                        std::map<std::string, double>& out, std::string& error, const std::map<std::string, double>& known) {
-  GiNaC::symtab table;
-  GiNaC::exmap values;
-  for (const auto& [name, v] : known) {
-    if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos ||
-        std::isdigit(static_cast<unsigned char>(name[0])))
-      continue;  // a dotted name cannot appear in an expression
-    GiNaC::symbol s(name);
-    table[name] = s;
-    values[s] = v;
-  }
+  model::OptionNames names;
+  for (const auto& [name, v] : known) names[name] = model::exact_decimal(v);
+  const std::string what = known.empty() ? "numbers and pi" : "numbers, pi and the --let names";
   for (const auto& item : items) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == item.size()) {
       error = fmt::format("{} expects name=value, got '{}'", flag, printable(item));
       return false;
     }
+    const std::string name = item.substr(0, eq);
     double v = 0;
     std::string why;
-    if (!evaluate(item.substr(eq + 1), table, values, v, why)) {
-      error = fmt::format("{} {}: '{}' is not a number ({})", flag, printable(item.substr(0, eq)),
-                          printable(item.substr(eq + 1)), why);
+    if (!model::option_value(item.substr(eq + 1), names, what, v, why)) {
+      error = fmt::format("{} {}: {}", flag, printable(name), why);
       return false;
     }
-    if (out.count(item.substr(0, eq))) {
-      error = fmt::format("{} {} is given twice", flag, printable(item.substr(0, eq)));
+    if (out.count(name)) {
+      error = fmt::format("{} {} is given twice", flag, printable(name));
       return false;
     }
-    out[item.substr(0, eq)] = v;
+    out[name] = v;
   }
   return true;
 }

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/model/option_expression.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/run/symbolic_linear_model.hpp"
@@ -92,33 +93,29 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   }
   // --set values that are expressions of the symbols (--set m=k/2 with k symbolic).
   {
-    GiNaC::parser reader(table);
-    reader.strict = true;
     for (const auto& [set_name, text] : texts_of(req.sets)) {
       const std::string& name = set_name;  // (a structured binding cannot be captured in C++17)
       const auto p = std::find_if(m.params.begin(), m.params.end(), [&](const model::Variable& v) { return v.name == name; });
       if (p == m.params.end() || out.nominal.count(p->sym)) continue;
-      GiNaC::ex e;
-      try {
-        e = fold_constants(reader(text));
-      } catch (const std::exception&) {
-        continue;  // the numeric reference has read it: a number
-      }
-      if (!e.info(GiNaC::info_flags::numeric)) out.at[p->sym] = e, table[name] = e;
+      std::string ignored;
+      const auto e = model::read_option_expression(text, model::OptionNames(table.begin(), table.end()), "", ignored);
+      if (!e) continue;  // the numeric reference has read it: a number
+      const GiNaC::ex folded = fold_constants(*e);
+      if (!folded.info(GiNaC::info_flags::numeric)) out.at[p->sym] = folded, table[name] = folded;
     }
   }
 
   // The expressions given for the state and the inputs.
-  GiNaC::parser reader(table);
-  reader.strict = true;
+  const model::OptionNames readable(table.begin(), table.end());
   auto parse = [&](const std::string& flag, const std::string& name, const std::string& text, GiNaC::ex& e) {
-    try {
-      e = fold_constants(reader(text));
-      return true;
-    } catch (const std::exception&) {
-      error = fmt::format("{} {}={}: not an expression of the parameters and --let names", flag, printable(name), printable(text));
+    std::string why;
+    const auto read = model::read_option_expression(text, readable, "the parameters and --let names", why);
+    if (!read) {
+      error = fmt::format("{} {}: {}", flag, printable(name), why);
       return false;
     }
+    e = fold_constants(*read);
+    return true;
   };
   std::map<std::string, GiNaC::ex> given;  // state or input name -> expression
   GiNaC::exmap model_values;                // the model's `initial` expressions: parameters as in the table

@@ -17,6 +17,11 @@ namespace mbsc::parse {
 std::optional<ast::File> parse_text(const std::string& text, const std::string& file, Diagnostics& diags,
                                     const std::map<std::string, double>& overrides = {});
 
+/// Parses `text` as one expression of the model language (a command-line option's
+/// value), with the same limits as in a model file (length, nesting, operands); positions
+/// are columns of `text`, with `origin` as the file name. Null when an error was reported.
+ast::ExprPtr parse_expression(const std::string& text, const std::string& origin, Diagnostics& diags);
+
 /// Why a number literal (digits, '.', exponent, no sign) is outside what a double holds
 /// ("is too large for a double ..."), or nullptr. The lexer's rule, shared by --freeze.
 const char* literal_out_of_double_range(const std::string& literal);
