@@ -224,6 +224,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods (1e-14 .. 0.1)")
       ->check(finite_above(1e-14 * 0.999, "a relative tolerance of at least 1e-14"))
+      ->check(CLI::Range(0.0, 0.1))
       ->capture_default_str();
   r->add_option("--atol", run.atol, "absolute tolerance of adaptive methods")
       ->check(finite_above(0, "a positive number"))
@@ -258,6 +259,10 @@ int main(int argc, char** argv) {
       ->check(finite_above(-1e-300, "a gain of 0 or more"));
   r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)")
       ->check(finite_above(-1e-300, "a gain of 0 or more"));
+  r->add_flag("--strict", run.strict,
+              "exit with code 2 when the summary warns: a column not finite, constraint residuals or an energy change "
+              "far beyond the tolerances");
+  r->add_flag("--large-output", run.large_output, "write a CSV even when it is estimated above a gigabyte");
   r->add_option("--cache-dir", run.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");
   WorkFlags run_work;
   run_work.add_to(r);

@@ -68,8 +68,7 @@ std::size_t default_memory_mib() {
 WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode)
     : budget_(budget),
       show_(mode != ProgressMode::Never && (mode == ProgressMode::Always || ::isatty(2))),
-      terminal_(::isatty(2) != 0),
-      start_(std::chrono::steady_clock::now()) {
+      terminal_(::isatty(2) != 0) {
   current_.stage = "reading";
   current_.element = "the model";
   set_activity_watcher(this);
@@ -91,7 +90,7 @@ void WorkMonitor::stop() {
 }
 
 void WorkMonitor::on_checkpoint(const Activity& a) {
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double elapsed = budget_.elapsed();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     current_ = a;
@@ -121,7 +120,7 @@ void WorkMonitor::watch() {
       if (stopping_) return;
       now = current_;
     }
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double elapsed = budget_.elapsed();
     const bool memory = budget_.memory_mib > 0 && resident_mib() > budget_.memory_mib;
     if (memory || elapsed > budget_.seconds + grace_seconds(budget_.seconds)) {
       // The main thread is inside one long call: end the process from here. No output

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <filesystem>
 #include <fmt/format.h>
 #include <optional>
@@ -26,6 +27,7 @@
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/output_guard.hpp"
+#include "mbsc/run/run_accuracy.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/runtime/simulate.hpp"
 
@@ -67,6 +69,10 @@ class RunProgress {
 
 std::vector<std::string> integrator_names() { return available_integrators(); }
 
+// Past this estimated size a CSV needs --large-output (about a gigabyte: 10^7 rows of a
+// bicycle's 50 columns are 11 GB).
+constexpr double kLargeOutputBytes = 1e9;
+
 int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   (void)out;
   auto fail = [&](const std::string& message) {
@@ -82,7 +88,8 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   if (std::find(known.begin(), known.end(), a.integrator) == known.end())
     return fail(fmt::format("--integrator: unknown method '{}'{} (known: {})", printable(a.integrator),
                             did_you_mean(a.integrator, known), list_names(known)));
-  if (!(a.rtol > 0 && a.rtol < 1) || !(a.atol > 0)) return fail("--rtol must lie in (0, 1) and --atol be positive");
+  if (!(a.rtol >= 1e-14 && a.rtol <= 0.1) || !(a.atol > 0 && std::isfinite(a.atol)))
+    return fail("--rtol must lie in [1e-14, 0.1] and --atol be a positive number");
   if (a.projection != "auto" && a.projection != "on" && a.projection != "off")
     return fail("--projection takes auto, on or off");
   if (!a.plot.empty() && plot_format(a.plot).empty())
@@ -192,8 +199,19 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     if (!choose_columns(column_names, wanted, plotted, error))
       return fail("--plot-columns: " + error + " (a plotted column must be in the CSV)");
   }
+  // A CSV far larger than anyone reads is refused before the run, unless asked for.
+  const double rows_expected = std::floor(a.t_end / dt_out) + 2;
+  const double bytes_expected = rows_expected * (static_cast<double>(column_names.size()) * 21.0 + 1.0);
+  if (csv_path != "-" && bytes_expected > kLargeOutputBytes && !a.large_output)
+    return fail(fmt::format("-o: the CSV would take about {:.3g} GB ({:.3g} rows of {} columns); choose a larger "
+                            "--dt-out or fewer --columns, or pass --large-output to write it anyway",
+                            bytes_expected / 1e9, rows_expected, column_names.size()));
   CsvTable csv;
-  if (!csv.open(csv_path, column_names, error)) return fail("-o: " + error);
+  if (!csv.open(csv_path, column_names, error)) {
+    err << error << "\n";
+    return 1;
+  }
+  NonFiniteColumns non_finite(column_names);
 
   // ---- integrate ----
   runtime::StepperOptions so;
@@ -230,64 +248,103 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // Residuals of the rows written (dense output between steps is not projected).
   double row_position = 0.0, row_velocity = 0.0;
   std::vector<double> res(static_cast<std::size_t>(std::max({1, T.nposc, T.nc})));
+  // Every row starts from NaN: a value a function could not give (a singular solve) is
+  // written as nan, never the previous row's. Status 2 (a value not finite) still fills
+  // its outputs, which are written as they are.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto gave = [](int status) { return status == 0 || status == 2; };
   auto observe = [&](double t, const std::vector<double>& x) {
+    std::fill(all.begin(), all.end(), nan);
     all[0] = t;
-    input_fn(t, uu.data());
+    if (input_fn(t, uu.data()) != 0) std::fill(uu.begin(), uu.end(), nan);
     if (T.full_state_layout()) {
       for (int i = 0; i < T.nx; ++i) all[1 + static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
-    } else if (T.full_state(t, x.data(), uu.data(), p.data(), full_x.data()) == 0) {
+    } else if (gave(T.full_state(t, x.data(), uu.data(), p.data(), full_x.data()))) {
       for (int i = 0; i < nfull; ++i) all[1 + static_cast<std::size_t>(i)] = full_x[static_cast<std::size_t>(i)];
     }
-    if (T.ny > 0 && T.outputs(t, x.data(), uu.data(), p.data(), y.data()) == 0)
+    if (T.ny > 0 && gave(T.outputs(t, x.data(), uu.data(), p.data(), y.data())))
       for (int i = 0; i < T.ny; ++i) all[first_output + static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(i)];
     for (int i = 0; i < T.nin && T.nin > 0; ++i) all[first_input + static_cast<std::size_t>(i)] = uu[static_cast<std::size_t>(i)];
     if (T.full_state_layout()) {
-      if (T.nposc > 0 && T.position_constraints(t, x.data(), uu.data(), p.data(), res.data()) == 0)
-        for (int i = 0; i < T.nposc; ++i) row_position = std::max(row_position, std::fabs(res[static_cast<std::size_t>(i)]));
-      if (T.nc > 0 && T.velocity_constraints(t, x.data(), uu.data(), p.data(), res.data()) == 0)
-        for (int i = 0; i < T.nc; ++i) row_velocity = std::max(row_velocity, std::fabs(res[static_cast<std::size_t>(i)]));
+      // A residual that is not finite makes the largest one NaN (std::max would drop it).
+      auto largest = [nan](double& worst, double r) { worst = std::isnan(r) || std::isnan(worst) ? nan : std::max(worst, std::fabs(r)); };
+      if (T.nposc > 0 && gave(T.position_constraints(t, x.data(), uu.data(), p.data(), res.data())))
+        for (int i = 0; i < T.nposc; ++i) largest(row_position, res[static_cast<std::size_t>(i)]);
+      if (T.nc > 0 && gave(T.velocity_constraints(t, x.data(), uu.data(), p.data(), res.data())))
+        for (int i = 0; i < T.nc; ++i) largest(row_velocity, res[static_cast<std::size_t>(i)]);
     }
     if (has_energy) {
-      double e[3];
-      if (T.energy(t, x.data(), uu.data(), p.data(), e) == 0) {
+      double e[3] = {nan, nan, nan};
+      if (gave(T.energy(t, x.data(), uu.data(), p.data(), e))) {
         for (int i = 0; i < 3; ++i) all[first_energy + static_cast<std::size_t>(i)] = e[i];
-        max_drift = std::max(max_drift, std::fabs(e[2] - e0[2]));
+        const double change = std::fabs(e[2] - e0[2]);
+        max_drift = std::isnan(change) || std::isnan(max_drift) ? nan : std::max(max_drift, change);
       }
     }
     for (std::size_t k = 0; k < columns.size(); ++k) row[k] = all[static_cast<std::size_t>(columns[k])];
     csv.row(row);
+    non_finite.row(t, row);
     progress.update(t);
   };
+  // The time budget covers the whole command: the run stops where it runs out.
+  sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
   const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();
-  const bool closed = csv.close(error);
 
   // ---- summary ----
   const auto& st = run.stats;
   err << fmt::format("mbsc: {} {} t = 0 .. {:g}: {} steps ({} accepted, {} rejected), {} rhs evaluations{}, {:.3g} s CPU\n",
                      m->name, run.method, r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
                      st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
-  if (T.nposc + T.nc > 0)
+  RunAccuracy accuracy;
+  accuracy.rtol = a.rtol, accuracy.atol = a.atol;
+  accuracy.constrained = T.nposc + T.nc > 0;
+  auto worst = [](double row, double step) { return std::isnan(row) ? row : std::max(row, step); };
+  accuracy.position_residual = worst(row_position, r.max_position_residual);
+  accuracy.velocity_residual = worst(row_velocity, r.max_velocity_residual);
+  if (accuracy.constrained)
     err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g} (at step ends {:.3g}, {:.3g}){}\n",
-                       std::max(row_position, r.max_position_residual), std::max(row_velocity, r.max_velocity_residual),
-                       r.max_position_residual, r.max_velocity_residual,
-                       projecting ? fmt::format("; projected {} times", r.projections) : "");
-  if (has_energy)
+                       accuracy.position_residual, accuracy.velocity_residual, r.max_position_residual,
+                       r.max_velocity_residual, projecting ? fmt::format("; projected {} times", r.projections) : "");
+  if (has_energy) {
     err << fmt::format("mbsc: energy change: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
                        a.inputs.empty() ? "" : ", the inputs do work");
+    accuracy.energy_defined = std::isfinite(e0[2]);
+    accuracy.energy_conserved = energy_is_conserved(*m);
+    accuracy.energy_change = max_drift;
+    accuracy.energy_scale = std::max({std::fabs(e0[0]), std::fabs(e0[1]), std::fabs(e0[2])});
+    if (!(accuracy.energy_scale > 0)) accuracy.energy_scale = 1;
+  }
   if (!r.switches.empty()) {
     std::string list;
     for (const auto& s : r.switches)
       list += fmt::format("{}t = {:g} -> {}", list.empty() ? "" : ", ", s.t, s.name);
     err << fmt::format("mbsc: independent set switched {} times: {}\n", r.switches.size(), list);
   }
-  if (!closed) return fail(error);
+  std::vector<std::string> warnings = non_finite.report();
+  if (r.ok()) {
+    const auto more = accuracy_warnings(accuracy);
+    warnings.insert(warnings.end(), more.begin(), more.end());
+  }
+  for (const auto& w : warnings) err << "mbsc: warning: " << w << "\n";
   if (!r.ok()) {
-    err << fmt::format("mbsc: error: the run failed at t = {:g}: {}; {} kept {} rows up to there{}\n", r.t, r.message,
-                       printable(csv_path), csv.rows(), a.plot.empty() ? "" : " (no plot drawn)");
-    return 2;
+    // The destination stays as it was; the rows up to the failure are in the temporary.
+    const std::string kept = csv.keep();
+    const bool budget = r.status == runtime::SimulationResult::Status::Stopped;
+    err << fmt::format("mbsc: error: the run {} at t = {:g}{}; {} row(s) up to there are in {}{}\n",
+                       budget ? "ran out of its time budget" : "failed", r.t,
+                       budget ? fmt::format(" ({:g} s for the whole command; raise it with --budget SECONDS)",
+                                            a.work.budget.seconds)
+                              : ": " + r.message,
+                       csv.rows(), kept == "-" ? std::string("standard output") : printable(kept),
+                       a.plot.empty() ? "" : " (no plot drawn)");
+    return budget ? 1 : 2;
+  }
+  if (!csv.close(error)) {
+    err << error << "\n";
+    return 1;
   }
   if (csv_path != "-" && !a.work.quiet)
     err << fmt::format("mbsc: wrote {} ({} rows, {} columns)\n", printable(csv_path), csv.rows(), columns.size());
@@ -295,6 +352,10 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     if (!plot_columns(csv_path, column_names, 0, plotted, a.plot, m->name, error))
       return fail(fmt::format("--plot: {} ({} was written)", error, printable(csv_path)));
     if (!a.work.quiet) err << fmt::format("mbsc: wrote {}\n", printable(a.plot));
+  }
+  if (a.strict && !warnings.empty()) {
+    err << fmt::format("mbsc: error: --strict: the run finished with {} warning(s) above\n", warnings.size());
+    return 2;
   }
   return 0;
 }

@@ -4,7 +4,7 @@
 /// progress line on stderr when it runs long. The stages report what they work on with
 /// mbsc::checkpoint (diag/activity.hpp).
 ///
-/// * Time: past `seconds`, the next checkpoint throws BudgetExceeded naming the element
+/// * Time: past `seconds` from the command's start, the next checkpoint throws BudgetExceeded naming the element
 ///   (the command reports it, exit 1). A single GiNaC call that does not come back to a
 ///   checkpoint is stopped by the watcher thread a grace period later: it prints the
 ///   same message and ends the process with exit code 1.
@@ -28,9 +28,15 @@ namespace mbsc::driver {
 /// budget, not the kernel's out-of-memory killer, stops a runaway.
 std::size_t default_memory_mib();
 
+/// The budget of one command, from its start: the symbolic work, the C++ compiler and
+/// the integration all spend the same seconds.
 struct WorkBudget {
   double seconds = 300;                         // --budget
   std::size_t memory_mib = default_memory_mib();  // --max-memory
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+
+  double elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+  double seconds_left() const { return seconds - elapsed(); }
 };
 
 enum class ProgressMode {
@@ -60,7 +66,6 @@ class WorkMonitor : public ActivityWatcher {
   WorkBudget budget_;
   bool show_;       // progress wanted at all
   bool terminal_;   // stderr is a terminal: redraw one line
-  std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::condition_variable wake_;
   Activity current_;

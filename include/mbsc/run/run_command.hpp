@@ -2,9 +2,10 @@
 #pragma once
 /// `mbsc run MODEL.mbs`: compile (or take from the cache), find a consistent initial
 /// state, integrate, write the CSV and the plot, and summarise the run on stderr.
-/// Exit codes: 0 done, 1 a user error before the run (model, option, initial state,
-/// compiler, output path), 2 a numerical failure during the run (the CSV keeps every
-/// row up to it).
+/// Exit codes: 0 done, 1 a user error (model, option, initial state, compiler, output
+/// path, a spent budget), 2 a numerical failure during the run (the destination is left
+/// as it was; a temporary file beside it, named in the message, keeps every row up to
+/// the failure) or, with --strict, an accuracy warning.
 #include <iosfwd>
 #include <map>
 #include <string>
@@ -35,6 +36,8 @@ struct RunArgs {
   std::string projection = "auto";  // auto (on for full state with constraints), on, off
   double baumgarte_alpha = -1, baumgarte_beta = -1;  // < 0: the model's defaults
   std::string cache_dir;
+  bool strict = false;            // --strict: accuracy warnings are failures (exit 2)
+  bool large_output = false;      // --large-output: write a CSV estimated above a gigabyte
   driver::WorkArgs work;
 };
 

@@ -139,6 +139,9 @@ struct SimulationOptions {
   /// (the nearest unit quaternion) and the stepper restarts. Leave it empty to let them
   /// drift (`mbsc run --projection off` does).
   std::vector<std::array<int, 4>> unit_quaternions;
+  /// Asked after every step with its time: true ends the run there (status Stopped), e.g.
+  /// when a time budget is spent (`mbsc run --budget`). Empty: never.
+  std::function<bool(double t)> stop_requested;
 };
 
 /// The unit quaternions of a generated model, from its kQuaternionIndices (four state
@@ -158,7 +161,7 @@ struct PartitionSwitch {
 };
 
 struct SimulationResult {
-  enum class Status { Ok, BadSetup, RhsFailed, NonFiniteState, StepTooSmall, TooManySteps, ProjectionFailed, SolverFailed };
+  enum class Status { Ok, BadSetup, RhsFailed, NonFiniteState, StepTooSmall, TooManySteps, ProjectionFailed, SolverFailed, Stopped };
   Status status = Status::Ok;
   std::string message;    // empty when Ok; else what happened, with t and the quantity
   double t = 0.0;         // where the run ended (t_end, or the last good state's time)
@@ -406,6 +409,11 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
     if (const int bad = detail::first_non_finite(x); bad >= 0)
       return finish(SimulationResult::Status::NonFiniteState,
                     std::string("'") + m.state_names[bad] + "' is not finite at t = " + format_number(t));
+    if (o.stop_requested && o.stop_requested(t)) {
+      res.t = t;
+      res.x = x;
+      return finish(SimulationResult::Status::Stopped, "stopped at t = " + format_number(t));
+    }
     bool restart = false;
     if (constrained && dyn.inputs_at(t) == 0) {
       double gp = 0, gv = 0;
