@@ -1,27 +1,24 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Benchmark driver for the planar N-link pendulum chain: mbsc's generated rhs against
 // sympy's generated mass matrix and forcing (KanesMethod) + the Cholesky solve and the
-// finiteness status check mbsc emits, and against SD/FAST's generated code
-// (sdstate + sdderiv, in joint coordinates) + the same status check.
+// finiteness status check mbsc emits.
 //
 // Built per N by bench/run_chain.sh:
 //   g++ -std=c++17 -O2 -march=x86-64 -DCHAIN_N=8 -DMBSC_HEADER='"chain8.hpp"' -I GEN/chain8
-//       bench/chain_driver.cpp chain8.o sympy_chain8.o [sdfast_chain8_dyn.o sdlib.o]
-//   (add -DNO_SYMPY without sympy's code, -DWITH_SDFAST with SD/FAST's)
+//       bench/chain_driver.cpp chain8.o sympy_chain8.o
+//   (add -DNO_SYMPY without sympy's code)
 //
 // `driver` prints key=value lines:
 //   states, max_rel_diff       agreement of the angle accelerations at 100 random consistent
 //                              states: per state max_k |a_k - b_k| / max_k |b_k| (a = mbsc,
 //                              b = sympy), the largest over the states
-//   sdfast_rel_diff            the same with b = SD/FAST's accelerations (its joint
-//                              accelerations summed along the chain into absolute ones)
 //   mbsc_ref_diff,             the same with a = the tool's accelerations and b = the
-//   sympy_ref_diff,            closed-form reference below (Lagrange's equations of the
-//   sdfast_ref_diff            chain, solved in long double)
-//   mbsc_ns, sympy_ns,         ns per rhs call, median of 5 repeats of a loop that takes
-//   sdfast_ns                  >= 0.5 s (the tools' repeats alternate); also
+//   sympy_ref_diff             closed-form reference below (Lagrange's equations of the
+//                              chain, solved in long double)
+//   mbsc_ns, sympy_ns          ns per rhs call, median of 5 repeats of a loop that takes
+//                              >= 0.5 s (the tools' repeats alternate); also
 //                              *_ns_min, *_ns_max, *_calls
-// `driver count TOOL` (TOOL = mbsc, sympy or sdfast) calls that tool's rhs once at each
+// `driver count TOOL` (TOOL = mbsc or sympy) calls that tool's rhs once at each
 // state (warm-up: lazy symbol binding, first-call set-up), then once more at each state
 // through count_calls(), the function bench/run_chain.sh gives to callgrind's
 // --toggle-collect: instructions per rhs call = callgrind's total / the printed calls.
@@ -56,19 +53,6 @@ constexpr bool kMinimal = gen::kNx == 2 * N;
 
 #ifndef NO_SYMPY
 extern "C" void SYMPY_MASS_FORCING(const double* q, const double* u, const double* p, double* M, double* F);
-#endif
-
-#ifdef WITH_SDFAST
-// SD/FAST's generated C (prefix sd): parameters, set-up, state, derivatives, errors.
-extern "C" {
-void sdmass(int body, double massin);
-void sdbtj(int joint, double btjin[3]);
-void sdgrav(double gravin[3]);
-void sdinit(void);
-void sdstate(double timein, double qin[], double uin[]);
-void sdderiv(double oqdot[], double oudot[]);
-void sderror(int* routine, int* errnum);
-}
 #endif
 
 namespace {
@@ -137,7 +121,7 @@ void mbsc_state(const Layout& L, const double* th, const double* w, double* x) {
 
 int rhs_mbsc(const double* x, double* xdot) { return gen::rhs(0.0, x, nullptr, g_pm, xdot); }
 
-#if !defined(NO_SYMPY) || defined(WITH_SDFAST)
+#ifndef NO_SYMPY
 // The status check mbsc's generated functions end with (status 2 instead of a silent
 // inf or NaN), copied so that every rhs meets the same contract.
 bool all_finite(const double* v, int n) {
@@ -198,47 +182,11 @@ int rhs_sympy(const double* x, double* xdot) {
 }
 #endif
 
-#ifdef WITH_SDFAST
-// SD/FAST's rhs in its own state: x = (q, u) joint angles and rates, xdot = (qdot, udot).
-// sdstate skips its kinematics when t and q equal the previous call's; consecutive
-// calls here always differ in q. Status 1 when SD/FAST flagged an error.
-int rhs_sdfast(const double* x, double* xdot) {
-  sdstate(0.0, const_cast<double*>(x), const_cast<double*>(x + N));
-  sdderiv(xdot, xdot + N);
-  int routine = 0, err = 0;
-  sderror(&routine, &err);
-  if (err != 0) return 1;
-  return all_finite(xdot, 2 * N) ? 0 : 2;
-}
-
-// Joint coordinates of the absolute angles th and rates w: q_k = th_k - th_(k-1).
-void sdfast_state(const double* th, const double* w, double* x) {
-  for (int k = 0; k < N; ++k) {
-    x[k] = th[k] - (k > 0 ? th[k - 1] : 0.0);
-    x[N + k] = w[k] - (k > 0 ? w[k - 1] : 0.0);
-  }
-}
-
-void sdfast_setup() {
-  for (int k = 0; k < N; ++k) {
-    sdmass(k, g_ps[0]);
-    double btj[3] = {0.0, g_ps[1], 0.0};
-    sdbtj(k, btj);
-  }
-  double grav[3] = {0.0, -g_ps[2], 0.0};
-  sdgrav(grav);
-  sdinit();
-  int routine = 0, err = 0;
-  sderror(&routine, &err);
-  if (err != 0) die("SD/FAST set-up failed: routine " + std::to_string(routine) + ", error " + std::to_string(err));
-}
-#endif
-
 // The reference: the chain's equations of motion in closed form (Lagrange, absolute
 // angles th, rates w, 0-based k; c_ij = N - max(i, j) bobs hang below both rods i, j):
 //   sum_j c_ij cos(th_i - th_j) th_j'' = -sum_j c_ij sin(th_i - th_j) w_j^2 - (g/l) c_ii sin th_i
 // (m l^2 divided out), solved by Gaussian elimination with partial pivoting, all in
-// long double: a formulation independent of the three tools.
+// long double: a formulation independent of the tools.
 void reference_accel(const double* th, const double* w, double* thdd) {
   const long double gl = static_cast<long double>(g_ps[2]) / static_cast<long double>(g_ps[1]);
   std::vector<long double> A(static_cast<std::size_t>(N * N)), b(N);
@@ -359,7 +307,7 @@ int main(int argc, char** argv) {
   std::mt19937_64 rng(20240607u + N);
   std::uniform_real_distribution<double> ang(-M_PI, M_PI), rate(-2.0, 2.0);
   constexpr int kStates = 100;
-  std::vector<std::vector<double>> xm, xsym, xsd, ths, ws;
+  std::vector<std::vector<double>> xm, xsym, ths, ws;
   for (int s = 0; s < kStates; ++s) {
     double th[N], w[N];
     for (int k = 0; k < N; ++k) th[k] = ang(rng);
@@ -375,15 +323,7 @@ int main(int argc, char** argv) {
       y[static_cast<std::size_t>(N + k)] = w[k];
     }
     xsym.push_back(y);
-#ifdef WITH_SDFAST
-    std::vector<double> z(2 * N);
-    sdfast_state(th, w, z.data());
-    xsd.push_back(z);
-#endif
   }
-#ifdef WITH_SDFAST
-  sdfast_setup();
-#endif
 
   if (argc == 3 && std::string(argv[1]) == "count") {
     const std::string tool = argv[2];
@@ -394,9 +334,6 @@ int main(int argc, char** argv) {
 #ifndef NO_SYMPY
     if (tool == "sympy") f = rhs_sympy, xs = &xsym, nout = 2 * N;
 #endif
-#ifdef WITH_SDFAST
-    if (tool == "sdfast") f = rhs_sdfast, xs = &xsd, nout = 2 * N;
-#endif
     if (f == nullptr) die("count: no tool " + tool + " in this build");
     std::vector<double> out(static_cast<std::size_t>(nout));
     for (const auto& x : *xs)
@@ -406,12 +343,12 @@ int main(int argc, char** argv) {
     std::printf("count_tool=%s\ncount_calls=%zu\n", tool.c_str(), xs->size());
     return 0;
   }
-  if (argc != 1) die("usage: driver [count mbsc|sympy|sdfast]");
+  if (argc != 1) die("usage: driver [count mbsc|sympy]");
 
   std::printf("n=%d\nstates=%d\n", N, kStates);
   double sink = 0.0;
   // Absolute angle accelerations of each tool at each state, then the comparisons.
-  std::vector<std::vector<double>> ref(kStates, std::vector<double>(N)), am = ref, as = ref, asd = ref;
+  std::vector<std::vector<double>> ref(kStates, std::vector<double>(N)), am = ref, as = ref;
   for (int s = 0; s < kStates; ++s) {
     const auto si = static_cast<std::size_t>(s);
     reference_accel(ths[si].data(), ws[si].data(), ref[si].data());
@@ -428,16 +365,6 @@ int main(int argc, char** argv) {
       if (b[static_cast<std::size_t>(k)] != ws[si][static_cast<std::size_t>(k)]) die("sympy angle rates differ");
     }
 #endif
-#ifdef WITH_SDFAST
-    if (rhs_sdfast(xsd[si].data(), b.data()) != 0) die("SD/FAST rhs failed");
-    double thdd = 0.0;
-    for (int k = 0; k < N; ++k) {
-      thdd += b[static_cast<std::size_t>(N + k)];  // absolute acceleration = sum of the joint ones
-      asd[si][static_cast<std::size_t>(k)] = thdd;
-      // the joint angle rates must be the joint speeds
-      if (b[static_cast<std::size_t>(k)] != xsd[si][static_cast<std::size_t>(N + k)]) die("SD/FAST angle rates differ");
-    }
-#endif
   }
   auto worst = [&](const std::vector<std::vector<double>>& a, const std::vector<std::vector<double>>& b) {
     double w = 0.0;
@@ -450,10 +377,6 @@ int main(int argc, char** argv) {
   std::printf("max_rel_diff=%.3e\n", worst(am, as));
   std::printf("sympy_ref_diff=%.3e\n", worst(as, ref));
 #endif
-#ifdef WITH_SDFAST
-  std::printf("sdfast_rel_diff=%.3e\n", worst(asd, am));
-  std::printf("sdfast_ref_diff=%.3e\n", worst(asd, ref));
-#endif
   std::fflush(stdout);
   // The tools' repeats alternate (mbsc, sympy, mbsc, ...) so that a load change on the
   // machine hits both alike.
@@ -461,9 +384,6 @@ int main(int argc, char** argv) {
   runs.push_back(Timed{"mbsc", rhs_mbsc, &xm, gen::kNx, 1, {}});
 #ifndef NO_SYMPY
   runs.push_back(Timed{"sympy", rhs_sympy, &xsym, 2 * N, 1, {}});
-#endif
-#ifdef WITH_SDFAST
-  runs.push_back(Timed{"sdfast", rhs_sdfast, &xsd, 2 * N, 1, {}});
 #endif
   for (Timed& b : runs) calibrate(b, sink);
   for (int r = 0; r < 5; ++r)

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-2.0-or-later
 #
-# Planar N-link pendulum chain: mbsc against sympy.physics.mechanics (KanesMethod) and
-# SD/FAST (Order(N) formulation), N = 2 4 8 16 32 64, measured in the same run. The
-# single entry point:
+# Planar N-link pendulum chain: mbsc against sympy.physics.mechanics (KanesMethod),
+# N = 2 4 8 16 32 64, measured in the same run. The single entry point:
 #
-#   SDFAST_SRC=/path/to/sdfast bash bench/run_chain.sh   (from the repository root;
-#   ~55 min on 2 loaded cores with NS="2 4 8 16 32 64 128", g++ on mbsc's N = 128 file most of it)
+#   bash bench/run_chain.sh   (from the repository root; ~8 min on 2 cores)
+#
+# The SD/FAST figures in docs/benchmarks.md were measured outside this repository
+# (see "How the SD/FAST figures were measured" there); no script here builds SD/FAST.
 #
 # Environment: NS="2 4 8" to run other sizes; STATE=minimal (default: mbsc's state is
 # (angles, rates) like sympy's) or STATE=full (all 6N coordinates and speeds); SYMPY_TIMEOUT (default 300 s);
@@ -14,15 +15,13 @@
 # MBSC_GEN_FLAGS (extra flags of `mbsc generate`, e.g. "--solver sparse");
 # MBSC_BIN: an mbsc binary to measure instead of building one in build-bench/ (before/after
 # comparisons); OUT_NAME: the result files' name instead of chain / chain_full.
-# SDFAST_SRC: a checkout of SD/FAST's open source release (Apache-2.0; built here with
-# CMake into build-sdfast/, never part of mbsc); without it the SD/FAST peer is skipped
-# with a message. CALLGRIND=0 skips the instruction counts.
-# Needs g++, gcc, cmake, the build dependencies of mbsc, /usr/bin/python3 with sympy
+# CALLGRIND=0 skips the instruction counts.
+# Needs g++, cmake, the build dependencies of mbsc, /usr/bin/python3 with sympy
 # (Debian python3-sympy), GNU time and valgrind (Debian packages `time` and `valgrind`;
 # these three are installed with apt-get when missing and running as root).
 #
 # Per N and tool: generation wall and CPU time and peak memory, compile time and peak
-# memory (g++/gcc -O2), instructions per rhs call (callgrind, the primary and
+# memory (g++ -O2), instructions per rhs call (callgrind, the primary and
 # load-independent metric), ns per rhs call, and the accuracy the figures were measured
 # at: each tool's accelerations against a long-double closed-form reference and against
 # mbsc's, at 100 random states (bench/chain_driver.cpp). A difference above ACC_LIMIT
@@ -44,13 +43,10 @@ SYMPY_TIMEOUT=${SYMPY_TIMEOUT:-300}
 SYMPY_MAX_N=${SYMPY_MAX_N:-64}
 MBSC_TIMEOUT=${MBSC_TIMEOUT:-900}
 MBSC_GEN_FLAGS=${MBSC_GEN_FLAGS:-}
-SDFAST_SRC=${SDFAST_SRC:-}
 CALLGRIND=${CALLGRIND:-1}
 ACC_LIMIT=${ACC_LIMIT:-1e-10}
 PY=/usr/bin/python3
 CXXFLAGS_BENCH="-std=c++17 -O2 -march=x86-64"
-CFLAGS_SDFAST="-O2 -march=x86-64 -w"   # SD/FAST writes C (1990s style): gcc, same optimization
-SDFAST_BUILD=build-sdfast
 WORK=bench/work
 RES=bench/results
 BUILD=build-bench
@@ -75,21 +71,6 @@ if ! $PY -c 'import sympy' 2>/dev/null; then
 fi
 $PY -c 'import sympy' 2>/dev/null || { echo "run_chain: $PY has no sympy (apt-get install python3-sympy)" >&2; exit 1; }
 
-# --- SD/FAST (optional peer, built from the user's checkout) ------------------------------
-SDFAST=""
-if [ -z "$SDFAST_SRC" ]; then
-  log "SDFAST_SRC not set: the SD/FAST peer is skipped (set it to a checkout of SD/FAST's open source release)"
-elif [ ! -f "$SDFAST_SRC/CMakeLists.txt" ] || [ ! -d "$SDFAST_SRC/sdfast_main" ]; then
-  echo "run_chain: SDFAST_SRC=$SDFAST_SRC is not an SD/FAST checkout (no CMakeLists.txt and sdfast_main/)" >&2
-  exit 1
-else
-  log "building SD/FAST from $SDFAST_SRC in $SDFAST_BUILD"
-  cmake -S "$SDFAST_SRC" -B "$SDFAST_BUILD" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$SDFAST_BUILD" -j2 >/dev/null
-  SDFAST=$(cd "$SDFAST_BUILD" && pwd)/sdfast
-  [ -x "$SDFAST" ] || { echo "run_chain: no $SDFAST after the build" >&2; exit 1; }
-fi
-
 if [ -z "${MBSC_BIN:-}" ]; then
   log "building mbsc (Release) in $BUILD"
   cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DMBSC_BUILD_TESTS=OFF -DMBSC_BUILD_APPS=OFF >/dev/null
@@ -109,10 +90,6 @@ mkdir -p "$WORK" "$RES"
   echo "g++: $(g++ --version | head -1)"
   echo "mbsc: $($MBSC --version 2>&1 | head -1), sources hash $(find src include templates cmake CMakeLists.txt -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16) (sha256 of the sha256s of src/ include/ templates/ cmake/ CMakeLists.txt when built; others may edit them)"
   echo "sympy: $($PY -c 'import sympy; print(sympy.__version__)') (python $($PY -c 'import platform; print(platform.python_version())'))"
-  if [ -n "$SDFAST" ]; then
-    echo "sdfast: $(git -C "$SDFAST_SRC" log -1 --format='commit %H (%cs)' 2>/dev/null || echo 'not a git checkout'), run as: sdfast -n -l c -g dl (Order(N) formulation, C)"
-    echo "gcc: $(gcc --version | head -1), flags $CFLAGS_SDFAST -c (SD/FAST's generated C and its sdlib.c)"
-  fi
   echo "valgrind: $(valgrind --version 2>/dev/null || echo none) (callgrind, instructions of 100 rhs calls after 100 warm-up calls)"
   echo "flags: g++ $CXXFLAGS_BENCH -c (generated code and driver)"
   echo "mbsc state: --state $STATE; extra generate flags: ${MBSC_GEN_FLAGS:-none}"
@@ -121,7 +98,7 @@ mkdir -p "$WORK" "$RES"
 cat "$RES/${OUT}_env.txt" >&2
 
 CSV=$RES/$OUT.csv
-# max_rel_diff: against sympy for mbsc, against mbsc for sympy and sdfast; ref_rel_diff:
+# max_rel_diff: against sympy for mbsc, against mbsc for sympy; ref_rel_diff:
 # against the long-double reference (bench/chain_driver.cpp).
 echo "n,tool,status,gen_s,peak_rss_mib,rhs_ops,count_ops_sympy,compile_s,ns_per_call,ns_min,ns_max,max_rel_diff,derive_s,codegen_s,gen_cpu_s,compile_rss_mib,instr_per_call,ref_rel_diff" > "$CSV"
 
@@ -224,34 +201,12 @@ print(d["derive_s"], d["codegen_s"], d["ops_mbsc_conv"], d["count_ops"], round(d
     fi
   fi
 
-  # --- SD/FAST: generate (Order(N)) + compile ---
-  d_status="skipped (SDFAST_SRC not set)"
-  if [ -n "$SDFAST" ]; then
-    mkdir -p "$dir/sdfast"
-    $PY bench/sdfast_chain.py "$n" "$dir/sdfast/$name.sd"
-    log "N=$n SD/FAST generate (Order(N))"
-    if (cd "$dir/sdfast" && timed "$SDFAST" -n -l c -g dl "$name.sd" "sdfast_$name" >../sdfast_gen.log 2>&1 &&
-        echo "$t_wall $t_cpu $t_rss_mib" >../sdfast_gen.txt); then
-      read -r d_gen d_cpu d_mem < "$dir/sdfast_gen.txt"
-      log "N=$n SD/FAST compile"
-      timed gcc $CFLAGS_SDFAST -c "$dir/sdfast/sdfast_${name}_dyn.c" -o "$dir/sdfast_$name.o"
-      d_cc=$t_wall
-      d_ccmem=$t_rss_mib
-      gcc $CFLAGS_SDFAST -c "$dir/sdfast/sdlib.c" -o "$dir/sdlib.o"   # its fixed library, not timed
-      d_status=ok
-    else
-      d_status="failed"
-      log "N=$n SD/FAST generate failed, see $dir/sdfast_gen.log"
-    fi
-  fi
-
   # --- driver: agreement and speed ---
   diff="" ; m_ns="" ; s_ns=""
   if [ -n "$mbsc_ok" ]; then
     objs="$dir/$name.o"
     defs="-DCHAIN_N=$n -DMBSC_HEADER=\"$name.hpp\""
     if [ "$s_status" = ok ]; then objs="$objs $dir/sympy_$name.o"; else defs="$defs -DNO_SYMPY"; fi
-    if [ "$d_status" = ok ]; then objs="$objs $dir/sdfast_$name.o $dir/sdlib.o"; defs="$defs -DWITH_SDFAST"; fi
     log "N=$n driver (check at 100 states, then timing)"
     # shellcheck disable=SC2086
     g++ $CXXFLAGS_BENCH $defs -I "$dir/gen/$name" bench/chain_driver.cpp $objs -o "$dir/driver"
@@ -266,21 +221,12 @@ print(d["derive_s"], d["codegen_s"], d["ops_mbsc_conv"], d["count_ops"], round(d
       s_ir=$(instructions "$dir" sympy)
       echo "$n,sympy,ok,$s_gen,$s_mem,$s_ops,$s_raw,$s_cc,$(val sympy_ns),$(val sympy_ns_min),$(val sympy_ns_max),$diff,$s_der,$s_cg,$s_cpu,$s_ccmem,$s_ir,$(val sympy_ref_diff)" >> "$CSV"
     fi
-    if [ "$d_status" = ok ]; then
-      d_ir=$(instructions "$dir" sdfast)
-      echo "$n,sdfast,ok,$d_gen,$d_mem,,,$d_cc,$(val sdfast_ns),$(val sdfast_ns_min),$(val sdfast_ns_max),$(val sdfast_rel_diff),,,$d_cpu,$d_ccmem,$d_ir,$(val sdfast_ref_diff)" >> "$CSV"
-    fi
   fi
   # no driver without mbsc's code: no speed, no agreement
   if [ "$s_status" != ok ]; then
     echo "$n,sympy,$s_status,,,,,,,,,,,,,,," >> "$CSV"
   elif [ -z "$mbsc_ok" ]; then
     echo "$n,sympy,ok,$s_gen,$s_mem,$s_ops,$s_raw,$s_cc,,,,,$s_der,$s_cg,$s_cpu,$s_ccmem,," >> "$CSV"
-  fi
-  if [ "$d_status" != ok ]; then
-    echo "$n,sdfast,$d_status,,,,,,,,,,,,,,," >> "$CSV"
-  elif [ -z "$mbsc_ok" ]; then
-    echo "$n,sdfast,ok,$d_gen,$d_mem,,,$d_cc,,,,,,,$d_cpu,$d_ccmem,," >> "$CSV"
   fi
 done
 echo "load average at end: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$RES/${OUT}_env.txt"
@@ -293,7 +239,7 @@ import csv, math, sys
 
 rows = list(csv.DictReader(open(sys.argv[1])))
 limit = float(sys.argv[3])
-names = {"mbsc": "mbsc", "sympy": "sympy", "sdfast": "SD/FAST Order(N)"}
+names = {"mbsc": "mbsc", "sympy": "sympy"}
 
 
 def num(r, k):
@@ -326,9 +272,8 @@ out.append("")
 out.append("Ratios mbsc / peer (same run; < 1 means mbsc is smaller or faster; instr. = callgrind "
            "instructions per rhs call):")
 out.append("")
-out.append("| N | instr. / SD/FAST | instr. / sympy | instr. / best peer | ns / SD/FAST | ns / sympy | "
-           "generation CPU / SD/FAST | compile / SD/FAST |")
-out.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
+out.append("| N | instr. / sympy | ns / sympy |")
+out.append("|---:|---:|---:|")
 by = {(r["n"], r["tool"]): r for r in rows if r["status"] == "ok"}
 
 
@@ -338,13 +283,8 @@ def ratio(a, b, k):
 
 
 for n in dict.fromkeys(r["n"] for r in rows):
-    m, s, d = by.get((n, "mbsc")), by.get((n, "sympy")), by.get((n, "sdfast"))
-    peers = [num(p, "instr_per_call") for p in (s, d) if p and num(p, "instr_per_call")]
-    best = None
-    if m and num(m, "instr_per_call") and peers:
-        best = num(m, "instr_per_call") / min(peers)
-    cells = [ratio(m, d, "instr_per_call"), ratio(m, s, "instr_per_call"), best, ratio(m, d, "ns_per_call"),
-             ratio(m, s, "ns_per_call"), ratio(m, d, "gen_cpu_s"), ratio(m, d, "compile_s")]
+    m, s = by.get((n, "mbsc")), by.get((n, "sympy"))
+    cells = [ratio(m, s, "instr_per_call"), ratio(m, s, "ns_per_call")]
     out.append(f"| {n} | " + " | ".join(fmt(c, ".3g") for c in cells) + " |")
 
 # growth exponents: least squares of log(y) on log(N) over N >= 16
@@ -366,7 +306,7 @@ def slope(pts):
     return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else None
 
 
-for tool in ("mbsc", "sympy", "sdfast"):
+for tool in ("mbsc", "sympy"):
     rs = [r for r in rows if r["tool"] == tool and r["status"] == "ok" and int(r["n"]) >= 16]
     if not rs:
         continue
