@@ -65,13 +65,22 @@ std::size_t default_memory_mib() {
   return limit;
 }
 
-WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode)
+WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode, std::string what)
+    : WorkMonitor(budget, mode, std::move(what), true) {}
+
+WorkMonitor WorkMonitor::whole_command(const WorkBudget& budget) {
+  return WorkMonitor(budget, ProgressMode::Never, "the command", false);
+}
+
+WorkMonitor::WorkMonitor(const WorkBudget& budget, ProgressMode mode, std::string what, bool checkpoints_stop)
     : budget_(budget),
+      what_(std::move(what)),
+      checkpoints_stop_(checkpoints_stop),
       show_(mode != ProgressMode::Never && (mode == ProgressMode::Always || ::isatty(2))),
       terminal_(::isatty(2) != 0) {
   current_.stage = "reading";
   current_.element = "the model";
-  set_activity_watcher(this);
+  previous_ = set_activity_watcher(this);
   thread_ = std::thread([this] { watch(); });
 }
 
@@ -83,7 +92,7 @@ void WorkMonitor::stop() {
     if (stopping_) return;
     stopping_ = true;
   }
-  set_activity_watcher(nullptr);
+  set_activity_watcher(previous_);
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
   clear_line();
@@ -95,18 +104,24 @@ void WorkMonitor::on_checkpoint(const Activity& a) {
     std::lock_guard<std::mutex> lock(mutex_);
     current_ = a;
   }
-  if (elapsed > budget_.seconds) throw BudgetExceeded{a.pos, budget_message(a, false)};
+  if (checkpoints_stop_ && elapsed > budget_.seconds) throw BudgetExceeded{a.pos, budget_message(a, false)};
+}
+
+void WorkMonitor::note(const std::string& stage, const std::string& element) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  current_.stage = stage;
+  current_.element = element;
 }
 
 std::string WorkMonitor::budget_message(const Activity& a, bool memory) const {
   const std::string where = a.element.empty() ? a.stage : a.stage + " " + a.element;
   if (memory)
-    return fmt::format("the symbolic work took more than the memory budget of {} MiB while {} (is the model much larger "
+    return fmt::format("{} took more than the memory budget of {} MiB while {} (is the model much larger "
                        "than intended? raise the budget with --max-memory MIB)",
-                       budget_.memory_mib, where);
-  return fmt::format("the symbolic work took more than the time budget of {:g} s while {} (is the model much larger "
+                       what_, budget_.memory_mib, where);
+  return fmt::format("{} took more than the time budget of {:g} s while {} (is the model much larger "
                      "than intended? raise the budget with --budget SECONDS)",
-                     budget_.seconds, where);
+                     what_, budget_.seconds, where);
 }
 
 void WorkMonitor::watch() {

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/eigen_sweep.hpp"
@@ -74,6 +75,8 @@ bool parse_sweep(const std::string& text, std::string& name, std::vector<double>
 }
 
 int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
+  // The budgets cover the whole command: past them its watcher ends the process.
+  const auto watch = driver::WorkMonitor::whole_command(a.work.budget);
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;

@@ -10,6 +10,7 @@
 
 #include "inverse_command.hpp"
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
@@ -19,6 +20,8 @@
 namespace mbsc::run {
 
 int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
+  // The budgets cover the whole command: past them its watcher ends the process.
+  const auto watch = driver::WorkMonitor::whole_command(a.work.budget);
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/staged_file.hpp"
 #include "mbsc/run/compiled_model.hpp"
@@ -76,6 +77,8 @@ std::string square_text(const char* label, const std::vector<double>& M, const s
 }  // namespace
 
 int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) {
+  // The budgets cover the whole command: past them its watcher ends the process.
+  const auto watch = driver::WorkMonitor::whole_command(a.work.budget);
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;

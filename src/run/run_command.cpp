@@ -74,6 +74,8 @@ std::vector<std::string> integrator_names() { return available_integrators(); }
 constexpr double kLargeOutputBytes = 1e9;
 
 int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
+  // The budgets cover the whole command: past them its watcher ends the process.
+  auto watch = driver::WorkMonitor::whole_command(a.work.budget);
   (void)out;
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
@@ -288,6 +290,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   };
   // The time budget covers the whole command: the run stops where it runs out.
   sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
+  watch.note("integrating", "model " + m->name);
   const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;

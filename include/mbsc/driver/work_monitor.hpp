@@ -47,23 +47,39 @@ enum class ProgressMode {
 
 class WorkMonitor : public ActivityWatcher {
  public:
-  WorkMonitor(const WorkBudget& budget, ProgressMode mode);
+  /// `what` names the work in the budget messages ("the symbolic work"; a command that
+  /// also compiles and integrates watches itself as a whole, "the command"). A monitor
+  /// made while another is installed takes the checkpoints until it stops, then hands
+  /// them back.
+  WorkMonitor(const WorkBudget& budget, ProgressMode mode, std::string what = "the symbolic work");
+
+  /// The watch over a whole command (run, inverse, bench, linearize, eig): its thread ends
+  /// the process past the memory budget or a grace period past the time budget, whatever
+  /// the command is doing (the compiler and the integration stop themselves at the time
+  /// budget); its checkpoints only record, never throw. No progress line.
+  static WorkMonitor whole_command(const WorkBudget& budget);
   ~WorkMonitor() override;
   WorkMonitor(const WorkMonitor&) = delete;
   WorkMonitor& operator=(const WorkMonitor&) = delete;
 
   void on_checkpoint(const Activity& a) override;
+  /// Records what the work is on now, for the messages, without checking the budget.
+  void note(const std::string& stage, const std::string& element);
 
   /// Stops watching (joins the thread, clears the progress line); idempotent.
   void stop();
 
  private:
+  WorkMonitor(const WorkBudget& budget, ProgressMode mode, std::string what, bool checkpoints_stop);
   void watch();
   std::string budget_message(const Activity& a, bool memory) const;
   void draw(const Activity& a, double elapsed);
   void clear_line();
 
   WorkBudget budget_;
+  std::string what_;
+  bool checkpoints_stop_ = true;  // a checkpoint past the time budget throws BudgetExceeded
+  ActivityWatcher* previous_ = nullptr;  // the watcher this one stands in for while it runs
   bool show_;       // progress wanted at all
   bool terminal_;   // stderr is a terminal: redraw one line
   std::mutex mutex_;
