@@ -80,6 +80,7 @@ class Builder {
 
   std::optional<Model> run(const ast::File& file) {
     top_ = &file.statements;
+    file_path_ = file.path;
     check_reserved_names(file.statements);
     if (diags_.has_errors()) return std::nullopt;  // (a name taken twice would also clash below)
     collect_globals(file.statements);
@@ -188,7 +189,8 @@ class Builder {
           break;
       }
     }
-    if (m_.name.empty()) diags_.error(SourcePos{file_of(stmts), 1, 1}, "missing 'model NAME' statement");
+    // At the file's start, named even when it holds no statement (an empty file).
+    if (m_.name.empty()) diags_.error(SourcePos{file_path_, 1, 1}, "missing 'model NAME' statement");
     if (gravity_stmt_) {
       m_.gravity_pos = gravity_stmt_->pos;
       global_context_ = "gravity";
@@ -263,10 +265,6 @@ class Builder {
       else if (s.kind == Kind::Axis) library_.add_axis(PlanarLibrary::kGround, s.name, v[0], v[1], v[2], v[3], s.name_pos);
       else diags_.error(s.pos, "only 'point' and 'axis' statements belong in 'ground'");
     }
-  }
-
-  static std::string file_of(const std::vector<ast::StatementPtr>& stmts) {
-    return stmts.empty() ? std::string() : stmts.front()->pos.file;
   }
 
   /// The kind of name a statement declares ("parameter", "point"...), or nullptr.
@@ -1803,6 +1801,7 @@ class Builder {
   std::map<std::string, SourcePos> output_names_;  // where each output is declared
   std::map<std::string, SourcePos> latex_pos_;  // where each name's `latex` statement is
   const std::vector<ast::StatementPtr>* top_ = nullptr;  // the file's statements
+  std::string file_path_;                                // the model file, for positions of the whole file
   std::string global_context_;  // what converter(-1) is reading: "gravity", "the default of parameter 'm'"...
   bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;
 };
