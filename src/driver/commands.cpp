@@ -146,7 +146,15 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<sym::Eom> eom;
   std::vector<std::string> partitions;
   Diagnostics diags;
-  if (!monitored(a.work, diags, err, [&] { return load_and_derive(a.model, a.frozen, m, eom, diags, &partitions); })) return 1;
+  if (!monitored(a.work, diags, err, [&] {
+        if (!load_and_derive(a.model, a.frozen, m, eom, diags, &partitions)) return false;
+        // What generate would refuse, check refuses: generate's work with its default
+        // options, short of writing (a constant the lowering cannot hold, ...).
+        GenerateOptions opt;
+        opt.frozen = a.frozen;
+        return generate(*m, *eom, opt, diags).has_value();
+      }))
+    return 1;
   out << fmt::format("model {}: {} degree(s) of freedom\n", m->name, eom->ndof());
   out << fmt::format("  coordinates q0 ({}):", m->coords.size());
   for (const auto& q : m->coords) out << " " << q.name;
