@@ -7,6 +7,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
+#include "mbsc/parse/parse.hpp"
 #include "mbsc/run/bench_command.hpp"
 #include "mbsc/run/eig_command.hpp"
 #include "mbsc/run/inverse_cli.hpp"
@@ -52,8 +53,12 @@ bool add_freezes(const std::vector<std::string>& items, std::map<std::string, do
   for (const auto& f : items) {
     std::string name;
     double value = 0;
-    if (!mbsc::driver::parse_assignment(f, name, value)) {
-      std::cerr << "mbsc: error: --freeze expects name=value with a finite number, got '" << mbsc::printable(f) << "'\n";
+    std::string why;
+    if (!mbsc::driver::parse_assignment(f, name, value, why)) {
+      if (why.rfind("number ", 0) == 0)
+        std::cerr << "mbsc: error: --freeze " << mbsc::printable(name) << ": " << mbsc::printable(why) << "\n";
+      else
+        std::cerr << "mbsc: error: --freeze " << why << ", got '" << mbsc::printable(f) << "'\n";
       return false;
     }
     frozen[name] = value;
@@ -109,6 +114,12 @@ CLI::Validator finite_above(double low, const std::string& what) {
       [low, what](std::string& text) -> std::string {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
+        // A number a double does not hold gets the model language's message (1e400 is
+        // too large, 1e-320 too small), not "not a positive number".
+        const std::string literal = text.substr(!text.empty() && (text[0] == '+' || text[0] == '-') ? 1 : 0);
+        if (!literal.empty() && literal.find_first_not_of("0123456789.eE+-") == std::string::npos && end && *end == '\0')
+          if (const char* why = mbsc::parse::literal_out_of_double_range(literal))
+            return "number '" + mbsc::printable(literal) + "' " + why;
         if (text.empty() || !end || *end != '\0' || !std::isfinite(v) || !(v > low))
           return what + " (got '" + mbsc::printable(text) + "')";
         return "";
@@ -446,8 +457,11 @@ int main(int argc, char** argv) {
         for (const auto& t : split_list(bench_tolerances)) {
           std::string n;
           double v = 0;
-          if (!mbsc::driver::parse_assignment("tol=" + t, n, v)) {
-            std::cerr << "mbsc: error: --tolerances: '" << mbsc::printable(t) << "' is not a number\n";
+          std::string why;
+          if (!mbsc::driver::parse_assignment("tol=" + t, n, v, why)) {
+            std::cerr << "mbsc: error: --tolerances: "
+                      << (why.rfind("number ", 0) == 0 ? mbsc::printable(why) : "'" + mbsc::printable(t) + "' is not a number")
+                      << "\n";
             return 1;
           }
           bench.tolerances.push_back(v);

@@ -26,7 +26,8 @@
 namespace mbsc::driver {
 namespace fs = std::filesystem;
 
-bool parse_assignment(const std::string& text, std::string& name, double& value) {
+bool parse_assignment(const std::string& text, std::string& name, double& value, std::string& why) {
+  why = "expects name=value with a finite number";
   auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) return false;
   name = text.substr(0, eq);
@@ -35,8 +36,14 @@ bool parse_assignment(const std::string& text, std::string& name, double& value)
   char* end = nullptr;
   value = std::strtod(v.c_str(), &end);
   if (!end || *end != '\0') return false;
-  // The range a model's literals have (1e400 and 1e-400 are errors there too).
-  return parse::literal_out_of_double_range(v.substr(v[0] == '+' || v[0] == '-' ? 1 : 0)) == nullptr;
+  // The range a model's literals have, with their message: 1e400 is too large for a
+  // double, 1e-320 too small (subnormal: finite, but not a double's full precision).
+  const std::string literal = v.substr(v[0] == '+' || v[0] == '-' ? 1 : 0);
+  if (const char* out_of_range = parse::literal_out_of_double_range(literal)) {
+    why = fmt::format("number '{}' {}", literal, out_of_range);
+    return false;
+  }
+  return true;
 }
 
 const std::vector<std::string>& print_items() {
@@ -139,7 +146,15 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   std::optional<sym::Eom> eom;
   std::vector<std::string> partitions;
   Diagnostics diags;
-  if (!monitored(a.work, diags, err, [&] { return load_and_derive(a.model, a.frozen, m, eom, diags, &partitions); })) return 1;
+  if (!monitored(a.work, diags, err, [&] {
+        if (!load_and_derive(a.model, a.frozen, m, eom, diags, &partitions)) return false;
+        // What generate would refuse, check refuses: generate's work with its default
+        // options, short of writing (a constant the lowering cannot hold, ...).
+        GenerateOptions opt;
+        opt.frozen = a.frozen;
+        return generate(*m, *eom, opt, diags).has_value();
+      }))
+    return 1;
   out << fmt::format("model {}: {} degree(s) of freedom\n", m->name, eom->ndof());
   out << fmt::format("  coordinates q0 ({}):", m->coords.size());
   for (const auto& q : m->coords) out << " " << q.name;

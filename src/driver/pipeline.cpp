@@ -737,7 +737,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     try {
       lowered[i] = ir::lower(spec, spec_binds);
     } catch (const std::exception& e) {
-      diags.error(m.nodes.back().pos, fmt::format("cannot generate function '{}': {}", spec.name, e.what()));
+      diags.error(m.name_pos, fmt::format("cannot generate function '{}' of model '{}': {}", spec.name, m.name, e.what()));
       return std::nullopt;
     }
   }

@@ -67,7 +67,20 @@ bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym:
   // given value here, like an input.
   std::vector<ir::Binding> counted = binds;
   for (std::size_t k = 0; k < m.frictions.size(); ++k) counted.push_back({m.frictions[k].force, fmt::format("friction_{}", k), false});
-  return run_time_cost(ir::lower(sparse_rhs, counted).ops) < run_time_cost(ir::lower(dense(), counted).ops);
+  // A form that cannot be lowered (a constant beyond a double) is not preferred; if the
+  // other fails too, generate reports it where it lowers the chosen one.
+  long sparse_cost = 0, dense_cost = 0;
+  try {
+    sparse_cost = run_time_cost(ir::lower(sparse_rhs, counted).ops);
+  } catch (const std::exception&) {
+    return false;
+  }
+  try {
+    dense_cost = run_time_cost(ir::lower(dense(), counted).ops);
+  } catch (const std::exception&) {
+    return true;
+  }
+  return sparse_cost < dense_cost;
 }
 
 }  // namespace mbsc::driver

@@ -14,18 +14,33 @@ namespace {
 
 const GiNaC::basic* address(const GiNaC::ex& e) { return &GiNaC::ex_to<GiNaC::basic>(e); }
 
-std::string printed(const GiNaC::ex& e) {
-  std::ostringstream os;
-  os << e;
-  std::string s = os.str();
+std::string printed(std::string s) {
   if (s.size() > 80) s = s.substr(0, 77) + "...";
   return s;
 }
 
+std::string printed(const GiNaC::ex& e) {
+  std::ostringstream os;
+  os << e;
+  return printed(os.str());
+}
+
+// The model's values are real and bounded (model/value_bound.hpp), so these are the
+// products the derivation formed from them; the driver reports them as the model's errors.
 double to_double_checked(const GiNaC::numeric& n, const GiNaC::ex& where) {
-  if (!n.is_real()) throw std::runtime_error("cannot lower complex number " + printed(where));
-  const double v = n.to_double();
-  if (!std::isfinite(v)) throw std::runtime_error("constant " + printed(where) + " does not fit a double");
+  if (!n.is_real()) throw std::runtime_error("it computes with the complex number " + printed(where) + ", not a real one");
+  double v = HUGE_VAL;
+  try {
+    v = n.to_double();
+  } catch (const std::exception&) {  // CLN: beyond its double conversion
+  }
+  if (!std::isfinite(v)) {
+    std::ostringstream approx;
+    approx << GiNaC::ex(n).evalf();
+    throw std::runtime_error("it computes with the constant " + printed(approx.str()) +
+                             ", which does not fit a double (the model's values multiply beyond its range: "
+                             "docs/language.md, \"Limits\")");
+  }
   return v;
 }
 
@@ -155,9 +170,14 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
       is_leaf = false;
       return -1;
     case GKind::Function:
-      if (!function_of(e, func))
-        throw std::runtime_error("unsupported function '" + GiNaC::ex_to<GiNaC::function>(e).get_name() + "' in " +
-                                 printed(e));
+      if (!function_of(e, func)) {
+        const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+        // GiNaC's derivative of abs(x) reads conjugate(x) (its symbols may be complex).
+        const char* hint = name == "conjugate" ? " (a derivative of abs(): write abs(x) as sqrt(x^2) where the equations "
+                                                 "differentiate it, as in a position constraint)"
+                                               : "";
+        throw std::runtime_error("unsupported function '" + name + "' in " + printed(e) + hint);
+      }
       is_leaf = false;
       return -1;
     case GKind::Constant: {

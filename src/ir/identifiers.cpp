@@ -41,14 +41,13 @@ bool is_cpp_keyword(const std::string& s) {
                             [](const char* a, const char* b) { return std::strcmp(a, b) < 0; });
 }
 
-// Macros of <cmath>/<math.h>/<cerrno> that a local variable name must not meet.
+// Macros a model name or a local variable name must not meet: the standard headers'
+// and the platform's (std_macro_names.cpp, derived from GCC and glibc), a few of other
+// platforms, and the families of <cmath> and <cstdint> by prefix.
 bool is_std_macro_name(const std::string& s) {
-  // <cstring>, <cstdint> and GCC's GNU-mode predefines (linux, unix) too: the generated
-  // .cpp includes those headers, and CMake compiles as gnu++17 by default.
-  static constexpr const char* kExact[] = {"INFINITY", "NAN",    "DOMAIN", "SING",  "OVERFLOW", "UNDERFLOW",
-                                           "TLOSS",    "PLOSS",  "errno",  "math_errhandling",    "EDOM",
-                                           "ERANGE",   "EILSEQ", "assert", "NULL",  "EOF",      "linux",
-                                           "unix",     "i386",   "offsetof"};
+  if (is_listed_std_macro(s)) return true;
+  // Predefined on other targets (i386 on 32-bit x86) or by other C libraries.
+  static constexpr const char* kExact[] = {"i386", "DOMAIN", "SING", "OVERFLOW", "UNDERFLOW", "TLOSS", "PLOSS"};
   for (const char* e : kExact)
     if (s == e) return true;
   static constexpr const char* kPrefixes[] = {"M_",         "FP_",        "HUGE_VAL",   "MATH_ERR",  "__",

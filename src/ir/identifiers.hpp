@@ -9,8 +9,11 @@ namespace mbsc::ir {
 bool is_identifier(const std::string& s);
 /// C++17 keywords and alternative tokens ("and", "or", ...).
 bool is_cpp_keyword(const std::string& s);
-/// Names the standard library may define as macros (<cmath>, <cerrno>: M_PI, NAN, errno, ...).
+/// Names the standard library or the platform may define as macros (M_PI, NAN, errno,
+/// RAND_MAX, EOF, stdin, SIGINT, linux, ...): is_listed_std_macro, and prefix families.
 bool is_std_macro_name(const std::string& s);
+/// The macros of GCC's and glibc's standard headers, by name (std_macro_names.cpp).
+bool is_listed_std_macro(const std::string& s);
 /// Names the printer generates itself: t<N>, s<N>, c<N>, A_<N>, B_<N>.
 bool is_generated_name(const std::string& s);
 /// Why `name` cannot be the namespace and file stem of a generated model (a C++

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <set>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/varying_part.hpp"
 #include "mbsc/model/expr_convert.hpp"
+#include "mbsc/model/value_bound.hpp"
 #include "mbsc/model/rigid3d.hpp"
 #include "named_expressions.hpp"
 #include "planar_library.hpp"
@@ -80,6 +82,7 @@ class Builder {
 
   std::optional<Model> run(const ast::File& file) {
     top_ = &file.statements;
+    file_path_ = file.path;
     check_reserved_names(file.statements);
     if (diags_.has_errors()) return std::nullopt;  // (a name taken twice would also clash below)
     collect_globals(file.statements);
@@ -147,6 +150,9 @@ class Builder {
                 const GiNaC::ex numeric_value = substitute_param_defaults(*e);
                 if (!evaluate_number(numeric_value, value))
                   diags_.error(s->value->pos, fmt::format("default value of parameter '{}' is not a number", s->name));
+                else if (std::fabs(value) > limits::kMaxValue)  // a = 1e20, b = a*a
+                  diags_.error(s->value->pos, fmt::format("default value of parameter '{}': {}", s->name,
+                                                          ValueProblem::too_large(value).text()));
               } catch (const std::exception& ex) {
                 diags_.error(s->value->pos,
                              fmt::format("default value of parameter '{}' is not a number: {}", s->name, ex.what()));
@@ -188,7 +194,8 @@ class Builder {
           break;
       }
     }
-    if (m_.name.empty()) diags_.error(SourcePos{file_of(stmts), 1, 1}, "missing 'model NAME' statement");
+    // At the file's start, named even when it holds no statement (an empty file).
+    if (m_.name.empty()) diags_.error(SourcePos{file_path_, 1, 1}, "missing 'model NAME' statement");
     if (gravity_stmt_) {
       m_.gravity_pos = gravity_stmt_->pos;
       global_context_ = "gravity";
@@ -265,10 +272,6 @@ class Builder {
     }
   }
 
-  static std::string file_of(const std::vector<ast::StatementPtr>& stmts) {
-    return stmts.empty() ? std::string() : stmts.front()->pos.file;
-  }
-
   /// The kind of name a statement declares ("parameter", "point"...), or nullptr.
   static const char* declared_kind(const Statement& s) {
     switch (s.kind) {
@@ -314,7 +317,11 @@ class Builder {
     for (const auto& p : m_.params) params.push_back(p.name);
     for (const auto& [name, value] : frozen_) {
       const auto it = table_.find(name);
-      if (it != table_.end() && it->second.kind == Entry::Param) continue;
+      if (it != table_.end() && it->second.kind == Entry::Param) {
+        if (std::fabs(value) > limits::kMaxValue)  // the bound of the model's own values
+          diags_.error(SourcePos{file, 0, 0}, fmt::format("--freeze {}={}: {}", name, value, ValueProblem::too_large(value).text()));
+        continue;
+      }
       const std::string is = it != table_.end() && !it->second.what.empty() ? fmt::format(" ('{}' is {})", name, it->second.what)
                                                                              : did_you_mean(name, params);
       diags_.error(SourcePos{file, 0, 0}, fmt::format("--freeze: model '{}' has no parameter '{}'{}", m_.name, name, is));
@@ -616,7 +623,11 @@ class Builder {
   /// with placed bodies: the joints' axes give the placed bodies' attitudes).
   void fill_rigid3d_geometry(int id) {
     for (const auto& sp : pending_[static_cast<std::size_t>(id)].body)
-      if (sp->kind == Kind::Point || sp->kind == Kind::Com || sp->kind == Kind::Axis) fill_geometry(id, *sp);
+      if (sp->kind == Kind::Point || sp->kind == Kind::Com || sp->kind == Kind::Axis) {
+        element_ = element_of(*sp, id);
+        fill_geometry(id, *sp);
+      }
+    element_.clear();
     geometry_done_.insert(id);
   }
 
@@ -777,6 +788,7 @@ class Builder {
   void declare_let(int node, const std::string& full, const Statement& s) {
     if (!declare_local(full, s.name_pos, "let")) return;
     table_[full] = Entry{Entry::Let, lets_.declare(full, node, s), GiNaC::symbol(), "a let", s.name_pos};
+    if (s.value) let_names_[s.value.get()] = full;
   }
 
   /// A let's value in the scope of `node`, every level allowed (each use checks its own).
@@ -784,6 +796,8 @@ class Builder {
     const bool speeds = allow_speeds_, coord_rates = allow_coord_rate_, speed_rates = allow_speed_rate_;
     allow_speeds_ = allow_coord_rate_ = allow_speed_rate_ = true;
     ExprConverter conv = converter(node);
+    const auto name = let_names_.find(&e);  // converted where it is first read: named by itself
+    conv.element = name != let_names_.end() ? fmt::format("let '{}'", name->second) : "";
     auto out = conv.convert(e);
     allow_speeds_ = speeds;
     allow_coord_rate_ = coord_rates;
@@ -816,6 +830,7 @@ class Builder {
   // ---- pass B: expressions of each node ----
   ExprConverter converter(int node) {
     ExprConverter conv(diags_);
+    conv.element = node < 0 ? global_context_ : element_;
     conv.lookup = [this, node](const std::string& path, const SourcePos& pos, bool primed) -> std::optional<GiNaC::ex> {
       return resolve(path, pos, node, primed);
     };
@@ -995,6 +1010,7 @@ class Builder {
     int nconstraint = 0;
     for (const auto& sp : pend.body) {
       const Statement& s = *sp;
+      element_ = element_of(s, id);
       switch (s.kind) {
         case Kind::Speed:
           if (s.value) {
@@ -1246,6 +1262,7 @@ class Builder {
         }
       }
     }
+    element_.clear();
     // (A mass or inertia statement whose value failed is reported there, not as missing.)
     if (body_kind && !mass_given_.count(id)) diags_.error(node.pos, fmt::format("body '{}' has no mass", node.name));
     if ((is_rigid2d(node.kind) || node.kind == LeafKind::Rigid3d) && !inertia_given_.count(id))
@@ -1259,7 +1276,9 @@ class Builder {
     // Formal parameters of a component instance: bind to the arguments (in the parent's scope).
     for (const auto& f : formal_args_) {
       if (f.instance != node.name) continue;
+      element_ = fmt::format("the argument '{}' of '{}'", f.full, node.name);
       auto e = convert(node.parent >= 0 ? node.parent : id, f.arg, false, false, false);
+      element_.clear();
       if (e) m_.formals[f.full].value = *e;
     }
     if (id == m_.root()) {
@@ -1682,7 +1701,13 @@ class Builder {
                                         node.name, varying));
           return;
         }
-        if (!evaluate_number(substitute_param_defaults(e, true), I[k])) return;  // left symbolic: not checked here
+        const GiNaC::ex v = substitute_param_defaults(e, true);
+        if (const auto problem = value_problem(v)) {
+          diags_.error(pos, fmt::format("inertia of body '{}' at the parameter values{}: {}", node.name, frozen_note(e),
+                                        problem->text()));
+          return;
+        }
+        if (!evaluate_number(v, I[k])) return;  // left symbolic: not checked here
       } catch (const std::exception& ex) {
         diags_.error(pos, fmt::format("inertia of body '{}' is undefined at these parameter values ({})", node.name, ex.what()));
         return;
@@ -1731,6 +1756,13 @@ class Builder {
                                         frozen_note(with_formals), ex.what()));
           return;
         }
+        // At these values the generated code computes with it: a real number within the
+        // bound (sqrt(a) with a = -1 is not; neither is a*a with a = 1e20).
+        if (const auto problem = value_problem(v)) {
+          diags_.error(pos, fmt::format("{} of body '{}' at the parameter values{}: {}", what, node.name,
+                                        frozen_note(with_formals), problem->text()));
+          return;
+        }
         double d;
         if (evaluate_number(v, d) && !(d >= 0))
           diags_.error(pos, fmt::format("{} of body '{}' is negative ({}){}", what, node.name, d,
@@ -1739,6 +1771,30 @@ class Builder {
       if (has_mass_.count(static_cast<int>(n))) check(node.mass, node.mass_pos, "mass");
       if (inertia_pos_.count(static_cast<int>(n))) check(node.inertia, inertia_pos_[n], "inertia");
       if (rigid3d_inertia_pos_.count(static_cast<int>(n))) check_rigid3d_inertia(node, rigid3d_inertia_pos_[n], formals);
+    }
+  }
+
+  /// What statement `s` of node `node` gives, naming it in the messages of its values
+  /// ("the mass of body 'arm'", "spring 's'"); "" for a statement without values.
+  std::string element_of(const Statement& s, int node) const {
+    const std::string body = m_.label(node);
+    const std::string named = join(m_.nodes[static_cast<std::size_t>(node)].name, s.name);
+    switch (s.kind) {
+      case Kind::Mass: return fmt::format("the mass of body '{}'", body);
+      case Kind::Inertia: return fmt::format("the inertia of body '{}'", body);
+      case Kind::Torque: return fmt::format("the torque on body '{}'", body);
+      case Kind::Kinetic: return fmt::format("the kinetic energy of '{}'", body);
+      case Kind::Potential: return fmt::format("the potential energy of '{}'", body);
+      case Kind::Com: return fmt::format("the centre of mass of body '{}'", body);
+      case Kind::Force: return fmt::format("the force on '{}'", s.path.text);
+      case Kind::Initial: return fmt::format("the initial value of '{}'", s.path.text);
+      case Kind::Constraint: return fmt::format("a {} constraint of '{}'", s.level, body);
+      case Kind::Joint: return s.name.empty() ? fmt::format("a {} joint", s.kind_name) : fmt::format("joint '{}'", named);
+      case Kind::Subsystem: return fmt::format("the arguments of '{}'", named);
+      default: {
+        const char* what = declared_kind(s);
+        return what ? fmt::format("{} '{}'", what, named) : "";
+      }
     }
   }
 
@@ -1803,7 +1859,10 @@ class Builder {
   std::map<std::string, SourcePos> output_names_;  // where each output is declared
   std::map<std::string, SourcePos> latex_pos_;  // where each name's `latex` statement is
   const std::vector<ast::StatementPtr>* top_ = nullptr;  // the file's statements
+  std::string file_path_;                                // the model file, for positions of the whole file
   std::string global_context_;  // what converter(-1) is reading: "gravity", "the default of parameter 'm'"...
+  std::string element_;         // what the statement being read in pass B gives (element_of)
+  std::map<const ast::Expr*, std::string> let_names_;  // a let's expression -> its full name
   bool allow_speeds_ = false, allow_coord_rate_ = false, allow_speed_rate_ = false;
 };
 

@@ -12,6 +12,7 @@
 #include "mbsc/diag/limits.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/model/value_bound.hpp"
 
 namespace mbsc::model {
 
@@ -185,7 +186,18 @@ std::optional<GiNaC::ex> ExprConverter::power(const GiNaC::ex& base, const GiNaC
                                  why));
     return std::nullopt;
   }
-  return apply(pos, "^", [&] { return GiNaC::pow(base, exponent); });
+  auto r = apply(pos, "^", [&] { return GiNaC::pow(base, exponent); });
+  // A power of constants must be real, as in the generated code's std::pow: (-1)^(1/2)
+  // is I for GiNaC, (-8)^(1/3) a complex root.
+  if (r && is_constant(base) && is_constant(exponent)) {
+    if (const auto problem = value_problem(*r); problem && problem->not_real) {
+      std::ostringstream text;
+      text << "(" << base << ")^(" << exponent << ")";
+      diags.error(pos, fmt::format("{}{} is not a finite real number", element.empty() ? "" : element + ": ", text.str()));
+      return std::nullopt;
+    }
+  }
+  return r;
 }
 
 std::optional<GiNaC::ex> ExprConverter::apply(const SourcePos& pos, const std::string& what,
@@ -238,6 +250,26 @@ std::optional<GiNaC::ex> ExprConverter::chain(const ast::Expr& e) {
 }
 
 std::optional<GiNaC::ex> ExprConverter::convert(const ast::Expr& e) {
+  struct Depth {
+    int& d;
+    explicit Depth(int& depth) : d(++depth) {}
+    ~Depth() { --d; }
+  };
+  std::optional<GiNaC::ex> r;
+  {
+    Depth inner(depth_);
+    r = convert_node(e);
+  }
+  if (depth_ == 0 && r) {
+    if (const auto problem = value_problem(*r)) {
+      diags.error(e.pos, element.empty() ? problem->text() : element + ": " + problem->text());
+      return std::nullopt;
+    }
+  }
+  return r;
+}
+
+std::optional<GiNaC::ex> ExprConverter::convert_node(const ast::Expr& e) {
   using K = ast::Expr::Kind;
   switch (e.kind) {
     case K::Number:

@@ -11,6 +11,7 @@
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/model/expr_convert.hpp"
+#include "mbsc/model/value_bound.hpp"
 #include "mbsc/parse/parse.hpp"
 
 namespace mbsc::model {
@@ -68,7 +69,11 @@ bool option_value(const std::string& text, const OptionNames& names, const std::
                   std::string& error) {
   const auto e = read_option_expression(text, names, what_names, error);
   if (!e) return false;
-  if (!evaluate_number(*e, value)) {
+  // In double arithmetic, as the generated code computes (GiNaC's evalf loses exp of
+  // a huge argument); GiNaC's only for what that walk has no function for.
+  const std::optional<double> in_doubles = constant_value(*e);
+  if (in_doubles) value = *in_doubles;
+  if (in_doubles ? !std::isfinite(value) : !evaluate_number(*e, value)) {
     error = fmt::format("'{}' is not a finite real number", shown(text));
     return false;
   }

@@ -5,98 +5,43 @@
 #include "inverse_command.hpp"
 
 #include <fmt/format.h>
-#include <ginac/ginac.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/staged_file.hpp"
-#include "mbsc/model/expr_convert.hpp"
-#include "mbsc/parse/parse.hpp"
 #include "mbsc/runtime/inverse_dynamics.hpp"
+#include "prescribed_motion.hpp"
 
 namespace mbsc::run {
 
 namespace {
 
-// q(t), q'(t), q''(t) of one prescribed coordinate: GiNaC expressions in the symbol t.
-struct MotionExpressions {
-  GiNaC::symbol t;
-  GiNaC::ex q, qd, qdd;
+/// The output times: every dt_out from t_start, and t_end when the span is not a whole
+/// number of dt_out.
+std::vector<double> output_times(const InverseCommandOptions& opt) {
+  const long steps = std::lround(std::floor((opt.t_end - opt.t_start) / opt.dt_out * (1 + 1e-12)));
+  const bool extra = opt.t_start + steps * opt.dt_out < opt.t_end - 1e-9 * opt.dt_out;
+  std::vector<double> times;
+  for (long k = 0; k <= steps + (extra ? 1 : 0); ++k)
+    times.push_back(k > steps || (k == steps && opt.t_start + steps * opt.dt_out > opt.t_end) ? opt.t_end
+                                                                                             : opt.t_start + k * opt.dt_out);
+  return times;
+}
+
+/// A prescription evaluated at every output time before the solve (so that one undefined
+/// there is a bad option, exit 1, not a failure half way): q, q', q'' per time.
+struct SampledMotion {
+  PrescribedMotion motion;
+  std::vector<double> times;
+  std::vector<std::array<double, 3>> values;
 };
-
-// The statement the expression is wrapped in, so the model language's own parser and
-// converter read it (same syntax, functions and messages); its columns are shifted back.
-constexpr const char* kWrapHead = "model prescribed\noutput value = ";
-
-
-// Reads `text` as an expression of t and the parameters; the error is
-// "--prescribe NAME:COL: error: ..." (columns of the expression as given).
-std::optional<MotionExpressions> read_expression(const std::string& coord, const std::string& text,
-                                                 const std::map<std::string, double>& params, std::string& error) {
-  const std::string where = "--prescribe " + coord;
-  if (text.find_first_of("\n\r;") != std::string::npos) {
-    error = where + ": error: the expression must be one line (no newline or ';')";
-    return std::nullopt;
-  }
-  const std::size_t shift = std::string(kWrapHead).size() - std::string("model prescribed\n").size();
-  auto report = [&](const Diagnostics& diags) {
-    for (const auto& d : diags.all())
-      if (d.severity == Severity::Error) {
-        const int col = d.pos.line == 2 ? d.pos.col - static_cast<int>(shift) : 0;
-        error = where + (col > 0 ? ":" + std::to_string(col) : std::string()) + ": error: " + printable(d.message) + " in '" +
-                printable(text) + "'";
-        return;
-      }
-    error = where + ": error: cannot read the expression '" + printable(text) + "'";
-  };
-  Diagnostics diags;
-  const auto file = parse::parse_text(kWrapHead + text + "\n", where, diags);
-  if (!file || diags.has_errors() || file->statements.size() != 2 ||
-      file->statements[1]->kind != ast::Statement::Kind::Output || !file->statements[1]->value) {
-    report(diags);
-    return std::nullopt;
-  }
-  MotionExpressions m{GiNaC::symbol("t"), 0, 0, 0};
-  std::vector<std::string> known = {"t", "pi"};
-  for (const auto& [name, value] : params) known.push_back(name);
-  model::ExprConverter conv(diags);
-  conv.lookup = [&](const std::string& path, const SourcePos& pos, bool primed) -> std::optional<GiNaC::ex> {
-    if (primed) {
-      diags.error(pos, fmt::format("{}': a prescribed motion is written as a function of t, without derivatives", path));
-      return std::nullopt;
-    }
-    if (path == "t") return GiNaC::ex(m.t);
-    const auto it = params.find(path);
-    if (it != params.end()) return GiNaC::ex(model::exact_decimal(it->second));
-    diags.error(pos, fmt::format("unknown name '{}' (a prescribed motion is a function of t and the model's parameters){}", path,
-                                 did_you_mean(path, known)));
-    return std::nullopt;
-  };
-  const auto q = conv.convert(*file->statements[1]->value);
-  if (!q || diags.has_errors()) {
-    report(diags);
-    return std::nullopt;
-  }
-  try {
-    m.q = *q;
-    m.qd = m.q.diff(m.t);
-    m.qdd = m.qd.diff(m.t);
-  } catch (const std::exception& e) {
-    error = where + ": error: cannot differentiate '" + printable(text) + "': " + e.what();
-    return std::nullopt;
-  }
-  return m;
-}
-
-double value_at(const GiNaC::ex& e, const GiNaC::symbol& t, double time) {
-  double v = NAN;
-  if (!model::evaluate_number(e.subs(t == model::exact_decimal(time)), v)) return NAN;
-  return v;
-}
 
 std::string number_text(double v) { return fmt::format("{:.17g}", v); }
 
@@ -150,6 +95,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
 
   // Prescriptions.
   const auto coord_names = runtime::ModelTable::names_of(m.state_names, m.nq);
+  const std::vector<double> times = output_times(opt);
   if (static_cast<int>(opt.prescribe.size()) != m.ndof)
     return bad(fmt::format("--prescribe: error: model {} has {} degree(s) of freedom, so exactly {} coordinate(s) must be prescribed "
                            "({} given)",
@@ -163,13 +109,26 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
                              is_speed ? " (it is a speed: prescribe the coordinate it is the rate of)" : did_you_mean(name, coord_names)));
     }
     std::string error;
-    auto motion = read_expression(name, text, params, error);
+    auto motion = read_prescribed_motion(name, text, params, error);
     if (!motion) return bad(error);
-    auto shared = std::make_shared<MotionExpressions>(*motion);
-    prescribed.push_back({c, [shared](double t, double& q, double& qd, double& qdd) {
-                            q = value_at(shared->q, shared->t, t);
-                            qd = value_at(shared->qd, shared->t, t);
-                            qdd = value_at(shared->qdd, shared->t, t);
+    auto sampled = std::make_shared<SampledMotion>(SampledMotion{std::move(*motion), times, {}});
+    sampled->values.resize(times.size());
+    for (std::size_t k = 0; k < times.size(); ++k)
+      if (!motion_at(sampled->motion, times[k], sampled->values[k], error))
+        return bad(fmt::format("--prescribe {}: error: '{}': {}; a prescribed motion must be defined and twice "
+                               "differentiable at every output time (--t-start to --t-end, every --dt-out)",
+                               name, printable(text), error));
+    prescribed.push_back({c, [sampled](double t, double& q, double& qd, double& qdd) {
+                            // The sampled times first; another time (none in this command) is evaluated.
+                            const auto& ts = sampled->times;
+                            const auto at = std::lower_bound(ts.begin(), ts.end(), t);
+                            std::array<double, 3> v = {NAN, NAN, NAN};
+                            std::string why;
+                            if (at != ts.end() && *at == t) v = sampled->values[static_cast<std::size_t>(at - ts.begin())];
+                            else motion_at(sampled->motion, t, v, why);
+                            q = v[0];
+                            qd = v[1];
+                            qdd = v[2];
                           }});
   }
 
@@ -213,13 +172,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
   if (reactions)
     for (int j = 0; j < m.nu; ++j) out.table.columns.push_back(std::string("reaction:") + m.state_names[m.nq + j]);
 
-  const long steps = std::lround(std::floor((opt.t_end - opt.t_start) / opt.dt_out * (1 + 1e-12)));
-  // Rows every dt_out, and one at t_end when the span is not a whole number of dt_out.
-  const bool extra = opt.t_start + steps * opt.dt_out < opt.t_end - 1e-9 * opt.dt_out;
-  for (long k = 0; k <= steps + (extra ? 1 : 0); ++k) {
-    const double t = k > steps || (k == steps && opt.t_start + steps * opt.dt_out > opt.t_end)
-                         ? opt.t_end
-                         : opt.t_start + k * opt.dt_out;
+  for (const double t : times) {
     if (opt.seconds_left && opt.seconds_left() <= 0) {
       out.exit_code = 1;
       out.message = fmt::format("mbsc inverse: error: the time budget of the command ran out at t = {} (raise it with "

@@ -8,7 +8,8 @@
 /// The prescribed expressions are read with the model language's expression syntax and
 /// functions (sin, cos, ^, pi, ...; docs/language.md), in t and the model's parameters;
 /// their first and second time derivatives are taken symbolically (GiNaC) and evaluated
-/// numerically at each sample.
+/// at every output time before the first is solved (run/prescribed_motion.hpp): a motion
+/// undefined or not finite at one is a bad option (exit code 1), not a failed run.
 #include <functional>
 #include <map>
 #include <string>

@@ -5,6 +5,7 @@
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/model/exact_guard.hpp"
 #include "mbsc/model/expr_convert.hpp"
+#include "mbsc/model/value_bound.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
@@ -845,11 +846,19 @@ bool frozen_values_defined(const model::Model& m, const std::map<std::string, do
     std::optional<GiNaC::ex> v = e;
     for (int pass = 0; pass < 4 && !formals.empty() && v; ++pass) v = model::guarded_subs(*v, formals, why);
     if (v) v = model::guarded_subs(*v, values, why);
-    if (v) return;
     std::string names;
     for (const auto& [name, value] : frozen) names += fmt::format(" {}={}", name, value);
-    diags.error(pos, fmt::format("{} is undefined with --freeze{} ({})", what, names, why));
-    ok = false;
+    if (!v) {
+      diags.error(pos, fmt::format("{} is undefined with --freeze{} ({})", what, names, why));
+      ok = false;
+      return;
+    }
+    // The frozen values are folded into the code: what they make must be a value it can
+    // compute with (sqrt(a) with a = -1 is the complex I; a*a with a = 1e20 is 1e40).
+    if (const auto problem = model::value_problem(*v)) {
+      diags.error(pos, fmt::format("{} with --freeze{}: {}", what, names, problem->text()));
+      ok = false;
+    }
   };
   for (const auto& c : m.constraints) check(c.residual, c.pos, fmt::format("constraint '{}'", c.name));
   for (const auto& f : m.forces) check(f.value, f.pos, fmt::format("the force on '{}'", m.speeds[f.speed].name));

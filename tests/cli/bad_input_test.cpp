@@ -2,7 +2,8 @@
 // Every model in tests/data/bad must fail with `file:line:col: error: ...` naming the
 // element (the `# expect: LINE:COL: TEXT` line of the file), exit code 1, and leave
 // the output folder empty. `# expect-errors: N` also checks that exactly N errors are
-// reported (no second, misleading error after the first).
+// reported (no second, misleading error after the first). `check` must refuse each the
+// same way: what generate refuses, check refuses, at the same place.
 #include <catch2/catch.hpp>
 #include <fstream>
 
@@ -51,18 +52,20 @@ TEST_CASE("bad input: clear error with position, exit 1, nothing written", "[cli
     INFO("model " << f.filename().string());
     REQUIRE(!ex.position.empty());
     const fs::path out = fresh_dir("bad");
-    CommandResult r = run(std::string(MBSC_BINARY) + " generate " + quote(f.string()) + " -o " + quote(out.string()));
-    INFO("output:\n" << r.output);
-    CHECK(r.exit_code == 1);
     const std::string where = ex.file.empty() ? f.string() : (f.parent_path() / ex.file).string();
-    CHECK(r.output.find(where + ":" + ex.position + ": error: ") != std::string::npos);
-    CHECK(r.output.find(ex.text) != std::string::npos);
-    if (ex.errors >= 0) {
-      int errors = 0;
-      for (auto at = r.output.find(": error: "); at != std::string::npos; at = r.output.find(": error: ", at + 1)) ++errors;
-      CHECK(errors == ex.errors);
+    for (const std::string command : {" generate -o " + quote(out.string()) + " ", std::string(" check ")}) {
+      CommandResult r = run(std::string(MBSC_BINARY) + command + quote(f.string()));
+      INFO(command << "output:\n" << r.output);
+      CHECK(r.exit_code == 1);
+      CHECK(r.output.find(where + ":" + ex.position + ": error: ") != std::string::npos);
+      CHECK(r.output.find(ex.text) != std::string::npos);
+      if (ex.errors >= 0) {
+        int errors = 0;
+        for (auto at = r.output.find(": error: "); at != std::string::npos; at = r.output.find(": error: ", at + 1)) ++errors;
+        CHECK(errors == ex.errors);
+      }
+      CHECK(fs::is_empty(out));
     }
-    CHECK(fs::is_empty(out));
     fs::remove_all(out);
   }
 }

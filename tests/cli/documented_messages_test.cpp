@@ -35,6 +35,8 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
       {"check " + bad + "planar_friction.mbs", "unknown option 'friction'"},
       {"check " + bad + "spatial_friction_on_revolute.mbs", "'friction' is available on spatial prismatic and cylindrical joints only"},
       {"check " + quote(dp) + " --freeze m1=-1", "mass of body 'b1' is negative (-1), with --freeze m1=-1"},
+      {"check " + quote(dp) + " --freeze m1=1e-320", "number '1e-320' is too small for a double"},
+      {"check " + bad + "value_mass_too_large.mbs", "the mass of body 'b': 2e+307 is larger in magnitude than 1e+30"},
       {"check " + quote(dp) + " --freeze gg=1",
        "error: --freeze: model 'double_pendulum' has no parameter 'gg' (did you mean 'g'?)"},
       {"print " + quote(dp) + " --what inavriants",

@@ -103,3 +103,24 @@ TEST_CASE("generate --python warns when the module name is a Python standard mod
         std::string::npos);
   fs::remove_all(out);
 }
+
+TEST_CASE("a number a double does not hold gets the model language's message on every flag", "[cli][bad]") {
+  // 1e-320 is finite but subnormal: "too small for a double", as a literal in a model, not
+  // "not finite" or "not a positive number". Each is refused before any work.
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"check " + kPendulum + " --freeze m1=1e-320", "--freeze m1: number '1e-320' is too small for a double"},
+      {"run " + kPendulum + " --t-end 1e-320", "number '1e-320' is too small for a double"},
+      {"run " + kPendulum + " --dt-out 1e400", "number '1e400' is too large for a double"},
+      {"inverse " + kPendulum + " --prescribe th1=t --t-start -1e-320", "number '1e-320' is too small for a double"},
+      {"bench " + kPendulum + " --tolerances 1e-6,1e-320", "--tolerances: number '1e-320' is too small for a double"},
+  };
+  for (const auto& k : cases) {
+    const auto r = run(kMbsc + " " + k.args);
+    INFO(k.args << "\n" << r.output);
+    CHECK(r.exit_code != 0);
+    CHECK(r.output.find(k.expect) != std::string::npos);
+    CHECK(r.output.find("not finite") == std::string::npos);
+  }
+}

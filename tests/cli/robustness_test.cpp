@@ -300,12 +300,23 @@ TEST_CASE("a UTF-8 byte-order mark is accepted and changes nothing", "[cli][robu
 TEST_CASE("--freeze takes finite numbers only, and frozen values are checked like defaults", "[cli][robust][flags]") {
   const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/double_pendulum.mbs");
   const fs::path out = fresh_dir("freeze");
-  for (const char* bad : {"g=nan", "g=inf", "g=-inf", "g=1e400", "g=1e-400", "g=0x10", "g=", "g=1,5"}) {
+  for (const char* bad : {"g=nan", "g=inf", "g=-inf", "g=0x10", "g=", "g=1,5"}) {
     auto r = run(kMbsc + " generate " + model + " -o " + quote(out.string()) + " --freeze " + bad);
     INFO(bad << "\n" << r.output);
     CHECK(r.exit_code == 1);
     CHECK(r.output.find("--freeze expects name=value with a finite number") != std::string::npos);
     CHECK(r.output.find("internal error") == std::string::npos);
+  }
+  // A number a double does not hold (1e-320 is finite, but subnormal): the model
+  // language's message for such a literal.
+  for (const std::string bad : {"1e400", "1e-400", "1e-320", "-2.5e-315"}) {
+    auto r = run(kMbsc + " generate " + model + " -o " + quote(out.string()) + " --freeze g=" + bad);
+    INFO(bad << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    const std::string literal = bad[0] == '-' ? bad.substr(1) : bad;
+    CHECK(r.output.find("mbsc: error: --freeze g: number '" + literal + "' is too " + (bad.find("e-") != std::string::npos ? "small" : "large") +
+                        " for a double") != std::string::npos);
+    CHECK(r.output.find("not finite") == std::string::npos);
   }
   // The language rejects a negative mass; so does a frozen one, at the mass statement.
   // A frozen zero mass is a massless body, an error here because it leaves M singular.
@@ -337,7 +348,7 @@ TEST_CASE("a frozen value that makes an expression undefined is an error at it",
 TEST_CASE("--name must make a usable C++ namespace, and rescues a model name that does not", "[cli][robust][flags]") {
   const fs::path dir = fresh_dir("names");
   write(dir / "int.mbs", "model int\n" + kBody);
-  for (const char* bad : {"int", "std", "a__b", "_Abc", "NAN", "1x", "a-b", "../up"}) {
+  for (const char* bad : {"int", "std", "a__b", "_Abc", "NAN", "RAND_MAX", "EOF", "stdin", "SIGINT", "unix", "1x", "a-b", "../up"}) {
     auto r = run(kMbsc + " generate " + quote((dir / "int.mbs").string()) + " -o " + quote((dir / "out").string()) +
                  " --name '" + bad + "'");
     INFO(bad << "\n" << r.output);
@@ -549,6 +560,67 @@ TEST_CASE("every name the namespace check lets through compiles, even where it m
             quote((dir / name / (name + ".cpp")).string()) + " -o " + quote((dir / "main").string()));
     INFO(r.output);
     CHECK(r.exit_code == 0);
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("names the standard headers define as macros compile, or are refused", "[cli][robust][flags]") {
+  // Parameters, inputs, lets, bodies, coordinates, speeds, constraints and outputs named
+  // like macros of <cstdlib>, <cstdio>, <cmath>, <cerrno> and <climits>: the names reach
+  // the generated code as strings, or as local variables renamed away from the macros
+  // (the dependent speed EXIT_FAILURE is a local in rhs); the model name must not be one.
+  const fs::path dir = fresh_dir("macro_names");
+  write(dir / "macro_names.mbs",
+        "model macro_names\n"
+        "parameter RAND_MAX = 1, EOF = 9.81, INT_MAX = 2\n"
+        "input SIGINT\n"
+        "gravity (0, -EOF)\n"
+        "let EXIT_SUCCESS = INT_MAX*RAND_MAX\n"
+        "body stdin : particle2d { mass RAND_MAX }\n"
+        "coordinate M_PI, BUFSIZ\n"
+        "speed errno = M_PI', EXIT_FAILURE = BUFSIZ'\n"
+        "constraint position {\n"
+        "  assert: stdin.x = EXIT_SUCCESS*cos(M_PI)\n"
+        "  NULL: stdin.y = EXIT_SUCCESS*sin(M_PI)\n"
+        "  CHAR_BIT: BUFSIZ = stdin.x*stdin.y\n"
+        "}\n"
+        "independent errno\n"
+        "force errno : SIGINT\n"
+        "output FILENAME_MAX = stdin.x + M_PI\n");
+  auto r = run(kMbsc + " generate " + quote((dir / "macro_names.mbs").string()) + " -q -o " + quote(dir.string()));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::string headers = "#include <cstdlib>\n#include <cstdio>\n#include <cmath>\n#include <cerrno>\n#include <climits>\n";
+  write(dir / "main.cpp", headers + "#include \"macro_names/macro_names.hpp\"\nint main() {\n"
+                          "  double x[64] = {0}, u[8] = {0}, p[64] = {0}, o[64];\n"
+                          "  return mbsc_gen::macro_names::rhs(0, x, u, p, o) >= 0 ? 0 : 1;\n}\n");
+  write(dir / "impl.cpp", headers + "#include \"macro_names/macro_names.cpp\"\n");
+  r = run("g++ -std=gnu++17 -Wall -Wextra -Werror -I" + quote(dir.string()) + " " + quote((dir / "main.cpp").string()) + " " +
+          quote((dir / "impl.cpp").string()) + " -o " + quote((dir / "main").string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  // The model name itself cannot be renamed: refused by check and generate alike.
+  write(dir / "rand.mbs", "model RAND_MAX\n" + kBody);
+  for (const std::string command : {std::string(" check "), " generate -o " + quote((dir / "out").string()) + " "}) {
+    r = run(kMbsc + command + quote((dir / "rand.mbs").string()));
+    INFO(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("rand.mbs:1:7: error: model name 'RAND_MAX' is a macro") != std::string::npos);
+  }
+  CHECK_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("an empty model file is named in its error", "[cli][robust][read]") {
+  const fs::path dir = fresh_dir("empty");
+  write(dir / "empty.mbs", "");
+  write(dir / "comment.mbs", "# nothing but a comment\n");
+  for (const char* name : {"empty.mbs", "comment.mbs"}) {
+    const auto r = run(kMbsc + " check " + quote((dir / name).string()));
+    INFO(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find((dir / name).string() + ":1:1: error: missing 'model NAME' statement") != std::string::npos);
+    CHECK(r.output.find("<input>") == std::string::npos);
   }
   fs::remove_all(dir);
 }

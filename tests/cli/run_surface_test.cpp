@@ -410,10 +410,16 @@ TEST_CASE("run: every column carries its own value; accuracy far off the toleran
   r = run(run_cmd(dir, cache, "--init arm.th=2.5 --t-end 2 --strict -o " + quote((dir / "b.csv").string())));
   CHECK(r.exit_code == 2);
   CHECK(fs::exists(dir / "b.csv"));
-  // A start far off the mechanism (an angle of 1e300 rad has no digits left): warned.
-  r = run(run_cmd(dir, cache, "--init arm.th=1e300 -o " + quote((dir / "c.csv").string())));
+  // An angle of 1e20 rad has no digits left below 10^4 rad: the motion cannot follow
+  // the mechanism, and the summary says so (1e300 is past the values a model may hold,
+  // 1e30, and refused at the option).
+  r = run(run_cmd(dir, cache, "--init arm.th=1e20 -o " + quote((dir / "c.csv").string())));
   INFO(r.output);
+  CHECK(r.exit_code == 0);
   CHECK(r.output.find("warning: the constraint residuals") != std::string::npos);
+  r = run(run_cmd(dir, cache, "--init arm.th=1e300 -o " + quote((dir / "c.csv").string())));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("larger in magnitude than 1e+30") != std::string::npos);
   // A fixed step far too large: the energy of this conservative model is not kept.
   r = run(run_cmd(dir, cache, "--integrator rk4 --h 0.5 --t-end 20 --strict -o " + quote((dir / "d.csv").string())));
   INFO(r.output);

@@ -137,7 +137,7 @@ TEST_CASE("mbsc inverse core: bad options are clear errors", "[numeric][inverse]
   CHECK_THAT(run(o), Catch::Contains("exactly 3 coordinate(s)"));
   o = three_rrr_options();
   o.prescribe[1].second = "sin(pi*tt/4)";
-  CHECK_THAT(run(o), Catch::StartsWith("--prescribe platform.y:8: error: unknown name 'tt'"));
+  CHECK_THAT(run(o), Catch::StartsWith("--prescribe platform.y: error: 'sin(pi*tt/4)': column 8: unknown name 'tt'"));
   o = three_rrr_options();
   o.prescribe[1].second = "sin(pi*t/4";
   CHECK_THAT(run(o), Catch::StartsWith("--prescribe platform.y"));
@@ -146,7 +146,7 @@ TEST_CASE("mbsc inverse core: bad options are clear errors", "[numeric][inverse]
   CHECK_THAT(run(o), Catch::Contains("unknown function 'sinn'"));
   o = three_rrr_options();
   o.prescribe[1].second = "1\noutput y = 2";
-  CHECK_THAT(run(o), Catch::Contains("one line"));
+  CHECK_THAT(run(o), Catch::Contains("expected the end of the expression"));
   o = three_rrr_options();
   o.unknowns = {"u1", "u4"};
   CHECK_THAT(run(o), Catch::Contains("no input 'u4'"));
@@ -159,4 +159,51 @@ TEST_CASE("mbsc inverse core: bad options are clear errors", "[numeric][inverse]
   o.params = {{"m1", 1.0}};
   o.t_end = 0.1;
   CHECK(inverse_command(m, o, "three_rrr.mbs").exit_code == 0);
+}
+
+TEST_CASE("mbsc inverse core: a prescription undefined where it is evaluated is a bad option", "[numeric][inverse]") {
+  // Every output time is evaluated before the solve: the motion, its first and second
+  // derivatives must be finite there, or the option is refused (exit 1, nothing written)
+  // naming the coordinate and the time; never an internal error or a NaN row.
+  const ModelTable m = MBSC_MODEL_TABLE(mbsc_gen::three_rrr);
+  struct Case {
+    const char* expr;
+    double t_start, t_end, dt_out;
+    const char* expect;
+  } cases[] = {
+      {"log(t)", 0.0, 1.0, 0.1, "'log(t)': it is undefined at t = 0 (log(0))"},
+      {"t^t^t", 0.0, 1.0, 0.1, "it is undefined at t = 0"},
+      // Exact powers are guarded, not computed digit by digit: 10^(10^10).
+      {"t^t^t", 10.0, 11.0, 0.5, "it is too large for a double at t = 10"},
+      {"t^t^t", 1.0, 5.0, 0.5, "it is not a finite real number at t = 4.5"},
+      // abs is differentiable but at its kink, where an output time falls here.
+      {"abs(t-1)", 0.0, 2.0, 0.5, "its first derivative is undefined at t = 1"},
+      {"sqrt(t)", 0.0, 1.0, 0.1, "its first derivative is undefined at t = 0"},
+      {"sqrt(t)^3", 0.0, 1.0, 0.1, "its second derivative is undefined at t = 0"},
+      {"exp(exp(exp(5*t)))", 0.0, 1.0, 0.125, "it is not a finite real number at t = 0.5"},
+  };
+  for (const auto& k : cases) {
+    auto o = three_rrr_options();
+    o.prescribe[0].second = k.expr;
+    o.t_start = k.t_start;
+    o.t_end = k.t_end;
+    o.dt_out = k.dt_out;
+    o.output_csv = "inverse_command_test_undefined.csv";
+    std::remove(o.output_csv.c_str());
+    const auto out = inverse_command(m, o, "three_rrr.mbs");
+    INFO(k.expr << ": " << out.message);
+    CHECK(out.exit_code == 1);
+    CHECK_THAT(out.message, Catch::StartsWith("--prescribe platform.x: error: ") && Catch::Contains(k.expect));
+    CHECK(out.table.rows.empty());
+    CHECK_FALSE(std::ifstream(o.output_csv).good());
+  }
+  // Away from its kink abs is differentiable: the grid 0, 0.3, 0.6 misses t = 0.5.
+  auto o = three_rrr_options();
+  o.prescribe[0].second = "-sin(pi*t/2) + abs(t - 0.5)/100";
+  o.t_end = 0.6;
+  o.dt_out = 0.3;
+  const auto out = inverse_command(m, o, "three_rrr.mbs");
+  INFO(out.message);
+  CHECK(out.exit_code == 0);
+  CHECK(out.table.rows.size() == 3);
 }

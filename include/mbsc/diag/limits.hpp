@@ -38,6 +38,11 @@ constexpr std::size_t kMaxExactBits = 65536;
 /// Magnitude of a numeric exponent of a non-constant base (x^1000). Substitutions may
 /// later put numbers into the base, (w/3)^n = 3^-n w^n, which GiNaC folds exactly.
 constexpr double kMaxExponent = 1000;
+/// Magnitude of a value a model gives: a number, a folded constant, a parameter's default
+/// or --freeze value, a constant part of an expression (exp(80)). M and h multiply a
+/// handful of values in doubles (a mass, lengths, gravity, a stiffness): ten of 1e30
+/// stay below 1e300, inside a double's 1.8e308 (model/value_bound.hpp).
+constexpr double kMaxValue = 1e30;
 /// Nodes of a let's value written out as a tree, each let it uses put in place (a
 /// chain `let b = a*a + a` triples at each line). A real named expression has hundreds.
 constexpr std::size_t kMaxLetNodes = 10000;

@@ -61,9 +61,10 @@ struct GenerateArgs {
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 
-/// Parses "name=value" (for --freeze). Returns false on malformed text and on a value
-/// that is not a finite number a double holds (nan, inf, 1e400).
-bool parse_assignment(const std::string& text, std::string& name, double& value);
+/// Parses "name=value" (for --freeze). Returns false, with `why`, on malformed text
+/// ("expects name=value with a finite number": nan, inf, hex) and on a number a double
+/// does not hold (the model language's message for such a literal: 1e400, 1e-320).
+bool parse_assignment(const std::string& text, std::string& name, double& value, std::string& why);
 
 /// The items `print --what` knows, in the order the help lists them.
 const std::vector<std::string>& print_items();

@@ -19,10 +19,18 @@ struct ExprConverter {
   Diagnostics& diags;
   /// Resolves a dotted name; `primed` when written x'. Reports its own errors.
   std::function<std::optional<GiNaC::ex>(const std::string& path, const SourcePos& pos, bool primed)> lookup;
+  /// What the expression gives ("the mass of body 'b'"), naming it in the value bound's
+  /// message; may be empty.
+  std::string element;
 
+  /// The expression as GiNaC's; nullopt when an error was reported. The whole
+  /// expression's numbers and constant parts are values the generated code can compute
+  /// with (model/value_bound.hpp), or an error at `e`.
   std::optional<GiNaC::ex> convert(const ast::Expr& e);
 
  private:
+  int depth_ = 0;  // of convert's recursion: the value bound is checked at 0
+  std::optional<GiNaC::ex> convert_node(const ast::Expr& e);
   /// A flat Sum or Product node.
   std::optional<GiNaC::ex> chain(const ast::Expr& e);
   /// Runs one GiNaC operation; its exceptions (log(0), tan(pi/2)) and constants folded

@@ -5,6 +5,7 @@
 /// defaults. Used to decide ranks and independent sets; never emitted.
 #include <ginac/ginac.h>
 
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -21,7 +22,12 @@ class Probe {
   /// solve does not evaluate there (NaN).
   static Probe reference(const model::Model& model, const std::map<std::string, double>& param_values);
   /// Binds an opaque symbol (result of a numeric solve) to its value at the probe point.
-  void bind(const GiNaC::symbol& s, double v) { values_[s] = v; }
+  /// A value that is not finite (an overflow at the probe) leaves it unbound: what reads
+  /// it does not evaluate (NaN), as GiNaC has no number for a NaN (CLN throws).
+  void bind(const GiNaC::symbol& s, double v) {
+    if (std::isfinite(v)) values_[s] = v;
+    else values_.erase(s);
+  }
   /// Value of e at the probe point; NaN when it does not evaluate to a real number.
   double eval(const GiNaC::ex& e) const;
 

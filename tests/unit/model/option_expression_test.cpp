@@ -42,6 +42,8 @@ TEST_CASE("option expressions: refused with the column and the reason, in bounde
       {"1 2", "the end of the expression"},
       {"sqrt(-1)", "not a finite real number"},
       {"model x", "keyword"},
+      {"exp(exp(exp(5)))", "larger in magnitude than 1e+30"},
+      {"1e31", "larger in magnitude than 1e+30"},
   };
   for (const auto& c : cases) {
     double v = 0;
