@@ -58,7 +58,8 @@ bool call(const std::string& f, const std::vector<double>& a, double& out) {
 /// product may build a temporary whose address a later one reuses).
 class Walk {
  public:
-  explicit Walk(bool check) : check_(check) {}
+  explicit Walk(bool check, std::vector<std::pair<GiNaC::ex, double>> values = {})
+      : check_(check), values_(std::move(values)) {}
   std::optional<ValueProblem> problem;
 
   std::optional<double> value(const GiNaC::ex& e) {
@@ -90,7 +91,11 @@ class Walk {
   }
 
   std::optional<double> inner(const GiNaC::ex& e) {
-    if (GiNaC::is_a<GiNaC::symbol>(e)) return std::nullopt;
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      for (const auto& [symbol, v] : values_)
+        if (symbol.is_equal(e)) return v;
+      return std::nullopt;
+    }
     if (GiNaC::is_a<GiNaC::constant>(e)) {
       double v = NAN;
       try {
@@ -132,6 +137,7 @@ class Walk {
   }
 
   bool check_;
+  std::vector<std::pair<GiNaC::ex, double>> values_;  // symbols with a value
   std::unordered_map<const GiNaC::basic*, std::optional<double>> seen_;
   std::vector<GiNaC::ex> pinned_;
 };
@@ -154,6 +160,11 @@ std::optional<ValueProblem> value_problem(const GiNaC::ex& e) {
 
 std::optional<double> constant_value(const GiNaC::ex& e) {
   Walk walk(false);
+  return walk.value(e);
+}
+
+std::optional<double> value_at(const GiNaC::ex& e, const std::vector<std::pair<GiNaC::ex, double>>& values) {
+  Walk walk(false, values);
   return walk.value(e);
 }
 

@@ -14,16 +14,6 @@
 
 namespace mbsc::run {
 
-namespace {
-
-/// GiNaC's reason without its function's name: "log_eval(): log(0)" -> "log(0)".
-std::string short_reason(const std::string& why) {
-  const auto at = why.find("(): ");
-  return at == std::string::npos ? why : why.substr(at + 4);
-}
-
-}  // namespace
-
 std::optional<PrescribedMotion> read_prescribed_motion(const std::string& coord, const std::string& text,
                                                        const std::map<std::string, double>& params, std::string& error) {
   PrescribedMotion m;
@@ -48,25 +38,14 @@ std::optional<PrescribedMotion> read_prescribed_motion(const std::string& coord,
 
 bool motion_at(const PrescribedMotion& m, double t, std::array<double, 3>& out, std::string& why) {
   static const char* const kWhat[] = {"it", "its first derivative", "its second derivative"};
-  const GiNaC::exmap at = {{m.t, model::exact_decimal(t)}};
+  // In double arithmetic, as the runtime uses the values: no exact substitution, so
+  // nothing for GiNaC to throw (log(0)) or to fold for hours (t^t^t at t = 10).
   const GiNaC::ex* parts[] = {&m.q, &m.qd, &m.qdd};
   for (std::size_t k = 0; k < 3; ++k) {
-    std::string reason;
-    const std::optional<GiNaC::ex> v = model::guarded_subs(*parts[k], at, reason);
-    std::optional<double> value;
-    if (v) {
-      value = model::constant_value(*v);
-      double d = 0.0;  // a function the double walk does not know: GiNaC's evaluation
-      if (!value && model::evaluate_number(*v, d)) value = d;
-      if (!value || !std::isfinite(*value)) {
-        why = fmt::format("{} is not a finite real number at t = {:g}", kWhat[k], t);
-        return false;
-      }
-    }
-    if (!reason.empty()) {  // GiNaC's exception (log(0)), or the guard of exact powers
-      const bool huge = reason.find("exact value") != std::string::npos;
-      why = fmt::format("{} is {} at t = {:g} ({})", kWhat[k], huge ? "too large for a double" : "undefined", t,
-                        short_reason(reason));
+    const std::optional<double> value = model::value_at(*parts[k], {{m.t, t}});
+    if (!value || !std::isfinite(*value)) {
+      why = value ? fmt::format("{} is not finite at t = {:g} ({})", kWhat[k], t, std::isnan(*value) ? "nan" : *value > 0 ? "inf" : "-inf")
+                  : fmt::format("{} cannot be evaluated at t = {:g}", kWhat[k], t);
       return false;
     }
     out[k] = *value;

@@ -9,6 +9,8 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace mbsc::model {
 
@@ -33,5 +35,10 @@ std::optional<ValueProblem> value_problem(const GiNaC::ex& e);
 /// arithmetic, as the generated code computes it (NaN or infinite when undefined there);
 /// nullopt when e holds a symbol or something the generated code has no function for.
 std::optional<double> constant_value(const GiNaC::ex& e);
+
+/// The same with symbols given double values (no exact arithmetic, so nothing GiNaC
+/// could throw or fold for hours: t^t^t at t = 10 is simply infinite); nullopt when e
+/// holds another symbol or a function the walk does not know.
+std::optional<double> value_at(const GiNaC::ex& e, const std::vector<std::pair<GiNaC::ex, double>>& values);
 
 }  // namespace mbsc::model
