@@ -20,7 +20,7 @@ struct Printed {
   bool negative = false;  // text is "-..." (a sum prints it as " - ...")
   // Sums only: the text of the sum with its sign normalised (first term positive) and
   // whether that is the negated sum. GiNaC may hold either -(a - b) or (b - a).
-  std::string normal_text;
+  std::string normal_text{};
   bool normal_negated = false;
 };
 
