@@ -63,11 +63,14 @@ symbolized "$BUILD/build.log" cmake --build "$BUILD" -j"$(nproc)"
 # the same symbolic code as the pendulum and parallelogram cases of `linearize`, which run
 # here) and the tadpole tricycle's sweep (its model compiled in over a minute in Release;
 # the same linearize and eig code as the `linearize` entry's bicycle, which runs here; its
-# finite-difference entry, linear_tricycle_test, is not even built here), and
-# front_end_scale (big models inside a time budget: a check of how the front end's time
-# grows, which the sanitizers' overhead blurs, 170 s under ASan; the same front-end code
-# runs here on every model of the `cli` and `robustness` entries).
+# finite-difference entry, linear_tricycle_test, is not even built here), front_end_scale
+# (big models inside a time budget: a check of how the front end's time grows, which the
+# sanitizers' overhead blurs, 170 s under ASan; the same front-end code runs here on every
+# model of the `cli` and `robustness` entries), and the determinism entries (the same
+# commands in ten processes each, 90 s of one core in Release: GiNaC's run-dependent
+# order is the same under the sanitizers, and the commands themselves run here in `cli`,
+# `golden` and `linearize`).
 symbolized "$BUILD/ctest.log" ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" \
-  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale)$'
+  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale|determinism|determinism_tricycle)$'
 # The fuzzer symbolizes as it goes (its reports are rare and come with the input).
 ASAN_OPTIONS=$CHECKS FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh

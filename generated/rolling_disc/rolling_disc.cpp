@@ -6,9 +6,9 @@
 //   forcing: 294 adds, 978 muls, 8 divs, 7 calls, 0 solve flops, total 1287
 //   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 9 adds, 14 muls, 1 divs, 1 calls, 0 solve flops, total 25
-//   velocity_constraints: 57 adds, 128 muls, 4 divs, 2 calls, 0 solve flops, total 191
-//   constraint_jacobian: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196
-//   constraint_jacobian_values: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196
+//   velocity_constraints: 57 adds, 119 muls, 4 divs, 2 calls, 0 solve flops, total 182
+//   constraint_jacobian: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184
+//   constraint_jacobian_values: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184
 //   position_jacobian: 20 adds, 63 muls, 3 divs, 1 calls, 0 solve flops, total 87
 //   position_jacobian_values: 20 adds, 63 muls, 3 divs, 1 calls, 0 solve flops, total 87
 //   energy: 11 adds, 22 muls, 0 divs, 0 calls, 0 solve flops, total 33
@@ -471,10 +471,10 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   OUT[0] = x[9] - (-(2.0*t6*x[4] - t4*x[6] + 2.0*t8*x[5])*t13*t10 + t4*x[6]*t14)*(x[12]*x[3] - x[10]*x[5] + x[4]*x[11])*p[2]*t15 - -(x[3]*x[10] - x[6]*x[11] + x[12]*x[5])*p[2]*((2.0*t6*x[6] - 2.0*t8*x[3] + x[4]*t4)*t13*t10 + x[4]*t4*t14)*t15 + (-(-(x[5]*t4 + 2.0*t6*x[3] + 2.0*t8*x[6])*t13*t10 - x[5]*t4*t14)*p[2]*(x[10]*x[6] - x[4]*x[12] + x[3]*x[11])*t15) - -(x[5]*x[11] + x[12]*x[6] + x[4]*x[10])*p[2]*(x[3]*t4*t14 + (x[3]*t4 - 2.0*t6*x[5] + 2.0*x[4]*t8)*t13*t10)*t15;
   const double t16 = x[3]*x[6];
   const double t17 = -2.0*t6*x[12] - 2.0*(t16 - x[4]*x[5])*x[11] - x[10]*(t0 - t3 + t2 + t1);
-  const double t18 = 1.0/std::sqrt(4.0*t9 + t10 + 4.0*t11);
-  const double t19 = 2.0*x[12]*t8 - (t0 - t2 + t3 + t1)*x[11] - 2.0*(x[4]*x[5] + t16)*x[10];
-  OUT[1] = -p[2]*(2.0*t19*t8*t18 - 2.0*t6*t17*t18 + (x[12]*t4 - 2.0*(t5 + x[3]*x[5])*x[10] + 2.0*(t7 + x[5]*x[6])*x[11])*t18*t4) + 2.0*t6*t18*x[8]*t15 - 2.0*t8*t18*x[7]*t15;
-  OUT[2] = -2.0*(t19*t6*t18 + t17*t8*t18)*p[2] - 2.0*t8*t18*x[8]*t15 - 2.0*t6*t18*x[7]*t15;
+  const double t18 = 2.0*x[12]*t8 - (t0 - t2 + t3 + t1)*x[11] - 2.0*(x[4]*x[5] + t16)*x[10];
+  const double t19 = 1.0/std::sqrt(4.0*t9 + t10 + 4.0*t11);
+  OUT[1] = -(((x[12]*t4 - 2.0*(t5 + x[3]*x[5])*x[10] + 2.0*(t7 + x[5]*x[6])*x[11])*t4 - 2.0*t6*t17 + 2.0*t18*t8)*p[2] + 2.0*t8*x[7]*t15 - 2.0*t6*x[8]*t15)*t19;
+  OUT[2] = -2.0*t19*(t8*x[8]*t15 - -p[2]*(t18*t6 + t17*t8) + t6*x[7]*t15);
   if (!all_finite(OUT, 3)) return 2;
   return 0;
 }
@@ -506,24 +506,25 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   OUT[3] = t15*x[5]*p[2]*t16 + x[3]*p[2]*t17*t16 + x[4]*p[2]*t18*t16 - t19*x[6]*p[2]*t16;
   OUT[4] = x[5]*p[2]*t18*t16 - x[4]*t15*p[2]*t16 - t19*x[3]*p[2]*t16 - x[6]*p[2]*t17*t16;
   OUT[5] = x[5]*p[2]*t17*t16 + x[4]*t19*p[2]*t16 - t15*x[3]*p[2]*t16 + x[6]*p[2]*t18*t16;
-  const double t20 = 1.0/std::sqrt(4.0*t9 + t10 + 4.0*t11);
-  const double t21 = -2.0*t8*t20*t16;
-  OUT[6] = t21;
-  OUT[7] = 2.0*t6*t20*t16;
+  const double t20 = 4.0*t9 + t10 + 4.0*t11;
+  const double t21 = 1.0/std::sqrt(t20);
+  const double t22 = -2.0*t8*t21*t16;
+  OUT[6] = t22;
+  OUT[7] = 2.0*t6*t21*t16;
   OUT[8] = 0.0;
-  const double t22 = t0 - t3 + t2 + t1;
   const double t23 = x[3]*x[6];
   const double t24 = x[4]*x[5] + t23;
-  OUT[9] = 2.0*((t5 + x[3]*x[5])*t20*t4 - t6*t20*t22 + 2.0*t24*t8*t20)*p[2];
-  const double t25 = t0 - t2 + t3 + t1;
+  const double t25 = t0 - t3 + t2 + t1;
+  OUT[9] = 2.0*t21*p[2]*(2.0*t24*t8 - t6*t25 + (t5 + x[3]*x[5])*t4);
   const double t26 = t23 - x[4]*x[5];
-  OUT[10] = -2.0*(2.0*t6*t26*t20 - t8*t20*t25 + t20*t4*(t7 + x[5]*x[6]))*p[2];
-  OUT[11] = -(4.0*t20*t9 + 4.0*t20*t11 + t20*t10)*p[2];
-  OUT[12] = -2.0*t6*t20*t16;
-  OUT[13] = t21;
+  const double t27 = t0 - t2 + t3 + t1;
+  OUT[10] = -2.0*(t4*(t7 + x[5]*x[6]) + 2.0*t6*t26 - t8*t27)*t21*p[2];
+  OUT[11] = -p[2]*std::sqrt(t20);
+  OUT[12] = -2.0*t6*t21*t16;
+  OUT[13] = t22;
   OUT[14] = 0.0;
-  OUT[15] = 2.0*p[2]*(t8*t20*t22 + 2.0*t6*t24*t20);
-  OUT[16] = 2.0*(t6*t20*t25 + 2.0*t26*t8*t20)*p[2];
+  OUT[15] = 2.0*(t8*t25 + 2.0*t6*t24)*t21*p[2];
+  OUT[16] = 2.0*(t6*t27 + 2.0*t26*t8)*t21*p[2];
   OUT[17] = 0.0;
   if (!all_finite(OUT, 18)) return 2;
   return 0;
@@ -554,22 +555,23 @@ int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*
   OUT[1] = t15*x[5]*p[2]*t16 + x[3]*p[2]*t17*t16 + x[4]*p[2]*t18*t16 - t19*x[6]*p[2]*t16;
   OUT[2] = x[5]*p[2]*t18*t16 - x[4]*t15*p[2]*t16 - t19*x[3]*p[2]*t16 - x[6]*p[2]*t17*t16;
   OUT[3] = x[5]*p[2]*t17*t16 + x[4]*t19*p[2]*t16 - t15*x[3]*p[2]*t16 + x[6]*p[2]*t18*t16;
-  const double t20 = 1.0/std::sqrt(4.0*t9 + t10 + 4.0*t11);
-  const double t21 = -2.0*t8*t20*t16;
-  OUT[4] = t21;
-  OUT[5] = 2.0*t6*t20*t16;
-  const double t22 = t0 - t3 + t2 + t1;
+  const double t20 = 4.0*t9 + t10 + 4.0*t11;
+  const double t21 = 1.0/std::sqrt(t20);
+  const double t22 = -2.0*t8*t21*t16;
+  OUT[4] = t22;
+  OUT[5] = 2.0*t6*t21*t16;
   const double t23 = x[3]*x[6];
   const double t24 = x[4]*x[5] + t23;
-  OUT[6] = 2.0*((t5 + x[3]*x[5])*t20*t4 - t6*t20*t22 + 2.0*t24*t8*t20)*p[2];
-  const double t25 = t0 - t2 + t3 + t1;
+  const double t25 = t0 - t3 + t2 + t1;
+  OUT[6] = 2.0*t21*p[2]*(2.0*t24*t8 - t6*t25 + (t5 + x[3]*x[5])*t4);
   const double t26 = t23 - x[4]*x[5];
-  OUT[7] = -2.0*(2.0*t6*t26*t20 - t8*t20*t25 + t20*t4*(t7 + x[5]*x[6]))*p[2];
-  OUT[8] = -(4.0*t20*t9 + 4.0*t20*t11 + t20*t10)*p[2];
-  OUT[9] = -2.0*t6*t20*t16;
-  OUT[10] = t21;
-  OUT[11] = 2.0*p[2]*(t8*t20*t22 + 2.0*t6*t24*t20);
-  OUT[12] = 2.0*(t6*t20*t25 + 2.0*t26*t8*t20)*p[2];
+  const double t27 = t0 - t2 + t3 + t1;
+  OUT[7] = -2.0*(t4*(t7 + x[5]*x[6]) + 2.0*t6*t26 - t8*t27)*t21*p[2];
+  OUT[8] = -p[2]*std::sqrt(t20);
+  OUT[9] = -2.0*t6*t21*t16;
+  OUT[10] = t22;
+  OUT[11] = 2.0*(t8*t25 + 2.0*t6*t24)*t21*p[2];
+  OUT[12] = 2.0*(t6*t27 + 2.0*t26*t8)*t21*p[2];
   if (!all_finite(OUT, 13)) return 2;
   return 0;
 }

@@ -6,9 +6,9 @@
 //   forcing: 294 adds, 978 muls, 8 divs, 7 calls, 0 solve flops, total 1287
 //   inverse_dynamics: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0
 //   position_constraints: 9 adds, 14 muls, 1 divs, 1 calls, 0 solve flops, total 25
-//   velocity_constraints: 57 adds, 128 muls, 4 divs, 2 calls, 0 solve flops, total 191
-//   constraint_jacobian: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196
-//   constraint_jacobian_values: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196
+//   velocity_constraints: 57 adds, 119 muls, 4 divs, 2 calls, 0 solve flops, total 182
+//   constraint_jacobian: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184
+//   constraint_jacobian_values: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184
 //   position_jacobian: 20 adds, 63 muls, 3 divs, 1 calls, 0 solve flops, total 87
 //   position_jacobian_values: 20 adds, 63 muls, 3 divs, 1 calls, 0 solve flops, total 87
 //   energy: 11 adds, 22 muls, 0 divs, 0 calls, 0 solve flops, total 33
@@ -153,14 +153,14 @@ int inverse_dynamics(double t, const double* x, const double* zdot, const double
 int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
-/// OUT: r, kNc values (row-major). Cost: 57 adds, 128 muls, 4 divs, 2 calls, 0 solve flops, total 191.
+/// OUT: r, kNc values (row-major). Cost: 57 adds, 119 muls, 4 divs, 2 calls, 0 solve flops, total 182.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
 int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull
-/// OUT: A, kNc*kNuFull values (row-major). Cost: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196.
+/// OUT: A, kNc*kNuFull values (row-major). Cost: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
@@ -168,7 +168,7 @@ int constraint_jacobian(double t, const double* x, const double* u, const double
 
 /// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
 /// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
-/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 49 adds, 141 muls, 4 divs, 2 calls, 0 solve flops, total 196.
+/// OUT: values, kConstraintJacobianNnz values (row-major). Cost: 47 adds, 130 muls, 4 divs, 3 calls, 0 solve flops, total 184.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.

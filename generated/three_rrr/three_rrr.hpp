@@ -2,9 +2,9 @@
 //
 // Operation counts:
 //   rhs: 214 adds, 335 muls, 0 divs, 15 calls, 141 solve flops, total 705
-//   mass_matrix: 145 adds, 353 muls, 0 divs, 15 calls, 85 solve flops, total 598
+//   mass_matrix: 136 adds, 293 muls, 0 divs, 15 calls, 85 solve flops, total 529
 //   forcing: 144 adds, 287 muls, 0 divs, 15 calls, 85 solve flops, total 531
-//   inverse_dynamics: 252 adds, 550 muls, 0 divs, 15 calls, 85 solve flops, total 902
+//   inverse_dynamics: 243 adds, 489 muls, 0 divs, 15 calls, 85 solve flops, total 832
 //   position_constraints: 45 adds, 18 muls, 0 divs, 15 calls, 0 solve flops, total 78
 //   velocity_constraints: 40 adds, 37 muls, 0 divs, 15 calls, 0 solve flops, total 92
 //   constraint_jacobian: 4 adds, 16 muls, 0 divs, 15 calls, 0 solve flops, total 35
@@ -238,7 +238,7 @@ inline constexpr int kQuaternionIndices[1] = {0};
 int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
-/// OUT: M, kNdof*kNdof values (row-major). Cost: 145 adds, 353 muls, 0 divs, 15 calls, 85 solve flops, total 598.
+/// OUT: M, kNdof*kNdof values (row-major). Cost: 136 adds, 293 muls, 0 divs, 15 calls, 85 solve flops, total 529.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).
@@ -254,7 +254,7 @@ int forcing(double t, const double* x, const double* u, const double* p, double*
 /// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
 /// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
 /// kNdof; least squares when kNin < kNdof; the smallest such u when kNin > kNdof
-/// OUT: u, kNin values (row-major). Cost: 252 adds, 550 muls, 0 divs, 15 calls, 85 solve flops, total 902.
+/// OUT: u, kNin values (row-major). Cost: 243 adds, 489 muls, 0 divs, 15 calls, 85 solve flops, total 832.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.

@@ -99,9 +99,12 @@ Printed print_product_plain(const GiNaC::ex& e, bool latex) {
     } else if (GiNaC::is_a<GiNaC::power>(f) && GiNaC::is_a<GiNaC::numeric>(f.op(1)) &&
                GiNaC::ex_to<GiNaC::numeric>(f.op(1)).is_negative()) {
       Printed d = print(GiNaC::pow(f.op(0), -f.op(1)), latex);
-      if (d.negative && !d.text.empty() && d.text[0] == '-' && d.prec != kSum) {  // 1/(-sin(b - a))^3
+      if (d.negative && !d.text.empty() && d.text[0] == '-' && d.prec != kSum) {  // 1/(-sin(b - a))^3, 1/(b - a)^3
         coeff = -coeff;
         d = {d.text.substr(1), kPower};
+      } else if (d.prec == kSum) {  // 1/(b - a): the sum sign-normalised, its sign to the coefficient
+        if (d.normal_negated) coeff = -coeff;
+        d.text = d.normal_text;
       }
       den.push_back({rank(f), wrap(d, kProduct, latex)});
       lone_den = d.text;  // a \frac's only denominator needs no parentheses
@@ -167,13 +170,19 @@ Printed print_product(const GiNaC::ex& e, bool latex) {
   if (!GiNaC::is_a<GiNaC::add>(inside)) return plain;
   const Printed in = print(inside, latex);
   std::string text = (latex ? "\\left(" : "(") + in.normal_text + (latex ? "\\right)" : ")");
+  bool negative = in.normal_negated;
   if (!others.empty()) {
-    const Printed rest = print(GiNaC::mul(others), latex);
-    if (rest.negative) return plain;
+    Printed rest = print(GiNaC::mul(others), latex);
+    // Its sign joins the product's (1/(b - a) prints as -1/(a - b): the sign of a sum
+    // inside is GiNaC's run-dependent choice).
+    if (rest.negative && !rest.text.empty() && rest.text[0] == '-') {
+      rest.text = rest.text.substr(1);
+      negative = !negative;
+    }
     text += (latex ? " " : "*") + wrap(rest, kProduct, latex);
   }
   if (text.size() >= (plain.negative ? plain.text.size() - 1 : plain.text.size())) return plain;
-  return {in.normal_negated ? "-" + text : text, kProduct, in.normal_negated};
+  return {negative ? "-" + text : text, kProduct, negative};
 }
 
 Printed print(const GiNaC::ex& e, bool latex) {
@@ -189,22 +198,27 @@ Printed print(const GiNaC::ex& e, bool latex) {
     if (GiNaC::is_a<GiNaC::numeric>(e.op(1)) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
     {
       Printed inv = print(GiNaC::pow(e.op(0), -e.op(1)), latex);
-      const bool negative = inv.negative && inv.prec != kSum && !inv.text.empty() && inv.text[0] == '-';
+      bool negative = inv.negative && inv.prec != kSum && !inv.text.empty() && inv.text[0] == '-';
       if (negative) inv = {inv.text.substr(1), kPower};  // 1/(-sin(b - a))^3 = -1/sin(a - b)^3
+      if (inv.prec == kSum) {  // 1/(b - a): the sum sign-normalised (see the powers below)
+        negative = inv.normal_negated;
+        inv.text = inv.normal_text;
+      }
       const std::string t = latex ? "\\frac{1}{" + inv.text + "}" : "1/" + wrap(inv, kPower, latex);
       return {negative ? "-" + t : t, kProduct, negative};
     }
     if (latex && e.op(1).is_equal(GiNaC::numeric(1, 2))) return {"\\sqrt{" + print(e.op(0), latex).text + "}", kAtom};
     Printed b = print(e.op(0), latex);
-    // An even power of a sum with a leading plus, (a - b)^2: GiNaC keeps either sign of
-    // the sum inside, by its internal term order, which changes from run to run.
-    if (GiNaC::is_a<GiNaC::add>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
-        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_even() && !b.text.empty() && b.text[0] == '-')
-      b = print((-e.op(0)).expand(), latex);
-    // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
+    const bool integer = GiNaC::is_a<GiNaC::numeric>(e.op(1)) && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_integer();
     bool negative = false;
-    if (b.negative && GiNaC::is_a<GiNaC::function>(e.op(0)) && GiNaC::is_a<GiNaC::numeric>(e.op(1)) &&
-        GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_integer()) {
+    if (GiNaC::is_a<GiNaC::add>(e.op(0)) && integer) {
+      // An integer power of a sum, (a - b)^n: GiNaC keeps either sign of the sum inside,
+      // by its run-dependent term order. The sum is printed sign-normalised, and an odd
+      // power takes the sign out.
+      negative = b.normal_negated && GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_odd();
+      b.text = b.normal_text;
+    } else if (b.negative && GiNaC::is_a<GiNaC::function>(e.op(0)) && integer) {
+      // (-sin(b - a))^n: an odd function of a sign-normalised argument; the sign leaves the power.
       b = {b.text.substr(1), kAtom};
       negative = GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_odd();
     }

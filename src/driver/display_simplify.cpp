@@ -10,6 +10,8 @@
 
 #include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/sym/common_factors.hpp"
+#include "mbsc/sym/structural_size.hpp"
 #include "mbsc/sym/tidy.hpp"
 
 namespace mbsc::driver {
@@ -27,14 +29,34 @@ constexpr int kMaxMultiple = 8;
 
 bool is_trig(const GiNaC::ex& e) { return GiNaC::is_the_function<GiNaC::sin_SERIAL>(e) || GiNaC::is_the_function<GiNaC::cos_SERIAL>(e); }
 
+/// The text of e, of -e for a sum whose text starts with a minus: the same for a sum
+/// that GiNaC holds with either sign (inside a product, by its run-dependent term order).
+std::string sign_free_text(const GiNaC::ex& e) {
+  std::string text = canonical_text(e, false);
+  if (GiNaC::is_a<GiNaC::add>(e) && text.front() == '-') text = canonical_text(-e, false);
+  return text;
+}
+
+/// The terms of a sum or the factors of a product (e itself otherwise) in the order of
+/// their text. The simplifier spends its budgets as it goes, so what it simplifies before
+/// a budget runs out depends on the order it visits the parts in: GiNaC's order changes
+/// from run to run, the text's does not.
+GiNaC::exvector parts_by_text(const GiNaC::ex& e) {
+  const bool split = GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e);
+  std::vector<std::pair<std::string, GiNaC::ex>> parts;
+  for (std::size_t i = 0; i < (split ? e.nops() : 1); ++i) {
+    const GiNaC::ex p = split ? e.op(i) : e;
+    parts.push_back({sign_free_text(p), p});
+  }
+  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  GiNaC::exvector out;
+  for (auto& p : parts) out.push_back(std::move(p.second));
+  return out;
+}
+
 }  // namespace
 
-std::size_t node_count(const GiNaC::ex& e, std::size_t limit) {
-  std::size_t n = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (++n > limit) break;
-  return n;
-}
+std::size_t node_count(const GiNaC::ex& e, std::size_t limit) { return sym::structural_size(e, limit); }
 
 namespace {
 
@@ -113,8 +135,21 @@ class Simplifier {
  public:
   explicit Simplifier(const DisplayLimits& limits) : lim_(limits) {}
 
-  GiNaC::ex run(const GiNaC::ex& e) {
+  /// `either_sign`: e is a factor of a product or the base of a power, which GiNaC holds
+  /// with either sign by its run-dependent term order when it is a sum. Such a sum is
+  /// simplified with its sign normalised (its text's first term positive): the texts of a
+  /// sum and of its negation differ in length, and that decides between the candidates.
+  GiNaC::ex run(const GiNaC::ex& e, bool either_sign = false) {
+    // Nothing to simplify (and nothing charged to the budgets: a key's sign, below, is a
+    // number that one run has and another not).
+    if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;
     if (node_count(e, lim_.max_nodes) > lim_.max_nodes) return sym::tidy(e);
+    if (either_sign && GiNaC::is_a<GiNaC::add>(e) && canonical_text(e, false).front() == '-') return -simplify(-e);
+    return simplify(e);
+  }
+
+ private:
+  GiNaC::ex simplify(const GiNaC::ex& e) {
     const GiNaC::ex in = inner(e);
     if (model::expanded_terms(in) > lim_.max_expanded_terms) return piecewise(in);
     const GiNaC::ex x = in.expand();
@@ -125,10 +160,10 @@ class Simplifier {
     } catch (const Abandon&) {
       return piecewise(in);
     }
-    candidates.push_back(GiNaC::collect_common_factors(candidates.back()));
+    candidates.push_back(sym::common_factors(candidates.back()));
     candidates.push_back(squares_form(x));
     candidates.push_back(sym::tidy(in));
-    candidates.push_back(sym::tidy(GiNaC::collect_common_factors(x)));
+    candidates.push_back(sym::tidy(sym::common_factors(x)));
     // A product or power of sums, simplified factor by factor, keeps its shape.
     if (!GiNaC::is_a<GiNaC::add>(in)) candidates.push_back(piecewise(in));
     // A sum, its terms grouped by what they hold besides sines, cosines and symbols.
@@ -155,14 +190,13 @@ class Simplifier {
     return best;
   }
 
- private:
   /// An expression too large to expand as a whole: its parts one by one, the bases of
   /// powers included ((1 + sin(x)^2 + cos(x)^2 + ...)^9 still loses its sin^2 + cos^2).
   GiNaC::ex piecewise(const GiNaC::ex& e) {
-    if (GiNaC::is_a<GiNaC::power>(e)) return GiNaC::pow(run(e.op(0)), e.op(1));
+    if (GiNaC::is_a<GiNaC::power>(e)) return GiNaC::pow(run(e.op(0), true), e.op(1));
     if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
       GiNaC::exvector ops;
-      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(run(e.op(i)));
+      for (const auto& op : parts_by_text(e)) ops.push_back(run(op, GiNaC::is_a<GiNaC::mul>(e)));
       return sym::tidy(GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops)));
     }
     return sym::tidy(e);
@@ -195,6 +229,12 @@ class Simplifier {
         if (plain_factor(f)) cof *= f;
         else key *= f;
       }
+      // A key whose text starts with a minus is negated (the signs of the sums in it are
+      // GiNaC's run-dependent choice), so that groups are keyed and ordered alike.
+      if (canonical_text(key, false).front() == '-') {
+        key = -key;
+        cof = -cof;
+      }
       Group& g = groups[canonical_text(key, false)];
       g.key = key;
       g.sum += cof;
@@ -217,7 +257,7 @@ class Simplifier {
       if (GiNaC::is_a<GiNaC::numeric>(n) && GiNaC::ex_to<GiNaC::numeric>(n).is_pos_integer())
         return GiNaC::pow(inner(e.op(0)), n);
       if (GiNaC::is_a<GiNaC::symbol>(e.op(0))) return e;
-      return GiNaC::pow(run(e.op(0)), run(n));
+      return GiNaC::pow(run(e.op(0), true), run(n));
     }
     if (GiNaC::is_a<GiNaC::function>(e)) {
       if (is_trig(e)) return e;
@@ -229,7 +269,7 @@ class Simplifier {
     }
     if (GiNaC::is_a<GiNaC::add>(e) || GiNaC::is_a<GiNaC::mul>(e)) {
       GiNaC::exvector ops;
-      for (std::size_t i = 0; i < e.nops(); ++i) ops.push_back(inner(e.op(i)));
+      for (const auto& op : parts_by_text(e)) ops.push_back(inner(op));
       return GiNaC::is_a<GiNaC::add>(e) ? GiNaC::ex(GiNaC::add(ops)) : GiNaC::ex(GiNaC::mul(ops));
     }
     return e;
@@ -249,7 +289,7 @@ class Simplifier {
     }
     std::stable_sort(args.begin(), args.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     GiNaC::ex best = x;
-    std::size_t best_size = measured_size(GiNaC::collect_common_factors(x));
+    std::size_t best_size = measured_size(sym::common_factors(x));
     for (const auto& [text, u] : args) {
       (void)text;
       GiNaC::ex round_best = best;
@@ -260,7 +300,7 @@ class Simplifier {
         for (std::size_t i = 0; i < n; ++i) terms.push_back(reduce_power(n == 1 ? best : best.op(i), from, to));
         const GiNaC::ex y = GiNaC::add(terms);
         if (model::expanded_terms(y) > lim_.max_expanded_terms) continue;
-        const GiNaC::ex candidate = GiNaC::collect_common_factors(y.expand());
+        const GiNaC::ex candidate = sym::common_factors(y.expand());
         const std::size_t size = measured_size(candidate);
         if (size < best_size) {
           round_best = candidate.expand();
@@ -269,7 +309,7 @@ class Simplifier {
       }
       best = round_best;
     }
-    return GiNaC::collect_common_factors(best);
+    return sym::common_factors(best);
   }
 
   /// In one term (or factor): from^n -> from^(n mod 2) (1 - to^2)^(n/2).
@@ -316,16 +356,13 @@ class Simplifier {
   std::map<WaveKey, GiNaC::ex> waves(const GiNaC::ex& x) {
     collect_atoms(x);
     std::map<WaveKey, GiNaC::ex> out;
-    const std::size_t nterms = GiNaC::is_a<GiNaC::add>(x) ? x.nops() : 1;
-    for (std::size_t i = 0; i < nterms; ++i) {
-      const GiNaC::ex term = GiNaC::is_a<GiNaC::add>(x) ? x.op(i) : x;
-      const std::size_t nf = GiNaC::is_a<GiNaC::mul>(term) ? term.nops() : 1;
+    // Terms and factors in text order: the work they cost is charged as they come.
+    for (const GiNaC::ex& term : GiNaC::is_a<GiNaC::add>(x) ? parts_by_text(x) : GiNaC::exvector{x}) {
       Series s;
       add_wave(s, std::vector<int>(atoms_.size(), 0), false, 1);
       GiNaC::ex coeff = 1;
       int degree = 0;
-      for (std::size_t j = 0; j < nf; ++j) {
-        const GiNaC::ex f = GiNaC::is_a<GiNaC::mul>(term) ? term.op(j) : term;
+      for (const GiNaC::ex& f : parts_by_text(term)) {
         int times = 0;
         GiNaC::ex base;
         if (is_trig(f)) {
@@ -357,7 +394,7 @@ class Simplifier {
     return a;
   }
 
-  static GiNaC::ex tidy_coeff(const GiNaC::ex& c) { return GiNaC::collect_common_factors(c.expand()); }
+  static GiNaC::ex tidy_coeff(const GiNaC::ex& c) { return sym::common_factors(c.expand()); }
 
   /// A sum of waves, with extra terms (squares standing for double angles).
   GiNaC::ex rebuild(const std::map<WaveKey, GiNaC::ex>& w, const GiNaC::exvector& extra) const {

@@ -232,8 +232,11 @@ NodeId Dag::negate(NodeId id) {
   if (n.kind == NodeKind::Number) {
     result = make_number(-n.value);
   } else if (n.kind == NodeKind::Add) {
+    // A term that is itself a sum (a substituted Define's value, which CSE shares) is
+    // negated as -1 * it, the form a rewrite gives it, so that negating twice returns
+    // this very node: as an Add its negation would be a second sum of the same terms.
     std::vector<NodeId> terms(children(id), children(id) + n.nchild);
-    for (NodeId& t : terms) t = negate(t);
+    for (NodeId& t : terms) t = node(t).kind == NodeKind::Add ? make_mul({t, make_number(-1.0)}) : negate(t);
     result = make_add(std::move(terms));
   } else if (n.kind == NodeKind::Mul) {
     std::vector<NodeId> factors;

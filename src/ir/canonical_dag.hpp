@@ -67,7 +67,8 @@ class Dag {
   NodeId make_call(Func f, const std::vector<NodeId>& args);
 
   /// -e as a node: numbers and coefficients change sign (a coefficient -1 disappears),
-  /// sums negate every term, anything else gets a coefficient -1. An involution.
+  /// sums negate every term (a term that is a sum gets a coefficient -1), anything else
+  /// gets a coefficient -1. An involution: canonical_sign needs negate(negate(e)) == e.
   NodeId negate(NodeId id);
   /// Of a sum and its negation, the one that sorts first; `flipped` tells which it was.
   /// Makes a sum's sign independent of GiNaC's run-dependent choice (see from_ginac.cpp).
@@ -101,7 +102,8 @@ class Dag {
   /// F*sin(u)^2 + F*cos(u)^2 -> F; true when one fired.
   bool fold_pythagorean_pairs(std::vector<NodeId>& terms);
   /// c*(a1 + ... + am)*G -> c*a1*G + ... + c*am*G when all but at most one of those
-  /// terms are like terms of others in the sum (so they merge or cancel); true when fired.
+  /// terms are like terms of others in the sum (so they merge or cancel), over the first
+  /// sum factor (canonical order) for which that holds; true when fired.
   bool distribute_into_like_terms(std::vector<NodeId>& terms);
   /// The product of `factors` (no numbers among them) times `coef`, with equal bases
   /// merged into one power (x * x^2 -> x^3).

@@ -13,6 +13,7 @@
 /// canonical_dag.hpp).
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <map>
 #include <unordered_map>
 #include <utility>
@@ -231,15 +232,12 @@ bool Dag::distribute_into_like_terms(std::vector<NodeId>& terms) {
     }
     return rests[j];
   };
-  for (std::size_t i = 0; i < n; ++i) {
-    if (node(terms[i]).kind != NodeKind::Mul) continue;
-    const auto sum_it = std::find_if(factors[i].begin(), factors[i].end(), [this](NodeId f) {
-      return node(f).kind == NodeKind::Add && node(f).nchild <= kMaxFactorTerms;
-    });
-    if (sum_it == factors[i].end()) continue;
-    const NodeId sum = *sum_it;
-    std::vector<NodeId> others(factors[i].begin(), sum_it);
-    others.insert(others.end(), sum_it + 1, factors[i].end());
+  // Term i distributed over its factor `sum` (factors[i][s]), when that merges or cancels
+  // all but at most one of the new terms.
+  const auto distribute = [&](std::size_t i, std::size_t s) {
+    const NodeId sum = factors[i][s];
+    std::vector<NodeId> others(factors[i].begin(), factors[i].begin() + static_cast<std::ptrdiff_t>(s));
+    others.insert(others.end(), factors[i].begin() + static_cast<std::ptrdiff_t>(s) + 1, factors[i].end());
     // Cheap filter: a like term of c*a_k*G holds at least every base of G.
     std::vector<NodeId> g_bases;
     for (NodeId f : others) g_bases.push_back(base_of(f));
@@ -250,7 +248,7 @@ bool Dag::distribute_into_like_terms(std::vector<NodeId>& terms) {
       if (j == i) continue;
       candidate = std::includes(bases[j].begin(), bases[j].end(), g_bases.begin(), g_bases.end());
     }
-    if (!candidate) continue;
+    if (!candidate) return false;
     std::vector<NodeId> expanded;
     int unmatched = 0;
     for (std::int32_t k = 0; k < node(sum).nchild && unmatched <= 1; ++k) {
@@ -265,10 +263,20 @@ bool Dag::distribute_into_like_terms(std::vector<NodeId>& terms) {
       unmatched += match ? 0 : 1;
       expanded.push_back(e);
     }
-    if (unmatched > 1) continue;
+    if (unmatched > 1) return false;
     terms[i] = expanded[0];
     terms.insert(terms.end(), expanded.begin() + 1, expanded.end());
     return true;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (node(terms[i]).kind != NodeKind::Mul) continue;
+    // Every sum factor in turn (in canonical order), not only the first: a*(c - 1) beside
+    // -a*c distributes over c - 1 whichever of the two sums sorts first, so that the
+    // forms GiNaC may hand over for one expression meet in one node.
+    for (std::size_t s = 0; s < factors[i].size(); ++s) {
+      const Node& f = node(factors[i][s]);
+      if (f.kind == NodeKind::Add && f.nchild <= kMaxFactorTerms && distribute(i, s)) return true;
+    }
   }
   return false;
 }

@@ -4,7 +4,9 @@
 
 #include "mbsc/model/exact_guard.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <random>
 #include <string>
@@ -63,6 +65,40 @@ namespace {
 /// temporary, so every remembered node is kept alive until the walk ends.
 class DoubleWalk {
  public:
+  // Sums and products are formed in an order of the operands' values (by magnitude, then
+  // value), not in GiNaC's run-dependent order of the operands: rounding depends on the
+  // order, and these values decide pivots, ranks and partitions, where a tie could fall
+  // either way from run to run (docs/backend.md "Determinism").
+  // Of the equal magnitudes in a sum, opposite values cancel exactly and the rest are
+  // added, so that the sum of negated terms is exactly the negated sum (GiNaC holds a
+  // sum with either sign, as its term order makes it).
+  static bool by_magnitude(double a, double b) { return std::fabs(a) != std::fabs(b) ? std::fabs(a) < std::fabs(b) : a < b; }
+
+  static double ordered_sum(std::vector<double>& v) {
+    double acc = 0.0;
+    for (double x : v) acc += x;
+    if (!std::isfinite(acc)) return acc;  // not finite in any order
+    std::sort(v.begin(), v.end(), by_magnitude);
+    acc = 0.0;
+    for (std::size_t i = 0; i < v.size();) {
+      const double magnitude = std::fabs(v[i]);
+      int balance = 0;  // positive minus negative values of this magnitude
+      for (; i < v.size() && std::fabs(v[i]) == magnitude; ++i) balance += v[i] > 0.0 ? 1 : v[i] < 0.0 ? -1 : 0;
+      for (int k = 0; k < std::abs(balance); ++k) acc += balance > 0 ? magnitude : -magnitude;
+    }
+    return acc;
+  }
+
+  static double ordered_product(std::vector<double>& v) {
+    double acc = 1.0;
+    for (double x : v) acc *= x;
+    if (!std::isfinite(acc)) return acc;  // not finite in any order
+    std::sort(v.begin(), v.end(), by_magnitude);
+    acc = 1.0;
+    for (double x : v) acc *= x;
+    return acc;
+  }
+
   explicit DoubleWalk(const GiNaC::exmap& values) : values_(values) {}
 
   bool value(const GiNaC::ex& e, double& out) {
@@ -96,14 +132,10 @@ class DoubleWalk {
   bool inner(const GiNaC::ex& e, double& out) {
     using namespace GiNaC;
     if (is_a<add>(e) || is_a<mul>(e)) {
-      const bool sum = is_a<add>(e);
-      double acc = sum ? 0.0 : 1.0;
-      for (std::size_t i = 0; i < e.nops(); ++i) {
-        double v = 0.0;
-        if (!value(e.op(i), v)) return false;
-        acc = sum ? acc + v : acc * v;
-      }
-      out = acc;
+      std::vector<double> v(e.nops());
+      for (std::size_t i = 0; i < e.nops(); ++i)
+        if (!value(e.op(i), v[i])) return false;
+      out = is_a<add>(e) ? ordered_sum(v) : ordered_product(v);
       return true;
     }
     if (is_a<power>(e)) {

@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/sym/tidy.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/sym/common_factors.hpp"
+#include "mbsc/sym/structural_size.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,20 +13,10 @@
 namespace mbsc::sym {
 namespace {
 
-/// True when e has at most `limit` nodes (counted with repetition, stops early).
-bool small(const GiNaC::ex& e, int limit) {
-  int count = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it)
-    if (++count > limit) return false;
-  return true;
-}
+/// The structural size of e: the same in every run (a size decides what is kept).
+std::size_t size_of(const GiNaC::ex& e) { return structural_size(e, std::numeric_limits<std::size_t>::max() - 1); }
 
-/// Number of nodes of e (counted with repetition).
-int size_of(const GiNaC::ex& e) {
-  int count = 0;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) ++count;
-  return count;
-}
+bool small(const GiNaC::ex& e, std::size_t limit) { return structural_size(e, limit) <= limit; }
 
 }  // namespace
 
@@ -39,13 +32,13 @@ GiNaC::ex pythagoras(const GiNaC::ex& e) {
     if (GiNaC::is_a<GiNaC::symbol>(sq.op(0).op(0))) squares.push_back({GiNaC::ex_to<GiNaC::symbol>(sq.op(0).op(0)).get_name(), sq});
   std::sort(squares.begin(), squares.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   GiNaC::ex best = e;
-  int best_size = size_of(e);
+  std::size_t best_size = size_of(e);
   for (const auto& [name, sq] : squares) {
     const GiNaC::ex u = sq.op(0).op(0);
     if (!best.has(GiNaC::pow(GiNaC::sin(u), 2))) continue;
     const GiNaC::ex candidate =
-        GiNaC::collect_common_factors(model::expand_if_small(best.subs(sq == 1 - GiNaC::pow(GiNaC::sin(u), 2))));
-    const int size = size_of(candidate);
+        common_factors(model::expand_if_small(best.subs(sq == 1 - GiNaC::pow(GiNaC::sin(u), 2))));
+    const std::size_t size = size_of(candidate);
     if (size < best_size) {
       best = candidate;
       best_size = size;
@@ -56,11 +49,12 @@ GiNaC::ex pythagoras(const GiNaC::ex& e) {
 
 GiNaC::ex tidy(const GiNaC::ex& e) {
   if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::symbol>(e)) return e;  // nothing to tidy
-  // GiNaC's common-factor collection is superlinear in the size of a sum: large
+  // Common-factor collection is quadratic in the size of a sum: large
   // expressions are left to the back end's CSE.
   if (!small(e, 400)) return e;
-  // Common factors first, so that c*(sin(u)^2 + cos(u)^2) appears as a whole sum.
-  GiNaC::ex out = GiNaC::collect_common_factors(e);
+  // Common factors first, so that c*(sin(u)^2 + cos(u)^2) appears as a whole sum (by
+  // structure: GiNaC's collect_common_factors depends on its term order).
+  GiNaC::ex out = common_factors(e);
   const GiNaC::ex u = GiNaC::wild(0);
   out = out.subs(GiNaC::pow(GiNaC::sin(u), 2) + GiNaC::pow(GiNaC::cos(u), 2) == 1);
   return out;

@@ -38,7 +38,7 @@ GiNaC::ex display_simplify(const GiNaC::ex& e, const DisplayLimits& limits = {})
 /// The size measure the simplifier minimises: characters of the canonical text.
 std::size_t display_size(const GiNaC::ex& e);
 
-/// The nodes of e (a preorder walk), counted up to limit + 1 at most.
+/// The size of e (sym::structural_size: the same in every run), counted up to limit + 1 at most.
 std::size_t node_count(const GiNaC::ex& e, std::size_t limit);
 
 }  // namespace mbsc::driver

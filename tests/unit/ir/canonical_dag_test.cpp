@@ -50,3 +50,26 @@ TEST_CASE("dag: max_step tracks solve results read", "[ir]") {
   CHECK(d.node(d.make_add({x, s})).max_step == 4);
   CHECK(d.node(d.make_mul({x, d.make_sym(2, 0)})).max_step == 2);
 }
+
+TEST_CASE("dag: negate is an exact involution, also over a sum that is a term", "[ir]") {
+  // q - w - s with s a sum standing as one term (a Define's value, shared by CSE): the
+  // rewrites write -s as -1*s. Negating and negating back must give that very form, in a
+  // DAG that never saw it: canonical_sign compares a sum with its negation, and a
+  // second form of -s made the choice depend on which of the two GiNaC handed over first
+  // (the euler_chain model's multipliers rhs, tests/data/determinism/).
+  const auto parts = [](Dag& d) {
+    const NodeId s = d.make_add({d.make_input("x[0]"), d.make_mul({d.make_number(-3.0), d.make_input("x[1]")})});
+    return std::vector<NodeId>{s, d.make_input("x[2]"), d.make_input("x[3]")};
+  };
+  Dag d1, d2;
+  const auto p1 = parts(d1), p2 = parts(d2);
+  const NodeId minus1 = d1.make_number(-1.0), minus2 = d2.make_number(-1.0);
+  // d1: the sum with s as a term, negated; d2: its negation built directly, negated.
+  const NodeId with_s = d1.make_add({p1[0], p1[1], d1.make_mul({minus1, p1[2]})});
+  const NodeId with_minus_s = d2.make_add({d2.make_mul({minus2, p2[0]}), d2.make_mul({minus2, p2[1]}), p2[2]});
+  CHECK(d1.node(d1.negate(with_s)).hash == d2.node(with_minus_s).hash);
+  CHECK(d2.node(d2.negate(with_minus_s)).hash == d1.node(with_s).hash);
+  bool f1 = false, f2 = false;
+  CHECK(d1.node(d1.canonical_sign(with_s, f1)).hash == d2.node(d2.canonical_sign(with_minus_s, f2)).hash);
+  CHECK(f1 != f2);
+}

@@ -181,3 +181,19 @@ TEST_CASE("sum rewrites: a sum factor is distributed when its terms cancel other
   const NodeId kept = d.make_add({d.make_mul({d.make_number(0.25), f.p0, c, inner3}), t2});
   CHECK(d.node(kept).nchild == 2);
 }
+
+TEST_CASE("sum rewrites: distributed over whichever sum factor cancels", "[ir][sum_rewrites]") {
+  // a*(c - 1) - a*c = -a with a a sum too (the flyball governor's rates, as one run of
+  // GiNaC hands them over): it must fold whether a or c - 1 sorts first. Several a, so
+  // that both orders occur.
+  for (int k = 1; k <= 8; ++k) {
+    Fixture f;
+    Dag& d = f.d;
+    const NodeId c = d.make_call(Func::Cos, {f.x0});
+    const NodeId cm1 = d.make_add({c, d.make_number(-1.0)});
+    const NodeId a = d.make_add({f.x1, d.make_mul({d.make_number(-k), f.x2})});
+    const NodeId sum = d.make_add({d.make_mul({a, cm1}), d.make_mul({d.make_number(-1.0), a, c})});
+    INFO("a = x1 - " << k << "*x2, a sorts " << (d.less(a, cm1) ? "before" : "after") << " c - 1");
+    CHECK(sum == d.make_mul({d.make_number(-1.0), a}));
+  }
+}
