@@ -138,9 +138,14 @@ NodeId Dag::make_add(std::vector<NodeId> ops) {
   ops.erase(std::remove_if(ops.begin(), ops.end(),
                            [this](NodeId c) { return node(c).kind == NodeKind::Number && node(c).value == 0.0; }),
             ops.end());
-  if (ops.size() >= 2) simplify_sum_terms(ops);  // sorts them too
+  if (ops.size() >= 2) simplify_sum_terms(ops);
   if (ops.empty()) return make_number(0.0);
   if (ops.size() == 1) return ops[0];
+  return make_flat_add(std::move(ops));
+}
+
+NodeId Dag::make_flat_add(std::vector<NodeId> ops) {
+  std::sort(ops.begin(), ops.end(), [this](NodeId a, NodeId b) { return less(a, b); });
   Node n;
   n.kind = NodeKind::Add;
   n.hash = kind_seed(n.kind, 0);
@@ -223,7 +228,10 @@ NodeId Dag::make_call(Func f, const std::vector<NodeId>& args) {
   return intern(n, args.data(), static_cast<std::int32_t>(args.size()));
 }
 
-// Negation by structure; memoised so that negating twice returns the original node.
+// Negation by structure. A function of the node's structure alone, so the memo is only a
+// cache: it records no reverse entry, which would make negate's value depend on the order
+// of the calls (negate(-1*s) is s for a sum s, while negate(s) is the sum of the negated
+// terms: a reverse entry made after the first call gave -1*s for s).
 NodeId Dag::negate(NodeId id) {
   auto it = negated_.find(id);
   if (it != negated_.end()) return it->second;
@@ -235,9 +243,13 @@ NodeId Dag::negate(NodeId id) {
     // A term that is itself a sum (a substituted Define's value, which CSE shares) is
     // negated as -1 * it, the form a rewrite gives it, so that negating twice returns
     // this very node: as an Add its negation would be a second sum of the same terms.
+    // The negated terms are not rewritten again: make_add is sign-equivariant, so they
+    // are what make_add gives the negated input, also where its round bound cut it short
+    // (rewriting them again would go on from there, and a sum and its negation would no
+    // longer be each other's negation).
     std::vector<NodeId> terms(children(id), children(id) + n.nchild);
     for (NodeId& t : terms) t = node(t).kind == NodeKind::Add ? make_mul({t, make_number(-1.0)}) : negate(t);
-    result = make_add(std::move(terms));
+    result = make_flat_add(std::move(terms));
   } else if (n.kind == NodeKind::Mul) {
     std::vector<NodeId> factors;
     bool had_coefficient = false;
@@ -256,11 +268,28 @@ NodeId Dag::negate(NodeId id) {
     result = make_mul({make_number(-1.0), id});
   }
   negated_[id] = result;
-  negated_[result] = id;
   return result;
 }
 
+NodeId Dag::negated_sum(NodeId id) const {
+  const Node& n = node(id);
+  if (n.kind != NodeKind::Mul || n.nchild != 2) return -1;
+  const NodeId a = child(id, 0), b = child(id, 1);
+  const NodeId number = node(a).kind == NodeKind::Number ? a : b, other = number == a ? b : a;
+  if (node(number).kind != NodeKind::Number || node(number).value != -1.0 || node(other).kind != NodeKind::Add) return -1;
+  return other;
+}
+
 NodeId Dag::canonical_sign(NodeId sum, bool& flipped) {
+  // -1*s for a sum s is -s written as a product: the form a GiNaC sum takes when the
+  // rewrites leave one term, a Define's sum, with coefficient -1 (and s itself when it is
+  // handed over negated). Its sign is decided on s, among s and negate(s), so that both
+  // forms of -s and s itself come out as one node.
+  if (const NodeId s = negated_sum(sum); s >= 0) {
+    const NodeId chosen = canonical_sign(s, flipped);
+    flipped = !flipped;
+    return chosen;
+  }
   const NodeId neg = negate(sum);
   flipped = less(neg, sum);
   return flipped ? neg : sum;

@@ -6,6 +6,7 @@
 /// GiNaC's run-dependent operand order, so an index must never decide anything that reaches
 /// the output: only the structural hash and structural comparison do. Every node is created
 /// after its children, so increasing index order is a topological order (children first).
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -47,6 +48,11 @@ struct Node {
   bool invariant = false;    // built from numbers and invariant inputs only (parameters)
 };
 
+/// The sum of `values` such that the negated values give exactly the negated sum (the
+/// positive and the negative values summed apart): the coefficient of collected like
+/// terms, which must not depend on the sign the sum was handed with.
+double sign_symmetric_sum(std::vector<double> values);
+
 /// Hash-consing node store. make_* return the existing node when an identical one exists.
 class Dag {
  public:
@@ -67,12 +73,21 @@ class Dag {
   NodeId make_call(Func f, const std::vector<NodeId>& args);
 
   /// -e as a node: numbers and coefficients change sign (a coefficient -1 disappears),
-  /// sums negate every term (a term that is a sum gets a coefficient -1), anything else
-  /// gets a coefficient -1. An involution: canonical_sign needs negate(negate(e)) == e.
+  /// sums negate every term (a term that is a sum gets a coefficient -1, and loses it),
+  /// anything else gets a coefficient -1. A function of structure (never of the order of
+  /// the calls), and an involution on every node except -1*s for a sum s, whose negation
+  /// is s while s's is the sum of the negated terms: canonical_sign handles that form.
   NodeId negate(NodeId id);
   /// Of a sum and its negation, the one that sorts first; `flipped` tells which it was.
   /// Makes a sum's sign independent of GiNaC's run-dependent choice (see from_ginac.cpp).
+  /// The same node for s, negate(s) and -1*s (and -1*negate(s)).
   NodeId canonical_sign(NodeId sum, bool& flipped);
+  /// s when `id` is -1*s with s a sum, else -1.
+  NodeId negated_sum(NodeId id) const;
+
+  /// Tests only: stop the rewrites of every sum after `rounds` rounds (0: the default
+  /// bound), to check that what a cut leaves still does not depend on the sign GiNaC gave.
+  void limit_sum_rounds(std::size_t rounds) { sum_round_limit_ = rounds; }
 
   const Node& node(NodeId id) const { return nodes_[static_cast<std::size_t>(id)]; }
   const NodeId* children(NodeId id) const { return children_.data() + node(id).child_begin; }
@@ -92,18 +107,26 @@ class Dag {
   void grow_table();
   NodeId make_invariant_product(std::vector<NodeId> factors);
   NodeId make_flat_mul(std::vector<NodeId> ops);
+  /// An Add node from terms already in final form (no rewrites; sorted here).
+  NodeId make_flat_add(std::vector<NodeId> ops);
 
   // Rewrites of a sum's terms before the sum is made (sum_rewrites.cpp).
-  /// Applies the rewrites below until none fires (a few rounds at most); leaves `terms`
-  /// sorted canonically.
+  /// Applies the rewrites below until none fires; leaves `terms` sorted canonically.
+  /// Sign-equivariant: the terms negated give exactly the negated terms, whatever the
+  /// round bound cuts short (the sign GiNaC gives a sum varies from run to run).
   void simplify_sum_terms(std::vector<NodeId>& terms);
+  /// Sorts a sum's terms by their rest (the term without its coefficient), then the
+  /// coefficient's magnitude: an order the sum's negation shares, which the rewrites'
+  /// choices follow (the canonical order would not: -t and t sort apart).
+  void order_terms_sign_blind(std::vector<NodeId>& terms);
   /// c1*F + c2*F -> (c1 + c2)*F (numbers are terms with F = 1); true when one fired.
   bool collect_like_terms(std::vector<NodeId>& terms);
   /// F*sin(u)^2 + F*cos(u)^2 -> F; true when one fired.
   bool fold_pythagorean_pairs(std::vector<NodeId>& terms);
   /// c*(a1 + ... + am)*G -> c*a1*G + ... + c*am*G when all but at most one of those
-  /// terms are like terms of others in the sum (so they merge or cancel), over the first
-  /// sum factor (canonical order) for which that holds; true when fired.
+  /// terms are like terms of others in the sum (so they merge or cancel): the first term
+  /// (in the order of `terms`), over its first sum factor (canonical order) for which
+  /// that holds; true when fired.
   bool distribute_into_like_terms(std::vector<NodeId>& terms);
   /// The product of `factors` (no numbers among them) times `coef`, with equal bases
   /// merged into one power (x * x^2 -> x^3).
@@ -125,6 +148,7 @@ class Dag {
     NodeId id;  // -1 = empty
   };
   std::vector<Slot> table_;  // open addressing on the structural hash
+  std::size_t sum_round_limit_ = 0;  // limit_sum_rounds
 };
 
 }  // namespace mbsc::ir

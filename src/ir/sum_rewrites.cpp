@@ -8,9 +8,12 @@
 ///   * like terms: c1*F + c2*F -> (c1 + c2)*F, numbers being terms with F = 1;
 ///   * Pythagorean pairs: F*sin(u)^2 + F*cos(u)^2 -> F.
 /// They run to a fixed point (a folded pair's F may be a like term of another term, or
-/// half of a further pair). Every choice is made in the canonical order of the terms, so
-/// the result depends on structure only, never on GiNaC's order (the determinism rule of
-/// canonical_dag.hpp).
+/// half of a further pair). Every choice is made in an order of the terms that a sum and
+/// its negation share (by each term without its coefficient), and like terms' coefficients
+/// are summed so that negated ones give exactly the negated sum: so the result depends on
+/// structure only, never on GiNaC's order, and the terms negated give exactly the negated
+/// result (GiNaC hands a sum over with either sign, from run to run), even where the
+/// bound on the rounds cuts the rewrites short (the determinism rule of canonical_dag.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -39,6 +42,15 @@ NodeId squared_trig_argument(const Dag& dag, NodeId f, bool& is_cos) {
 }
 
 }  // namespace
+
+double sign_symmetric_sum(std::vector<double> values) {
+  // Positive and negative values apart, each from the smallest magnitude up: negating
+  // every value swaps the two partial sums and negates each exactly, and a + b = b + a.
+  std::sort(values.begin(), values.end(), [](double a, double b) { return std::fabs(a) < std::fabs(b); });
+  double positive = 0.0, negative = 0.0;
+  for (double v : values) (v > 0 ? positive : negative) += v;
+  return positive + negative;
+}
 
 void Dag::flatten_factors(NodeId term, std::vector<NodeId>& factors, double& coef) const {
   const Node& n = node(term);
@@ -87,21 +99,19 @@ bool Dag::collect_like_terms(std::vector<NodeId>& terms) {
     any = any || it->second != i;
   }
   if (!any) return false;
-  // Sum the coefficients of each group in term order, into the group's first term.
-  std::vector<double> sum(terms.size(), 0.0);
-  std::vector<int> count(terms.size(), 0);
-  for (std::size_t i = 0; i < terms.size(); ++i) {
-    sum[group[i]] += coefs[i];
-    ++count[group[i]];
-  }
+  // Each group's coefficients, summed so that the negated terms give exactly the negated
+  // sum (sign_symmetric_sum), into the group's first term.
+  std::vector<std::vector<double>> members(terms.size());
+  for (std::size_t i = 0; i < terms.size(); ++i) members[group[i]].push_back(coefs[i]);
   std::vector<NodeId> out;
   for (std::size_t i = 0; i < terms.size(); ++i) {
     if (group[i] != i) continue;
-    if (count[i] == 1) {
+    if (members[i].size() == 1) {
       out.push_back(terms[i]);
-    } else if (sum[i] != 0.0) {
-      out.push_back(rests[i] < 0 ? make_number(sum[i]) : make_mul({rests[i], make_number(sum[i])}));
+      continue;
     }
+    const double sum = sign_symmetric_sum(std::move(members[i]));
+    if (sum != 0.0) out.push_back(rests[i] < 0 ? make_number(sum) : make_mul({rests[i], make_number(sum)}));
   }
   terms = std::move(out);
   return true;
@@ -281,22 +291,52 @@ bool Dag::distribute_into_like_terms(std::vector<NodeId>& terms) {
   return false;
 }
 
+void Dag::order_terms_sign_blind(std::vector<NodeId>& terms) {
+  // Key: the term without its coefficient (a number's is -1, first), then the
+  // coefficient's magnitude, then its sign. Only like terms share a rest, and
+  // collect_like_terms and its sum do not depend on their order among themselves.
+  struct Keyed {
+    NodeId term, rest;
+    double coef;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(terms.size());
+  for (NodeId t : terms) {
+    double coef = 1.0;
+    const NodeId rest = split_coefficient(t, coef);
+    keyed.push_back({t, rest, coef});
+  }
+  std::sort(keyed.begin(), keyed.end(), [this](const Keyed& a, const Keyed& b) {
+    if (a.rest != b.rest) {
+      if (a.rest < 0 || b.rest < 0) return a.rest < 0;
+      return less(a.rest, b.rest);
+    }
+    if (std::fabs(a.coef) != std::fabs(b.coef)) return std::fabs(a.coef) < std::fabs(b.coef);
+    return a.coef > b.coef;
+  });
+  for (std::size_t i = 0; i < terms.size(); ++i) terms[i] = keyed[i].term;
+}
+
 void Dag::simplify_sum_terms(std::vector<NodeId>& terms) {
-  // Each round shrinks the sum or removes a sum factor by distributing it; the bound only
-  // guards against a cycle nobody has met.
-  constexpr int kMaxRounds = 16;
+  // Each round shrinks the sum or removes a sum factor by distributing it (two rounds per
+  // distribution: it, then the collection of what it made). The bound is far above what
+  // a sum needs and only guards against a cycle nobody has met; were it reached, the
+  // rounds are sign-equivariant (below), so the result would still not depend on the
+  // sign GiNaC gave the sum.
+  const std::size_t max_rounds = sum_round_limit_ > 0 ? sum_round_limit_ : 16 + 2 * terms.size();
   const auto by_structure = [this](NodeId a, NodeId b) { return less(a, b); };
-  std::sort(terms.begin(), terms.end(), by_structure);
   bool changed = true;
-  for (int round = 0; changed && terms.size() >= 2 && round < kMaxRounds; ++round) {
+  for (std::size_t round = 0; changed && terms.size() >= 2 && round < max_rounds; ++round) {
+    // Every choice of a round is made in an order that a sum and its negation share.
+    order_terms_sign_blind(terms);
     changed = collect_like_terms(terms);
     changed = fold_pythagorean_pairs(terms) || changed;
     if (!changed) changed = distribute_into_like_terms(terms);
     terms.erase(std::remove_if(terms.begin(), terms.end(),
                                [this](NodeId c) { return node(c).kind == NodeKind::Number && node(c).value == 0.0; }),
                 terms.end());
-    std::sort(terms.begin(), terms.end(), by_structure);
   }
+  std::sort(terms.begin(), terms.end(), by_structure);
 }
 
 }  // namespace mbsc::ir

@@ -100,6 +100,7 @@ TEST_CASE("determinism: generate writes the same files in every process", "[dete
       {"tests/data/determinism/euler_chain.mbs", ""},
       {"tests/data/determinism/euler_chain.mbs", "--state minimal"},
       {"tests/data/determinism/euler_chain.mbs", "--formulation multipliers"},
+      {"tests/data/determinism/planar_chain10.mbs", "--state minimal"},
       {"tests/data/spatial_joints/arm_joint.mbs", ""}};
   for (const auto& [model, options] : cases) {
     INFO("mbsc generate " << model << " " << options);

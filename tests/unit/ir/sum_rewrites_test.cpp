@@ -197,3 +197,87 @@ TEST_CASE("sum rewrites: distributed over whichever sum factor cancels", "[ir][s
     CHECK(sum == d.make_mul({d.make_number(-1.0), a}));
   }
 }
+
+namespace {
+
+// The position of a planar chain's last centre of mass over links 1..m, as the
+// derivation hands it over: -(l_k - c_k) cos(q_k) - c_k cos(q_k) for every link before
+// the last, -c cos(q) for the last; each -(l_k - c_k) cos(q_k) distributes and cancels
+// -c_k cos(q_k) (two rounds each), leaving -l_k cos(q_k). `sign` -1 hands the sum over
+// negated, as GiNaC does in some runs; the inner sums l_k - c_k carry the sign the
+// converter gives them (Dag::canonical_sign).
+NodeId chain_sum(Dag& d, int m, double sign) {
+  std::vector<NodeId> terms;
+  const auto cos_q = [&](int k) { return d.make_call(Func::Cos, {d.make_input("x[" + std::to_string(k) + "]")}); };
+  const auto param = [&](const std::string& name) { return d.make_input(name, true); };
+  for (int k = 0; k < m; ++k) {
+    const NodeId l = param("p[" + std::to_string(2 * k) + "]"), c = param("p[" + std::to_string(2 * k + 1) + "]");
+    bool flipped = false;
+    const NodeId inner = d.canonical_sign(d.make_add({l, d.negate(c)}), flipped);
+    terms.push_back(d.make_mul({inner, cos_q(k), d.make_number(flipped ? sign : -sign)}));
+    terms.push_back(d.make_mul({c, cos_q(k), d.make_number(-sign)}));
+  }
+  terms.push_back(d.make_mul({param("p[" + std::to_string(2 * m) + "]"), cos_q(m), d.make_number(-sign)}));
+  return d.make_add(terms);
+}
+
+}  // namespace
+
+TEST_CASE("sum rewrites: a sum handed over negated gives the negated result, also cut short", "[ir][sum_rewrites]") {
+  // Ten distributions: more than the sixteen rounds the rewrites were once bounded by.
+  // Cut short, a sum was left half rewritten, and the half depended on the sign GiNaC
+  // gave it (the order of the rewrites followed the terms' canonical order, which -t
+  // and t do not share); canonical_sign then compared two different halves, and a
+  // planar chain of ten links generated different code from run to run.
+  constexpr int m = 10;
+  {
+    Dag d;
+    const NodeId sum = chain_sum(d, m, 1.0);
+    std::vector<NodeId> expect;
+    for (int k = 0; k < m; ++k)
+      expect.push_back(d.make_mul({d.make_input("p[" + std::to_string(2 * k) + "]", true),
+                                   d.make_call(Func::Cos, {d.make_input("x[" + std::to_string(k) + "]")}),
+                                   d.make_number(-1.0)}));
+    expect.push_back(d.make_mul({d.make_input("p[" + std::to_string(2 * m) + "]", true),
+                                 d.make_call(Func::Cos, {d.make_input("x[" + std::to_string(m) + "]")}),
+                                 d.make_number(-1.0)}));
+    CHECK(sum == d.make_add(expect));  // rewritten to the end
+  }
+  // Every cut (and none): the sum and its negation, each in a DAG of its own, are each
+  // other's negation, and canonical_sign makes one node of them.
+  for (std::size_t rounds : {0, 1, 2, 3, 4, 7, 10, 16, 19}) {
+    INFO("rounds " << rounds);
+    Dag d1, d2;
+    d1.limit_sum_rounds(rounds);
+    d2.limit_sum_rounds(rounds);
+    const NodeId plus = chain_sum(d1, m, 1.0), minus = chain_sum(d2, m, -1.0);
+    CHECK(d1.node(d1.negate(plus)).hash == d2.node(minus).hash);
+    CHECK(d2.node(d2.negate(minus)).hash == d1.node(plus).hash);
+    bool f1 = false, f2 = false;
+    CHECK(d1.node(d1.canonical_sign(plus, f1)).hash == d2.node(d2.canonical_sign(minus, f2)).hash);
+    CHECK(f1 != f2);
+  }
+}
+
+TEST_CASE("sum rewrites: like terms' coefficients sum alike in any order, and negated when negated", "[ir][sum_rewrites]") {
+  // The rewrites meet a group of like terms in an order that puts t before -t in a sum
+  // and in its negation alike, so a plain sum in that order would not be negated exactly:
+  // (a + x) - x in one, (-a + x) - x in the other.
+  const std::vector<std::vector<double>> cases = {{0.1, 0.7, -0.7},
+                                                  {1e16, 1.0, -1e16, 1.0},
+                                                  {0.7, -0.1, 0.25, -1.0 / 3.0, 1e-9},
+                                                  {2.0, -2.0},
+                                                  {-5.0},
+                                                  {0.3, -0.1, -0.2, 0.1, 1.0 / 7.0}};
+  for (const auto& values : cases) {
+    std::vector<double> negated = values, permuted = values;
+    for (double& v : negated) v = -v;
+    const double s = mbsc::ir::sign_symmetric_sum(values);
+    CHECK(mbsc::ir::sign_symmetric_sum(negated) == -s);
+    std::sort(permuted.begin(), permuted.end());
+    do {
+      CHECK(mbsc::ir::sign_symmetric_sum(permuted) == s);
+    } while (std::next_permutation(permuted.begin(), permuted.end()));
+  }
+  CHECK(mbsc::ir::sign_symmetric_sum({2.0, -2.0}) == 0.0);
+}
