@@ -351,6 +351,9 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   // generated ABI"): one with nothing to compute has zero outputs and no steps.
   // --state minimal: coordinates and speeds outside the state come first in every function.
   std::vector<ir::Step> rebuild;
+  // Kinematic names (issue 25) first: everything else may read them, and they read only
+  // the kept coordinates (joint angles), parameters and earlier names.
+  for (const auto& k : m.kinematic_names) rebuild.push_back(ir::Define{k.sym, fin(k.value), true});
   if (minimal) {
     for (const auto& d : minimal->coords) rebuild.push_back(ir::Define{d.sym, fin(d.value), true});
     for (const auto& step : minimal->speeds) {
@@ -503,7 +506,11 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
     f.outputs.reserve(pos.size() * m.coords.size());
-    for (const auto& g : pos) {
+    for (const auto& named : pos) {
+      // Partial derivatives by the coordinates do not see through kinematic names: the
+      // prototype's fallback writes them out (issue 25; a chain rule through the
+      // definitions is the plan, NOTES-issue25.md).
+      const GiNaC::ex g = model::expand_kinematic_names(m, named);
       const sym::SymbolSet in_g(g);
       for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
     }

@@ -71,6 +71,8 @@ class SpatialLibrary {
   /// or at the joint in pass B by add_element).
   enum class Placed { Done, Later, Failed };
   Placed place(int owner, const PlanarLibrary::Element& e, int child);
+  /// Replaces a placed body's rotation by kinematic names (issue 25 prototype).
+  void name_rotation(int child);
 
   /// After every element: each rotational spring or damper must have its two axes joined
   /// by a revolute or cylindrical joint (reported at the element otherwise).
