@@ -616,6 +616,22 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
   }
 
+  // Kinematic names (issue 25): every function that does not define them yet gets them
+  // first (conditioning, the multipliers formulation, partitions); unread ones are
+  // dropped by the lowering.
+  if (!m.kinematic_names.empty()) {
+    const auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
+    for (auto& f : specs) {
+      bool has = false;
+      for (const auto& step : f.steps)
+        if (const auto* d = std::get_if<ir::Define>(&step); d && d->sym.is_equal(m.kinematic_names.front().sym)) has = true;
+      if (has || !f.undefined_reason.empty()) continue;
+      std::vector<ir::Step> names;
+      for (const auto& k : m.kinematic_names) names.push_back(ir::Define{k.sym, fin(k.value), true});
+      f.steps.insert(f.steps.begin(), names.begin(), names.end());
+    }
+  }
+
   emit::GeneratedModel g;
   g.name = opt.name.empty() ? m.name : opt.name;
   g.source_hash = m.source_text_hash;
