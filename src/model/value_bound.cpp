@@ -25,33 +25,6 @@ std::string printed(const GiNaC::ex& e) {
   return text;
 }
 
-/// f(a) or f(a, b) in double arithmetic, by the name of the GiNaC function (the model
-/// language's functions and csgn, what the lowering knows); false for another function.
-bool call(const std::string& f, const std::vector<double>& a, double& out) {
-  if (a.size() == 2) {
-    if (f != "atan2") return false;
-    out = std::atan2(a[0], a[1]);
-    return true;
-  }
-  if (a.size() != 1) return false;
-  const double x = a[0];
-  if (f == "sin") out = std::sin(x);
-  else if (f == "cos") out = std::cos(x);
-  else if (f == "tan") out = std::tan(x);
-  else if (f == "exp") out = std::exp(x);
-  else if (f == "log") out = std::log(x);
-  else if (f == "abs") out = std::fabs(x);
-  else if (f == "asin") out = std::asin(x);
-  else if (f == "acos") out = std::acos(x);
-  else if (f == "atan") out = std::atan(x);
-  else if (f == "sinh") out = std::sinh(x);
-  else if (f == "cosh") out = std::cosh(x);
-  else if (f == "tanh") out = std::tanh(x);
-  else if (f == "csgn") out = x > 0.0 ? 1.0 : x < 0.0 ? -1.0 : 0.0;
-  else return false;
-  return true;
-}
-
 /// One walk over an expression, bottom-up: the double value of every constant part, the
 /// first problem met. A DAG (shared subexpressions) is walked once per node: values are
 /// remembered by address, and the nodes kept alive while remembered (op(i) of a sum or
@@ -123,7 +96,7 @@ class Walk {
     }
     if (GiNaC::is_a<GiNaC::power>(e)) return std::pow(args[0], args[1]);
     double out = 0.0;
-    if (GiNaC::is_a<GiNaC::function>(e) && call(GiNaC::ex_to<GiNaC::function>(e).get_name(), args, out)) return out;
+    if (GiNaC::is_a<GiNaC::function>(e) && function_value(GiNaC::ex_to<GiNaC::function>(e).get_name(), args, out)) return out;
     return std::nullopt;
   }
 
@@ -166,6 +139,31 @@ std::optional<double> constant_value(const GiNaC::ex& e) {
 std::optional<double> value_at(const GiNaC::ex& e, const std::vector<std::pair<GiNaC::ex, double>>& values) {
   Walk walk(false, values);
   return walk.value(e);
+}
+
+bool function_value(const std::string& f, const std::vector<double>& a, double& out) {
+  if (a.size() == 2) {
+    if (f != "atan2") return false;
+    out = std::atan2(a[0], a[1]);
+    return true;
+  }
+  if (a.size() != 1) return false;
+  const double x = a[0];
+  if (f == "sin") out = std::sin(x);
+  else if (f == "cos") out = std::cos(x);
+  else if (f == "tan") out = std::tan(x);
+  else if (f == "exp") out = std::exp(x);
+  else if (f == "log") out = std::log(x);
+  else if (f == "abs") out = std::fabs(x);
+  else if (f == "asin") out = std::asin(x);
+  else if (f == "acos") out = std::acos(x);
+  else if (f == "atan") out = std::atan(x);
+  else if (f == "sinh") out = std::sinh(x);
+  else if (f == "cosh") out = std::cosh(x);
+  else if (f == "tanh") out = std::tanh(x);
+  else if (f == "csgn") out = x > 0.0 ? 1.0 : x < 0.0 ? -1.0 : 0.0;
+  else return false;
+  return true;
 }
 
 }  // namespace mbsc::model

@@ -3,6 +3,7 @@
 #include "mbsc/sym/symbol_set.hpp"
 
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/model/value_bound.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -154,19 +155,11 @@ class DoubleWalk {
       out = std::pow(b, x);
       return true;
     }
-    if (is_a<function>(e) && e.nops() == 1) {
-      double a = 0.0;
-      if (!value(e.op(0), a)) return false;
-      const std::string name = ex_to<function>(e).get_name();
-      if (name == "sin") out = std::sin(a);
-      else if (name == "cos") out = std::cos(a);
-      else if (name == "tan") out = std::tan(a);
-      else if (name == "exp") out = std::exp(a);
-      else if (name == "log") out = std::log(a);
-      else if (name == "abs") out = std::fabs(a);
-      else if (name == "csgn") out = a > 0.0 ? 1.0 : a < 0.0 ? -1.0 : 0.0;
-      else return false;
-      return true;
+    if (is_a<function>(e)) {  // evaluated as the generated code calls it
+      std::vector<double> args(e.nops());
+      for (std::size_t i = 0; i < e.nops(); ++i)
+        if (!value(e.op(i), args[i])) return false;
+      return model::function_value(ex_to<function>(e).get_name(), args, out);
     }
     return false;
   }

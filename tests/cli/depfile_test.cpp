@@ -22,11 +22,6 @@ std::string read(const fs::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-void write(const fs::path& p, const std::string& text) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << text;
-}
-
 /// A pendulum whose data comes from "my data.mbs", which includes lib/more.mbs.
 void write_model(const fs::path& dir) {
   write(dir / "main.mbs",

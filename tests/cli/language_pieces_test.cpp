@@ -15,11 +15,6 @@ namespace {
 
 const std::string kMbsc = std::string("timeout 120 ") + MBSC_BINARY;
 
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;
@@ -85,8 +80,8 @@ TEST_CASE("let: a model written with named expressions generates the code of the
   const fs::path dir = fresh_dir("let");
   fs::create_directories(dir / "a");
   fs::create_directories(dir / "b");
-  write_text(dir / "a" / "let_demo.mbs", kWithLet);
-  write_text(dir / "b" / "let_demo.mbs", kWithout);
+  write(dir / "a" / "let_demo.mbs", kWithLet);
+  write(dir / "b" / "let_demo.mbs", kWithout);
   for (const char* side : {"a", "b"}) {
     auto r = run(kMbsc + " generate " + quote((dir / side / "let_demo.mbs").string()) + " -o " +
                  quote((dir / side / "out").string()));
@@ -105,7 +100,7 @@ TEST_CASE("let: a model written with named expressions generates the code of the
 
 TEST_CASE("let: a let that reads a speed is refused where speeds are not allowed, at the use", "[cli][let]") {
   const fs::path dir = fresh_dir("let_speed");
-  write_text(dir / "m.mbs",
+  write(dir / "m.mbs",
              "model m\nbody b : particle2d { mass 1 }\nlet s = b.u + b.x\nconstraint position {\n  b.y = s\n}\n");
   auto r = run(kMbsc + " check " + quote((dir / "m.mbs").string()));
   INFO(r.output);
@@ -170,7 +165,7 @@ TEST_CASE("massless links: a chain in absolute angles (rates solved step by step
   for (const char* mass : {"m", "0"}) {
     std::string text = model;
     text.replace(text.find("MASS"), 4, mass);
-    write_text(dir / "chain3.mbs", text);
+    write(dir / "chain3.mbs", text);
     auto r = run(kMbsc + " check " + quote((dir / "chain3.mbs").string()));
     INFO(r.output);
     if (std::string(mass) == "m") {

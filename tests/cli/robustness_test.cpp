@@ -21,10 +21,6 @@ namespace {
 
 const std::string kMbsc = std::string("timeout 120 ") + MBSC_BINARY;
 
-void write(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

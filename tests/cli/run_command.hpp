@@ -3,6 +3,7 @@
 // Runs a shell command, capturing stdout and stderr together, and its exit code.
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <sys/wait.h>
@@ -33,6 +34,13 @@ inline std::filesystem::path fresh_dir(const std::string& tag) {
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;
+}
+
+/// Writes `text` to `p` (replacing it), bytes as given, creating its folder.
+inline void write(const std::filesystem::path& p, const std::string& text) {
+  if (!p.parent_path().empty()) std::filesystem::create_directories(p.parent_path());
+  std::ofstream out(p, std::ios::binary);
+  out << text;
 }
 
 inline std::string quote(const std::string& s) { return "'" + s + "'"; }

@@ -17,7 +17,6 @@ namespace {
 
 const std::string kMbsc = MBSC_BINARY;
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 /// A pendulum on a rod of length l: the bob's Cartesian coordinates tied to the angle.
 const char* kPendulum =

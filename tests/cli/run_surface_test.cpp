@@ -24,7 +24,6 @@ namespace {
 
 const std::string kMbsc = MBSC_BINARY;
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 std::string read(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

@@ -18,10 +18,6 @@ namespace {
 
 const std::string kMbsc = std::string("timeout 120 ") + MBSC_BINARY;
 
-void write(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
 
 /// `check` and `generate` of `model` with `flags` both fail with exit code 1 and `expect`
 /// in their output, no internal error, and nothing written.

@@ -41,4 +41,9 @@ std::optional<double> constant_value(const GiNaC::ex& e);
 /// holds another symbol or a function the walk does not know.
 std::optional<double> value_at(const GiNaC::ex& e, const std::vector<std::pair<GiNaC::ex, double>>& values);
 
+/// f(a) or f(a, b) in double arithmetic, by the name of the GiNaC function (the model
+/// language's functions and csgn, what the lowering knows, as the generated code calls
+/// them); false for another function or another number of arguments.
+bool function_value(const std::string& f, const std::vector<double>& args, double& out);
+
 }  // namespace mbsc::model
