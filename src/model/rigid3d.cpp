@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #include "mbsc/model/rigid3d.hpp"
 
-#include <cstdlib>
-#include <string>
-
 namespace mbsc::model::rigid3d {
 
 using GiNaC::ex;
@@ -159,7 +156,6 @@ Vec parent_angular_velocity_in_parent_frame(const Model& m, const Node& child) {
   return parent.rigid3d.space_frame ? mat_t_vec(parent.rigid3d.rotation, w) : w;
 }
 
-
 Vec rotate_about(const Vec& n, const ex& q, const Vec& v) {
   const Vec nv = cross(n, v);
   if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) return v;  // along the axis
@@ -267,18 +263,16 @@ GiNaC::ex gravity_potential(const Model& m, const Node& node) {
 
 namespace mbsc::model {
 
-GiNaC::ex expand_kinematic_names(const Model& m, const GiNaC::ex& e) {
-  if (m.kinematic_names.empty() || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+GiNaC::exmap kinematic_name_values(const Model& m) {
   // Each name's full expansion, in definition order (values read only earlier names).
-  // Rebuilt per call: the prototype's fallback, not a hot path.
   GiNaC::exmap full;
   for (const auto& k : m.kinematic_names) full[k.sym] = k.value.subs(full, GiNaC::subs_options::no_pattern);
-  return e.subs(full, GiNaC::subs_options::no_pattern);
+  return full;
 }
 
-bool spatial_names_enabled() {
-  const char* v = std::getenv("MBSC_SPATIAL_NAMES");
-  return !(v && std::string(v) == "0");
+GiNaC::ex expand_kinematic_names(const Model& m, const GiNaC::ex& e) {
+  if (m.kinematic_names.empty() || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+  return e.subs(kinematic_name_values(m), GiNaC::subs_options::no_pattern);
 }
 
 }  // namespace mbsc::model

@@ -110,13 +110,29 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
   data.joint_rate = m_.speeds[static_cast<std::size_t>(e.coordinate_speed)].sym;
   const Vec turn = rigid3d::rotation_about(n, data.joint_angle);
   data.rotation = parent == PlanarLibrary::kGround ? turn : rigid3d::mat_mat(m_.nodes[parent].rigid3d.rotation, turn);
-  if (spatial_names_enabled()) name_rotation(child);
+  if (names_rotation(parent)) name_rotation(child);
   return Placed::Done;
 }
 
+bool SpatialLibrary::names_rotation(int parent) const {
+  // The rule of docs/formulation.md, "Named body rotations": a body placed under a body
+  // with an attitude of its own (a free base: its rotation is already a full matrix of
+  // attitude coordinates) is always named; in a chain that starts at the ground, the
+  // first kGroundJointsWritten bodies keep their rotations as written-out products of
+  // joint rotations (the exact axes' zeros and ones cancel there: naming them costs
+  // operations, 202 -> 264 for two links), the deeper ones are named.
+  int depth = 1;
+  int p = parent;
+  while (p != PlanarLibrary::kGround && m_.nodes[static_cast<std::size_t>(p)].rigid3d.placed()) {
+    ++depth;
+    p = m_.nodes[static_cast<std::size_t>(p)].rigid3d.joint_parent;
+  }
+  return p != PlanarLibrary::kGround || depth > kGroundJointsWritten;
+}
+
 void SpatialLibrary::name_rotation(int child) {
-  // Issue 25: R = R_parent Q(q) as 9 names (R_parent itself names when the parent is
-  // placed too), each with its time derivative R' = R [w]x, w the child's body-frame
+  // R = R_parent Q(q) as 9 names (R_parent itself names when the parent is named too),
+  // each with its time derivative R' = R [w]x, w the child's body-frame
   // angular speeds (the joint's velocity rows make them the parent's turned back by q
   // plus n q'). Constant entries (a first joint on the ground) stay numbers.
   Node& node = m_.nodes[static_cast<std::size_t>(child)];

@@ -71,7 +71,12 @@ class SpatialLibrary {
   /// or at the joint in pass B by add_element).
   enum class Placed { Done, Later, Failed };
   Placed place(int owner, const PlanarLibrary::Element& e, int child);
-  /// Replaces a placed body's rotation by kinematic names (issue 25 prototype).
+  /// Whether the body a joint with a coordinate places under `parent` gets a named
+  /// rotation (docs/formulation.md, "Named body rotations").
+  bool names_rotation(int parent) const;
+  static constexpr int kGroundJointsWritten = 4;
+  /// Replaces a placed body's rotation by kinematic names (Model::kinematic_names):
+  /// R = R_parent Q(n, q) entry by entry, with R' = R [w]x.
   void name_rotation(int child);
 
   /// After every element: each rotational spring or damper must have its two axes joined

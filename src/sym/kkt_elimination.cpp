@@ -161,7 +161,7 @@ class Eliminator {
       key.erase(std::unique(key.begin(), key.end()), key.end());
     }
     if (!m_.kinematic_names.empty()) {
-      // Issue 25 prototype: a joint with a coordinate writes rows over (parent, child)
+      // Named body rotations (docs/formulation.md): a joint with a coordinate writes rows over (parent, child)
       // (the joint point) and over (parent, child, q') (the angular velocity); as two
       // blocks they close a cycle parent - rows - child - rows, and the block graph is
       // no forest. Rows whose speed groups are a subset of another block's join the

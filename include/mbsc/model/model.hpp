@@ -63,7 +63,7 @@ struct Rigid3dData {
   GiNaC::ex joint_angle, joint_rate;
   std::string joint_name;  // the placing joint, for messages
   /// `rotation` holds kinematic names (Model::kinematic_names), not expressions in the
-  /// joint angles of the whole branch (issue 25 prototype).
+  /// joint angles of the whole branch (docs/formulation.md, "Named body rotations").
   bool named_rotation = false;
   bool placed() const { return sequence == "joint"; }
 };
@@ -218,9 +218,8 @@ struct Model {
 /// form the old path wrote): the fallback for partial derivatives with respect to the
 /// coordinates and for evaluators that do not bind the names.
 GiNaC::ex expand_kinematic_names(const Model& m, const GiNaC::ex& e);
-
-/// Prototype switch (issue 25): joint-placed rigid3d bodies get named rotations
-/// (Model::kinematic_names). On unless MBSC_SPATIAL_NAMES=0.
-bool spatial_names_enabled();
+/// Every kinematic name -> its full expansion (what expand_kinematic_names substitutes),
+/// for callers that expand many expressions.
+GiNaC::exmap kinematic_name_values(const Model& m);
 
 }  // namespace mbsc::model
