@@ -506,11 +506,11 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
     f.outputs.reserve(pos.size() * m.coords.size());
+    // Partial derivatives by the coordinates must see through the kinematic names (named
+    // body rotations, docs/formulation.md): the rows are written out first.
+    const GiNaC::exmap names = model::kinematic_name_values(m);
     for (const auto& named : pos) {
-      // Partial derivatives by the coordinates do not see through kinematic names: the
-      // prototype's fallback writes them out (issue 25; a chain rule through the
-      // definitions is the plan, NOTES-issue25.md).
-      const GiNaC::ex g = model::expand_kinematic_names(m, named);
+      const GiNaC::ex g = names.empty() ? named : named.subs(names, GiNaC::subs_options::no_pattern);
       const sym::SymbolSet in_g(g);
       for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
     }
