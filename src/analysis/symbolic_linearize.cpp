@@ -2,8 +2,8 @@
 // mbsc linearize --symbolic: the model derived again (its Taylor coefficients as GiNaC
 // expressions, driver::linear_parts_spec), the reference made symbolic
 // (symbolic_reference), the elimination (symbolic_linear_model), the check against the
-// numeric model, and the text (include/mbsc/run/symbolic_linearize.hpp).
-#include "mbsc/run/symbolic_linearize.hpp"
+// numeric model, and the text (include/mbsc/analysis/symbolic_linearize.hpp).
+#include "mbsc/analysis/symbolic_linearize.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mbsc/analysis/symbolic_linear_model.hpp"
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/canonical_text.hpp"
@@ -24,9 +25,10 @@
 #include "mbsc/sym/tidy.hpp"
 #include "mbsc/run/json_text.hpp"
 #include "mbsc/run/second_order_form.hpp"
-#include "mbsc/run/symbolic_linear_model.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
+
+using run::json_string;
 
 namespace {
 
@@ -110,9 +112,9 @@ class Display {
 
 }  // namespace
 
-bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
-                          const NumericLinearModel& numeric, const ReferenceAt& reference_at, std::string& text,
-                          std::string& error, int& exit_code) {
+bool symbolic_linear_text(const run::LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T,
+                          const run::ReferenceRequest& req, const NumericLinearModel& numeric, const ReferenceAt& reference_at,
+                          std::string& text, std::string& error, int& exit_code) {
   exit_code = 1;
   // The full layout is the model's coordinates, then its speeds (linear_parts' columns).
   for (int i = 0; i < T.nx; ++i) {
@@ -233,9 +235,9 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
     if (!check(lin.A, lin.B, An, Bn, probe.at, fmt::format("at {} = {}", probe.name, probe.value))) return false;
   }
   if (!coords.empty()) {
-    SecondOrderForm f;
+    run::SecondOrderForm f;
     std::string why;
-    if (second_order_form(*numeric.lin, T.nq, coords, f, why)) {
+    if (run::second_order_form(*numeric.lin, T.nq, coords, f, why)) {
       double scale = 0.0;
       const double worst = std::max({differs(lin.M, f.M, sref.nominal, scale), differs(lin.C, f.C, sref.nominal, scale),
                                      differs(lin.K, f.K, sref.nominal, scale)});
@@ -417,4 +419,4 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
   return true;
 }
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis
