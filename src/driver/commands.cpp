@@ -14,14 +14,14 @@
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/depfile.hpp"
-#include "mbsc/driver/latex_layout.hpp"
-#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/pipeline.hpp"
-#include "mbsc/driver/print_matrix.hpp"
 #include "mbsc/driver/staged_file.hpp"
 #include "mbsc/emit/python_module_names.hpp"
 #include "mbsc/parse/parse.hpp"
+#include "mbsc/print/latex_layout.hpp"
+#include "mbsc/print/latex_names.hpp"
+#include "mbsc/print/print_matrix.hpp"
 
 namespace mbsc::driver {
 namespace fs = std::filesystem;
@@ -199,7 +199,7 @@ void warn_same_latex_symbols(const model::Model& m, Diagnostics& diags) {
   std::map<std::string, std::string> seen;  // symbol -> the first name printed so
   for (const auto* vars : {&m.params, &m.inputs, &m.coords, &m.speeds})
     for (const auto& v : *vars) {
-      const std::string symbol = latex_symbol(v.name, m.latex_symbols);
+      const std::string symbol = print::latex_symbol(v.name, m.latex_symbols);
       const auto [it, fresh] = seen.emplace(symbol, v.name);
       if (!fresh)
         diags.warning(v.pos, fmt::format("'{}' and '{}' both print as {} in LaTeX; give one of them its own symbol "
@@ -234,7 +234,7 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
     for (const auto& f : g->functions)
       text += fmt::format("{:<22} {:>8} {:>8} {:>8} {:>8} {:>11} {:>9}\n", f.name, f.ops.adds, f.ops.muls, f.ops.divs,
                           f.ops.calls, f.ops.solve_flops, f.ops.total());
-    if (a.standalone) text = latex_document(m.name, a.node, "\\begin{verbatim}\n" + text + "\\end{verbatim}\n");
+    if (a.standalone) text = print::latex_document(m.name, a.node, "\\begin{verbatim}\n" + text + "\\end{verbatim}\n");
     return true;
   }
   if (a.latex || a.standalone) warn_same_latex_symbols(m, diags);
@@ -249,12 +249,12 @@ bool print_text(const PrintArgs& a, const model::Model& m, const sym::Eom& eom, 
   if (what.empty()) what = node == m.root() ? std::vector<std::string>{"M", "h", "eom", "invariants", "rates", "B", "C", "fbar"}
                                             : std::vector<std::string>{"M", "h", "eom", "invariants", "B", "C", "fbar"};
   try {
-    text += print_node(m, eom, node, what, a.latex || a.standalone, a.expand);
+    text += print::print_node(m, eom, node, what, a.latex || a.standalone, a.expand);
   } catch (const std::invalid_argument& e) {
     diags.error(file, e.what());
     return false;
   }
-  if (a.standalone) text = latex_document(m.name, a.node, text);
+  if (a.standalone) text = print::latex_document(m.name, a.node, text);
   return true;
 }
 

@@ -2,7 +2,7 @@
 // A sphere rolling without slip on a fixed surface z = gamma(x, y) of the ground (thesis
 // Ex 2.5). The sphere is a rigid3d body whose mass centre G is the sphere's centre. The
 // contact point P = (xc, yc, gamma(xc, yc)) has its own two coordinates xc, yc (declared
-// with the joint, build.cpp). With gamma_x, gamma_y the surface's slopes at P and
+// with the joint, build_tree.cpp). With gamma_x, gamma_y the surface's slopes at P and
 // n^ = (-gamma_x, -gamma_y, 1) / sqrt(1 + gamma_x^2 + gamma_y^2) its unit upward normal:
 //   * the centre sits r above P along the normal:
 //       .contact_x .contact_y .contact_z    G - P - r n^ = 0          (3 position rows)

@@ -15,6 +15,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "mbsc/analysis/symbolic_linearize.hpp"
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
@@ -25,7 +26,6 @@
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/run/second_order_form.hpp"
-#include "mbsc/run/symbolic_linearize.hpp"
 
 namespace mbsc::run {
 
@@ -179,13 +179,14 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   if (!a.symbolic.empty()) {
     // The same model with names left as symbols; the reference recomputed with one
     // symbol moved at a time shows which values follow them.
-    const ReferenceAt reference_at = [&](const std::map<std::string, double>& moved, LinearReference& r, std::string& e) {
+    const analysis::ReferenceAt reference_at = [&](const std::map<std::string, double>& moved, LinearReference& r,
+                                                   std::string& e) {
       ReferenceRequest q = req;
       for (const auto& [name, v] : moved) q.overrides[name] = v;
       if (!a.find.empty()) return find_steady(*m, *compiled, q, a.find, a.steady, r, e);
       return reference_state(*m, *compiled, q, r, e);
     };
-    NumericLinearModel numeric{&ref, &lin, sel, &A, &B, {}};
+    analysis::NumericLinearModel numeric{&ref, &lin, sel, &A, &B, {}};
     numeric.at_moved = [&](const LinearReference& r, std::vector<double>& Am, std::vector<double>& Bm, std::string& e) {
       runtime::LinearModel l;
       if (runtime::linear_model(parts_of(*compiled, *m), a.t, r.x.data(), r.u.data(), r.p.data(), l, e) != 0) return false;
@@ -194,7 +195,7 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
       return true;
     };
     std::string text;
-    if (!symbolic_linear_text(a, *m, T, req, numeric, reference_at, text, error, code)) {
+    if (!analysis::symbolic_linear_text(a, *m, T, req, numeric, reference_at, text, error, code)) {
       err << "mbsc: error: " << error << "\n";
       return code;
     }

@@ -3,12 +3,12 @@
 // factor order a person uses, a number taken into a sum, and the sign of an odd
 // function of a sign-normalised angle (sin(y - x) printed as -sin(x - y)) moved out of
 // products, powers and denominators.
-#include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/print/canonical_text.hpp"
 
 #include <catch2/catch.hpp>
 
 using namespace GiNaC;
-using mbsc::driver::canonical_text;
+using mbsc::print::canonical_text;
 
 TEST_CASE("canonical_text: factors as a person orders them", "[print][text]") {
   symbol m1("m1"), m2("m2"), l1("l1"), l2("l2"), a("a"), b("b"), th1("th1"), th2("th2");

@@ -2,19 +2,19 @@
 // The display simplifier of `mbsc print` on identities. Each case checks the exact text
 // (which a pass-through returning its input unchanged would not give: checked too), the
 // value at random points and the equality by the half-angle substitution.
-#include "mbsc/driver/display_simplify.hpp"
+#include "mbsc/print/display_simplify.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <random>
 
-#include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/print/canonical_text.hpp"
 #include "mbsc/sym/tidy.hpp"
 #include "trig_check.hpp"
 
 using namespace GiNaC;
-using mbsc::driver::canonical_text;
-using mbsc::driver::display_simplify;
+using mbsc::print::canonical_text;
+using mbsc::print::display_simplify;
 
 namespace {
 
@@ -123,12 +123,12 @@ TEST_CASE("display_simplify: over its work limits it returns the plain form", "[
   ex s = 0;
   for (int i = 0; i < 8; ++i) s += cos(x + i * y) * sin(i * x - y);
   const ex big = pow(s, 4) + pow(sin(z), 2) + pow(cos(z), 2);
-  mbsc::driver::DisplayLimits tight;
+  mbsc::print::DisplayLimits tight;
   tight.max_expanded_terms = 100;
   const ex out = display_simplify(big, tight);
   CHECK(out.is_equal(mbsc::sym::tidy(big)));
   // Few allowed products of waves: the budget stops the rewriting, the value stays.
-  mbsc::driver::DisplayLimits budget;
+  mbsc::print::DisplayLimits budget;
   budget.max_wave_terms = 10;
   const ex e = pow(cos(x), 6) * pow(sin(y), 5) + a;
   const ex out2 = display_simplify(e, budget);
@@ -138,7 +138,7 @@ TEST_CASE("display_simplify: over its work limits it returns the plain form", "[
   // with the default limits, and not when the call may print only a few characters.
   const ex f = a * pow(sin(x), 2) + a * pow(cos(x), 2) + b * cos(y);
   CHECK(canonical_text(display_simplify(f), false) == canonical_text(a + b * cos(y), false));
-  mbsc::driver::DisplayLimits few_chars;
+  mbsc::print::DisplayLimits few_chars;
   few_chars.max_printed_chars = 20;
   const ex out3 = display_simplify(f, few_chars);
   CHECK(out3.is_equal(mbsc::sym::tidy(f)));

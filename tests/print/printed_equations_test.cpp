@@ -5,7 +5,7 @@
 // (which the numeric tests tie to the generated code) at random states and parameters;
 // (b) for the double pendulum, the 3R arm and the four-bar, the printed M matches the
 // textbook form as text and symbolically.
-#include "mbsc/driver/print_matrix.hpp"
+#include "mbsc/print/print_matrix.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -18,12 +18,12 @@
 #include <variant>
 
 #include "cli/run_command.hpp"
-#include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/driver/pipeline.hpp"
+#include "mbsc/print/canonical_text.hpp"
 #include "trig_check.hpp"
 
 using namespace GiNaC;
-using mbsc::driver::canonical_text;
+using mbsc::print::canonical_text;
 namespace fs = std::filesystem;
 
 namespace {
@@ -140,7 +140,7 @@ exmap reference_values(const mbsc::model::Model& m, const mbsc::sym::Eom& eom, s
 
 /// The inputs of `ref` and the printed intermediates evaluated from their printed values
 /// (an X without a closed form takes the reference's number).
-exmap printed_values(const mbsc::model::Model& m, const mbsc::driver::PrintedEquations& p, const exmap& ref) {
+exmap printed_values(const mbsc::model::Model& m, const mbsc::print::PrintedEquations& p, const exmap& ref) {
   exmap v;
   v[m.time] = ref.at(m.time);
   for (const auto& q : m.coords) v[q.sym] = ref.at(q.sym);
@@ -225,7 +225,7 @@ TEST_CASE("printed M and h of every shipped model evaluate to the pipeline's num
     const int root = m.root();
     for (bool expand : {false, true}) {
       INFO("expand " << expand);
-      const auto p = mbsc::driver::printed_equations(m, eom, root, expand);
+      const auto p = mbsc::print::printed_equations(m, eom, root, expand);
       for (int trial = 0; trial < 3; ++trial) {
         const exmap ref = reference_values(m, eom, rng);
         const exmap shown = printed_values(m, p, ref);
@@ -305,7 +305,7 @@ TEST_CASE("double pendulum: the printed M is the textbook one", "[print][equatio
                    m2 * l1 * l2 * pow(w1, 2) * sin(th1 - th2) - m2 * g * l2 * sin(th2)};
   const char* text[2][2] = {{"(m1 + m2)*l1^2", "l1*l2*m2*cos(th1 - th2)"}, {"l1*l2*m2*cos(th1 - th2)", "l2^2*m2"}};
   for (bool expand : {false, true}) {
-    const auto p = mbsc::driver::printed_equations(m, *l.eom, m.root(), expand);
+    const auto p = mbsc::print::printed_equations(m, *l.eom, m.root(), expand);
     for (int i = 0; i < 2; ++i) {
       for (int j = 0; j < 2; ++j) {
         CHECK(canonical_text(p.M[i][j], false) == text[i][j]);
@@ -368,7 +368,7 @@ TEST_CASE("3R arm: the printed M and h are the textbook ones", "[print][equation
        "1/2*l1*l3*m3*cos(link1.theta - link3.theta)"},
       {"(1/2*m2 + m3)*l1*l2*cos(link1.theta - link2.theta)", "(1/3*m2 + m3)*l2^2", "1/2*l2*l3*m3*cos(link2.theta - link3.theta)"},
       {"1/2*l1*l3*m3*cos(link1.theta - link3.theta)", "1/2*l2*l3*m3*cos(link2.theta - link3.theta)", "1/3*l3^2*m3"}};
-  const auto p = mbsc::driver::printed_equations(m, *l.eom, m.root(), true);
+  const auto p = mbsc::print::printed_equations(m, *l.eom, m.root(), true);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
       CHECK(canonical_text(p.M[i][j], false) == text[i][j]);
@@ -398,7 +398,7 @@ TEST_CASE("four-bar: the printed M is the textbook one, through the velocity rat
     return m1 * pow(a, 2) / 3 + m2 * pow(a, 2) + m2 * a * b * r2 * cos(t1 - t2) + m2 * pow(b, 2) * pow(r2, 2) / 3 +
            m3 * pow(c, 2) * pow(r3, 2) / 3;
   };
-  const auto p = mbsc::driver::printed_equations(m, *l.eom, m.root(), false);
+  const auto p = mbsc::print::printed_equations(m, *l.eom, m.root(), false);
   REQUIRE(p.numeric_solves);
   symbol x00, x10;
   for (const auto& w : p.where) {
@@ -418,7 +418,7 @@ TEST_CASE("four-bar: the printed M is the textbook one, through the velocity rat
         "a^2*m2");
   CHECK(mbsc_test::trig_equal(p.M[0][0], textbook(-x00, -x10)));
   // --expand: the closed form, equal to the textbook M with the ratios put in.
-  const auto e = mbsc::driver::printed_equations(m, *l.eom, m.root(), true);
+  const auto e = mbsc::print::printed_equations(m, *l.eom, m.root(), true);
   CHECK(e.where.empty());
   CHECK(mbsc_test::trig_equal(e.M[0][0], textbook(k2, k3)));
   const std::string out = print_cli("four_bar.mbs", "--what M");

@@ -30,7 +30,7 @@ struct LinearizeArgs {
   /// M q'' + v C1 q' + (g K0 + v^2 K2) q = T (the benchmark bicycle's form).
   std::string speed, gravity;
   /// --symbolic NAMES: parameters or --let names left as symbols (or "all"); the model is
-  /// then written symbolically (run/symbolic_linearize.hpp) as text, LaTeX or JSON.
+  /// then written symbolically (analysis/symbolic_linearize.hpp) as text, LaTeX or JSON.
   std::vector<std::string> symbolic;
   std::string format = "text";                   // --format text|csv|json|latex (latex: with --symbolic)
   std::string out = "-";                         // -o FILE (default: standard output)

@@ -4,14 +4,14 @@
 /// The base gives the letter and its own subscripts; the qualifiers (the bodies and
 /// subsystems it belongs to) go first in the subscript; each prime is a dot over the
 /// letter.
-#include "mbsc/driver/latex_names.hpp"
+#include "mbsc/print/latex_names.hpp"
 
 #include <array>
 #include <cctype>
 #include <utility>
 #include <vector>
 
-namespace mbsc::driver {
+namespace mbsc::print {
 namespace {
 
 /// A letter with its subscript items: stem_{sub[0],sub[1],...}.
@@ -228,4 +228,4 @@ std::string latex_call(const std::string& function, const std::string& args) {
   return op + "\\left(" + args + "\\right)";
 }
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

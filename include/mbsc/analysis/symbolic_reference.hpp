@@ -17,7 +17,7 @@
 #include "mbsc/model/model.hpp"
 #include "mbsc/run/linear_reference.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
 
 struct SymbolicReference {
   std::vector<GiNaC::symbol> symbols;  // the kept symbols, in the order named
@@ -31,13 +31,13 @@ struct SymbolicReference {
     std::string name;
     double value = 0.0;
     GiNaC::exmap at;
-    LinearReference ref;
+    run::LinearReference ref;
   };
   std::vector<Probe> moved;
 };
 
 /// The numeric reference at the request's values with some names moved (name -> value).
-using ReferenceAt = std::function<bool(const std::map<std::string, double>& moved, LinearReference& ref, std::string& error)>;
+using ReferenceAt = std::function<bool(const std::map<std::string, double>& moved, run::LinearReference& ref, std::string& error)>;
 
 /// Speeds that follow the symbols without an expression that does (assembled from the
 /// velocity constraints, as a wheel's spin from the forward speed): given `at` with
@@ -45,8 +45,8 @@ using ReferenceAt = std::function<bool(const std::map<std::string, double>& move
 using SpeedSolver = std::function<bool(const std::vector<int>& speeds, GiNaC::exmap& at, std::string& error)>;
 
 /// `names`: the --symbolic list ("all": every run-time parameter and --let name).
-bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
-                        const std::vector<std::string>& names, const LinearReference& ref, const ReferenceAt& reference_at,
+bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, const run::ReferenceRequest& req,
+                        const std::vector<std::string>& names, const run::LinearReference& ref, const ReferenceAt& reference_at,
                         const SpeedSolver& solve_speeds, SymbolicReference& out, std::string& error);
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// The reference of a symbolic linear model (include/mbsc/run/symbolic_reference.hpp).
-#include "mbsc/run/symbolic_reference.hpp"
+// The reference of a symbolic linear model (include/mbsc/analysis/symbolic_reference.hpp).
+#include "mbsc/analysis/symbolic_reference.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -9,13 +9,13 @@
 #include <cmath>
 #include <optional>
 
+#include "mbsc/analysis/symbolic_linear_model.hpp"
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/model/option_expression.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/run/run_setup.hpp"
-#include "mbsc/run/symbolic_linear_model.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
 
 namespace {
 
@@ -31,11 +31,11 @@ bool close(double a, double b) { return std::fabs(a - b) <= 1e-9 * (1.0 + std::f
 
 }  // namespace
 
-bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
-                        const std::vector<std::string>& names, const LinearReference& ref, const ReferenceAt& reference_at,
+bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, const run::ReferenceRequest& req,
+                        const std::vector<std::string>& names, const run::LinearReference& ref, const ReferenceAt& reference_at,
                         const SpeedSolver& solve_speeds, SymbolicReference& out, std::string& error) {
   std::map<std::string, double> lets;
-  if (!parse_assignments(req.lets, "--let", lets, error)) return false;
+  if (!run::parse_assignments(req.lets, "--let", lets, error)) return false;
   const auto params = runtime::ModelTable::names_of(T.param_names, T.np);
   // The kept names, "all" expanded; each a run-time parameter or a --let name.
   std::vector<std::string> kept;
@@ -133,7 +133,7 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   for (std::size_t k = 0; k < out.symbols.size(); ++k) {
     const std::string& name = out.symbols[k].get_name();
     const double v = nominal_of.at(name), h = 1e-3 * std::max(1.0, std::fabs(v));
-    LinearReference moved;
+    run::LinearReference moved;
     if (!reference_at({{name, v + h}}, moved, error)) {
       error = fmt::format("--symbolic {}: the reference at {} = {} (to see what depends on it): {}", name, name, v + h, error);
       return false;
@@ -228,4 +228,4 @@ bool symbolic_reference(const model::Model& m, const runtime::ModelTable& T, con
   return true;
 }
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis

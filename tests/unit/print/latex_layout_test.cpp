@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/print/latex_layout.hpp"
 
-using namespace mbsc::driver;
-using namespace mbsc::driver::latex_layout_detail;
+using namespace mbsc::print;
+using namespace mbsc::print::latex_layout_detail;
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 /// A labelled matrix: a comment naming its rows and columns (model names), then a pmatrix
 /// in an equation* when its columns fit on a line, else its nonzero entries one per line
@@ -60,4 +60,4 @@ std::vector<std::string> break_terms(const std::string& formula, double first, d
 std::string wrap_source(const std::string& text, std::size_t columns);
 }  // namespace latex_layout_detail
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

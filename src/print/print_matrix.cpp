@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "mbsc/driver/print_matrix.hpp"
+#include "mbsc/print/print_matrix.hpp"
 
 #include <fmt/format.h>
 
@@ -9,17 +9,17 @@
 #include <variant>
 
 #include "mbsc/diag/activity.hpp"
-#include "mbsc/driver/canonical_text.hpp"
-#include "mbsc/driver/display_simplify.hpp"
-#include "mbsc/model/exact_guard.hpp"
-#include "mbsc/driver/latex_layout.hpp"
-#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/pipeline.hpp"
+#include "mbsc/model/exact_guard.hpp"
+#include "mbsc/print/canonical_text.hpp"
+#include "mbsc/print/display_simplify.hpp"
+#include "mbsc/print/latex_layout.hpp"
+#include "mbsc/print/latex_names.hpp"
 #include "mbsc/sym/full_complement.hpp"
 #include "mbsc/sym/minimal_state.hpp"
 #include "mbsc/sym/tidy.hpp"
 
-namespace mbsc::driver {
+namespace mbsc::print {
 namespace {
 
 /// Closed forms larger than this (nodes) are not substituted: the intermediate stays named.
@@ -37,7 +37,7 @@ std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(displ
 /// that the printed equations read only the model's own symbols, and derivatives taken
 /// here by coordinates see through the names.
 GiNaC::ex shown(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e) {
-  return finalize(m, eom, model::expand_kinematic_names(m, e));
+  return driver::finalize(m, eom, model::expand_kinematic_names(m, e));
 }
 
 std::string pad(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
@@ -530,4 +530,4 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
   return out;
 }
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -8,10 +8,10 @@
 #include <utility>
 #include <vector>
 
-#include "mbsc/driver/latex_names.hpp"
+#include "mbsc/print/latex_names.hpp"
 
-using mbsc::driver::latex_call;
-using mbsc::driver::latex_symbol;
+using mbsc::print::latex_call;
+using mbsc::print::latex_symbol;
 
 TEST_CASE("latex symbols: letters, Greek names and subscripts", "[latex]") {
   const std::vector<std::pair<const char*, const char*>> cases = {

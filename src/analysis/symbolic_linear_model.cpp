@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // The linear model by exact elimination over the Taylor coefficients, some parameters left
-// as symbols (include/mbsc/run/symbolic_linear_model.hpp). The story follows
+// as symbols (include/mbsc/analysis/symbolic_linear_model.hpp). The story follows
 // runtime/linear_model.hpp: reference rates and multipliers, then the increments; where
 // the runtime uses an orthonormal null space and minimum-norm solves, this uses the
 // equivalent bordered (KKT) systems on the independent constraint rows, which give the
 // same rates and increments (the projected equations N^T (...) = 0 hold exactly when the
 // residual lies in the range of A_c^T), and the minimum-norm multipliers in the range of A_c.
-#include "mbsc/run/symbolic_linear_model.hpp"
+#include "mbsc/analysis/symbolic_linear_model.hpp"
 
 #include <fmt/format.h>
 
@@ -17,7 +17,7 @@
 
 #include "mbsc/diag/activity.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
 
 namespace {
 
@@ -451,4 +451,4 @@ bool symbolic_linear_model(const SymbolicLinearInput& in, SymbolicLinearModel& o
   return in.coords.empty() || second_order(in, points, T, qT, out, error);
 }
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace mbsc::run {
+namespace mbsc::analysis {
 
 struct SymbolicLinearInput {
   /// linear_parts' outputs (driver::linear_parts_spec, its block order) and the symbols
@@ -84,4 +84,4 @@ double nominal_value(const GiNaC::ex& e, const GiNaC::exmap& nominal);
 /// cancellations that were exact only in real arithmetic, such as sin^2 + cos^2 - 1).
 GiNaC::ex tidy_entry(const GiNaC::ex& e, const std::vector<GiNaC::exmap>& points);
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "mbsc/driver/display_simplify.hpp"
+#include "mbsc/print/display_simplify.hpp"
 
 #include <algorithm>
 #include <map>
@@ -8,13 +8,13 @@
 #include <utility>
 #include <vector>
 
-#include "mbsc/driver/canonical_text.hpp"
 #include "mbsc/model/exact_guard.hpp"
+#include "mbsc/print/canonical_text.hpp"
 #include "mbsc/sym/common_factors.hpp"
 #include "mbsc/sym/structural_size.hpp"
 #include "mbsc/sym/tidy.hpp"
 
-namespace mbsc::driver {
+namespace mbsc::print {
 namespace {
 
 /// Thrown when one expression's work budget is spent: it is simplified part by part.
@@ -502,4 +502,4 @@ GiNaC::ex display_simplify(const GiNaC::ex& e, const DisplayLimits& limits) {
   return sym::tidy(e);
 }
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

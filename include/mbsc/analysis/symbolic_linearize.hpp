@@ -9,30 +9,30 @@
 #include <string>
 #include <vector>
 
+#include "mbsc/analysis/symbolic_reference.hpp"
 #include "mbsc/model/model.hpp"
 #include "mbsc/run/linear_reference.hpp"
 #include "mbsc/run/linearize_command.hpp"
-#include "mbsc/run/symbolic_reference.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
 
 /// What the numeric linearization found: the reference, the state written (indices of
 /// the full layout) and its A, B.
 struct NumericLinearModel {
-  const LinearReference* ref = nullptr;
+  const run::LinearReference* ref = nullptr;
   const runtime::LinearModel* lin = nullptr;  // over the full layout
   std::vector<int> sel;
   const std::vector<double>* A = nullptr;
   const std::vector<double>* B = nullptr;
   /// A and B in the same components at another reference (one symbol moved: the symbolic
   /// model is checked there too).
-  std::function<bool(const LinearReference& ref, std::vector<double>& A, std::vector<double>& B, std::string& error)> at_moved;
+  std::function<bool(const run::LinearReference& ref, std::vector<double>& A, std::vector<double>& B, std::string& error)> at_moved;
 };
 
 /// The symbolic model's text in a.format (text, latex, json). False with `error` (and
 /// `exit_code` 1 for the user's request, 2 when the symbolic and numeric models disagree).
-bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
-                          const NumericLinearModel& numeric, const ReferenceAt& reference_at, std::string& text,
-                          std::string& error, int& exit_code);
+bool symbolic_linear_text(const run::LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T,
+                          const run::ReferenceRequest& req, const NumericLinearModel& numeric, const ReferenceAt& reference_at,
+                          std::string& text, std::string& error, int& exit_code);
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis

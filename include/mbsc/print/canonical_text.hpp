@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 /// In LaTeX, a symbol prints as latex_names.hpp maps its name, or as the innermost
 /// LatexSymbolScope of this thread gives it.
@@ -31,4 +31,4 @@ class LatexSymbolScope {
   const std::map<std::string, std::string>* outer_;
 };
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-#include "mbsc/driver/canonical_text.hpp"
+#include "mbsc/print/canonical_text.hpp"
 
 #include <algorithm>
 #include <utility>
 #include <sstream>
 #include <vector>
 
-#include "mbsc/driver/latex_names.hpp"
+#include "mbsc/print/latex_names.hpp"
 
-namespace mbsc::driver {
+namespace mbsc::print {
 namespace {
 
 // Binding strength, to decide parentheses: sum < product < power < atom.
@@ -271,4 +271,4 @@ const std::map<std::string, std::string>& LatexSymbolScope::current() {
   return latex_scope ? *latex_scope : none;
 }
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 #pragma once
 /// `mbsc print`: the labelled matrices of one subsystem, as text or LaTeX, in the form
-/// a person writes them (driver/display_simplify.hpp).
+/// a person writes them (print/display_simplify.hpp).
 #include <ginac/ginac.h>
 
 #include <string>
@@ -10,7 +10,7 @@
 #include "mbsc/model/model.hpp"
 #include "mbsc/sym/eom.hpp"
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 /// what: any of "eom" (M z' = h row by row), "M", "h", "invariants" (the constraints),
 /// "rates", "A", "B", "C", "S", "f", "fbar". With `expand`, the named intermediates
@@ -42,4 +42,4 @@ struct PrintedEquations {
 };
 PrintedEquations printed_equations(const model::Model& m, const sym::Eom& eom, int node, bool expand);
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

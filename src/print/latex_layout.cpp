@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /// The environments and line breaking of `mbsc print --latex` (latex_layout.hpp).
-#include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/print/latex_layout.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
 
-#include "mbsc/driver/latex_names.hpp"
+#include "mbsc/print/latex_names.hpp"
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 namespace latex_layout_detail {
 
@@ -195,4 +195,4 @@ std::string latex_document(const std::string& model, const std::string& subsyste
          heading + "}\n\n" + body + "\\end{document}\n";
 }
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -19,7 +19,7 @@
 
 #include <cstddef>
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 struct DisplayLimits {
   std::size_t max_nodes = 4000;       // nodes of the input (counted with repetition)
@@ -41,4 +41,4 @@ std::size_t display_size(const GiNaC::ex& e);
 /// The size of e (sym::structural_size: the same in every run), counted up to limit + 1 at most.
 std::size_t node_count(const GiNaC::ex& e, std::size_t limit);
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "mbsc/driver/latex_layout.hpp"
+#include "mbsc/print/latex_layout.hpp"
 
-namespace mbsc::driver::latex_layout_detail {
+namespace mbsc::print::latex_layout_detail {
 namespace {
 
 bool is_letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
@@ -346,4 +346,4 @@ std::vector<std::string> break_terms(const std::string& f, double first, double 
   return lines;
 }
 
-}  // namespace mbsc::driver::latex_layout_detail
+}  // namespace mbsc::print::latex_layout_detail

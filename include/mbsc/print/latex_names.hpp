@@ -13,7 +13,7 @@
 #include <map>
 #include <string>
 
-namespace mbsc::driver {
+namespace mbsc::print {
 
 /// The symbol of `name`: a dotted path of identifiers, possibly followed by primes.
 std::string latex_symbol(const std::string& name);
@@ -28,4 +28,4 @@ std::string latex_symbol(const std::string& name, const std::map<std::string, st
 /// `args` is the LaTeX of the arguments, comma-separated.
 std::string latex_call(const std::string& function, const std::string& args);
 
-}  // namespace mbsc::driver
+}  // namespace mbsc::print

@@ -2,8 +2,8 @@
 // mbsc linearize --symbolic: the model derived again (its Taylor coefficients as GiNaC
 // expressions, driver::linear_parts_spec), the reference made symbolic
 // (symbolic_reference), the elimination (symbolic_linear_model), the check against the
-// numeric model, and the text (include/mbsc/run/symbolic_linearize.hpp).
-#include "mbsc/run/symbolic_linearize.hpp"
+// numeric model, and the text (include/mbsc/analysis/symbolic_linearize.hpp).
+#include "mbsc/analysis/symbolic_linearize.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -11,22 +11,24 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mbsc/analysis/symbolic_linear_model.hpp"
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/diagnostics.hpp"
-#include "mbsc/driver/canonical_text.hpp"
-#include "mbsc/driver/latex_layout.hpp"
-#include "mbsc/driver/latex_names.hpp"
 #include "mbsc/driver/linear_parts.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/work_monitor.hpp"
+#include "mbsc/print/canonical_text.hpp"
+#include "mbsc/print/latex_layout.hpp"
+#include "mbsc/print/latex_names.hpp"
 #include "mbsc/sym/eom.hpp"
 #include "mbsc/sym/kkt_system.hpp"
 #include "mbsc/sym/tidy.hpp"
 #include "mbsc/run/json_text.hpp"
 #include "mbsc/run/second_order_form.hpp"
-#include "mbsc/run/symbolic_linear_model.hpp"
 
-namespace mbsc::run {
+namespace mbsc::analysis {
+
+using run::json_string;
 
 namespace {
 
@@ -65,7 +67,7 @@ class Display {
       } else if (GiNaC::is_a<GiNaC::numeric>(term)) {
         k = GiNaC::ex_to<GiNaC::numeric>(term), monomial = 1;
       }
-      const std::string text = driver::canonical_text(monomial, false);
+      const std::string text = print::canonical_text(monomial, false);
       if (GiNaC::abs(k) > GiNaC::abs(largest) || (GiNaC::abs(k) == GiNaC::abs(largest) && text < first)) largest = k, first = text;
     }
     if (!largest.is_zero()) num = (num / largest).expand(), den = (den / largest).expand();
@@ -110,9 +112,9 @@ class Display {
 
 }  // namespace
 
-bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T, const ReferenceRequest& req,
-                          const NumericLinearModel& numeric, const ReferenceAt& reference_at, std::string& text,
-                          std::string& error, int& exit_code) {
+bool symbolic_linear_text(const run::LinearizeArgs& a, const model::Model& m, const runtime::ModelTable& T,
+                          const run::ReferenceRequest& req, const NumericLinearModel& numeric, const ReferenceAt& reference_at,
+                          std::string& text, std::string& error, int& exit_code) {
   exit_code = 1;
   // The full layout is the model's coordinates, then its speeds (linear_parts' columns).
   for (int i = 0; i < T.nx; ++i) {
@@ -238,9 +240,9 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
     if (!check(lin.A, lin.B, An, Bn, probe.at, fmt::format("at {} = {}", probe.name, probe.value))) return false;
   }
   if (!coords.empty()) {
-    SecondOrderForm f;
+    run::SecondOrderForm f;
     std::string why;
-    if (second_order_form(*numeric.lin, T.nq, coords, f, why)) {
+    if (run::second_order_form(*numeric.lin, T.nq, coords, f, why)) {
       double scale = 0.0;
       const double worst = std::max({differs(lin.M, f.M, sref.nominal, scale), differs(lin.C, f.C, sref.nominal, scale),
                                      differs(lin.K, f.K, sref.nominal, scale)});
@@ -302,12 +304,12 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
   for (const auto& e : sref.state) refd.push_back(display(e));
   std::map<std::string, std::string> latex_names = m.latex_symbols;
   for (const auto& [name, latex] : display.decimals) latex_names[name] = latex;
-  const driver::LatexSymbolScope scope(latex_names);
+  const print::LatexSymbolScope scope(latex_names);
   const bool latex = a.format == "latex";
   auto str = [&](const Shown& e) {
-    const std::string n = driver::canonical_text(e.num, latex);
+    const std::string n = print::canonical_text(e.num, latex);
     if (e.den.is_equal(ex(1))) return n;
-    const std::string d = driver::canonical_text(e.den, latex);
+    const std::string d = print::canonical_text(e.den, latex);
     if (latex) {
       // -\frac{g}{r}, not \frac{-g}{r}, for a numerator of one term.
       if (!GiNaC::is_a<GiNaC::add>(e.num) && !n.empty() && n[0] == '-') return "-\\frac{" + n.substr(1) + "}{" + d + "}";
@@ -365,12 +367,12 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
     out += fmt::format(",\n  \"smallest_pivot\": {:.17g}", lin.smallest_pivot);
     out += "\n}\n";
   } else if (latex) {
-    std::vector<driver::LatexEquation> refs;
+    std::vector<print::LatexEquation> refs;
     for (std::size_t i = 0; i < full.size(); ++i)
-      refs.push_back({driver::latex_symbol(full[i], latex_names), str(refd[i]), ""});
+      refs.push_back({print::latex_symbol(full[i], latex_names), str(refd[i]), ""});
     out = fmt::format("% linear model of {} about t = {}, symbols {}: d/dt dx = A dx + B du, x = ({})\n", m.name, a.t,
                       fmt::join(symbols, ", "), fmt::join(names, ", "));
-    out += driver::latex_equations("the reference", refs);
+    out += print::latex_equations("the reference", refs);
     if (lin.smallest_pivot < 1e-6)
       out += fmt::format("% a pivot of the elimination is {:.2g} of its matrix at the nominal values: the expressions hold near them\n",
                          lin.smallest_pivot);
@@ -382,12 +384,12 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
       }
       return s;
     };
-    out += driver::latex_matrix("A", names, names, strings(Ad), latex_names);
-    if (T.nin > 0) out += driver::latex_matrix("B", names, inputs, strings(Bd), latex_names);
+    out += print::latex_matrix("A", names, names, strings(Ad), latex_names);
+    if (T.nin > 0) out += print::latex_matrix("B", names, inputs, strings(Bd), latex_names);
     if (!formd.empty()) out += fmt::format("% second-order form M q'' + C q' + K q = T, q = ({}){}\n", fmt::join(a.second_order, ", "),
                                            split_note.empty() ? "" : "; " + split_note);
     for (const auto& [label, block] : formd)
-      out += driver::latex_matrix(label, a.second_order, a.second_order, strings(block), latex_names);
+      out += print::latex_matrix(label, a.second_order, a.second_order, strings(block), latex_names);
   } else {
     out = fmt::format("linear model of {} about t = {} ({} state, {} components), symbols: {}\n", m.name, a.t,
                       a.state == "full" ? "full" : "minimal", ns, fmt::join(symbols, ", "));
@@ -422,4 +424,4 @@ bool symbolic_linear_text(const LinearizeArgs& a, const model::Model& m, const r
   return true;
 }
 
-}  // namespace mbsc::run
+}  // namespace mbsc::analysis
