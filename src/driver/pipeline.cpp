@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -335,6 +337,46 @@ ir::LoweredFunction undefined_function(const ir::FunctionSpec& spec) {
 
 }  // namespace
 
+namespace {
+
+/// The defines in an order where each comes after the defines its value reads, otherwise
+/// in the given order (the first ready one each time: deterministic). A cycle, which the
+/// callers do not make, keeps the rest in the given order.
+std::vector<ir::Define> dependency_order(std::vector<ir::Define> defines) {
+  const std::size_t n = defines.size();
+  std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> index;
+  for (std::size_t i = 0; i < n; ++i) index.emplace(defines[i].sym, i);
+  std::vector<std::vector<std::size_t>> reads(n);
+  bool ordered = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::set<std::size_t> in;
+    for (GiNaC::const_preorder_iterator it = defines[i].value.preorder_begin(); it != defines[i].value.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const auto at = index.find(*it);
+      if (at != index.end() && at->second != i) in.insert(at->second);
+    }
+    reads[i].assign(in.begin(), in.end());
+    if (!in.empty() && *in.rbegin() > i) ordered = false;
+  }
+  if (ordered) return defines;
+  std::vector<bool> done(n, false);
+  std::vector<ir::Define> out;
+  out.reserve(n);
+  while (out.size() < n) {
+    std::size_t pick = n;
+    for (std::size_t i = 0; i < n && pick == n; ++i)
+      if (!done[i] && std::all_of(reads[i].begin(), reads[i].end(), [&](std::size_t r) { return done[r]; })) pick = i;
+    if (pick == n)  // a cycle: the rest as given
+      for (std::size_t i = 0; i < n && pick == n; ++i)
+        if (!done[i]) pick = i;
+    done[pick] = true;
+    out.push_back(std::move(defines[pick]));
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
@@ -351,11 +393,17 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   // generated ABI"): one with nothing to compute has zero outputs and no steps.
   // --state minimal: coordinates and speeds outside the state come first in every function.
   std::vector<ir::Step> rebuild;
-  // Kinematic names (issue 25) first: everything else may read them, and they read only
-  // the kept coordinates (joint angles), parameters and earlier names.
-  for (const auto& k : m.kinematic_names) rebuild.push_back(ir::Define{k.sym, fin(k.value), true});
+  {
+    // Kinematic names (named body rotations, docs/formulation.md) and the rebuilt
+    // coordinates first, each after what it reads: a rebuilt mass centre reads names, and
+    // a name reads joint angles, one of which a position constraint may rebuild.
+    std::vector<ir::Define> defines;
+    for (const auto& k : m.kinematic_names) defines.push_back(ir::Define{k.sym, fin(k.value), true});
+    if (minimal)
+      for (const auto& d : minimal->coords) defines.push_back(ir::Define{d.sym, fin(d.value), true});
+    for (auto& d : dependency_order(std::move(defines))) rebuild.push_back(std::move(d));
+  }
   if (minimal) {
-    for (const auto& d : minimal->coords) rebuild.push_back(ir::Define{d.sym, fin(d.value), true});
     for (const auto& step : minimal->speeds) {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         rebuild.push_back(ir::Define{d->sym, fin(d->value), true});
