@@ -596,6 +596,22 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   return specs;
 }
 
+void define_kinematic_names(const model::Model& m, const sym::Eom& eom, std::vector<ir::FunctionSpec>& specs) {
+  // The names (named body rotations, docs/formulation.md) first, in definition order;
+  // the lowering drops the ones a function does not read.
+  if (m.kinematic_names.empty()) return;
+  const auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
+  std::vector<ir::Step> names;
+  for (const auto& k : m.kinematic_names) names.push_back(ir::Define{k.sym, fin(k.value), true});
+  for (auto& f : specs) {
+    bool has = false;
+    for (const auto& step : f.steps)
+      if (const auto* d = std::get_if<ir::Define>(&step); d && d->sym.is_equal(m.kinematic_names.front().sym)) has = true;
+    if (has || !f.undefined_reason.empty()) continue;
+    f.steps.insert(f.steps.begin(), names.begin(), names.end());
+  }
+}
+
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags) {
   std::optional<sym::MinimalState> minimal;
@@ -664,21 +680,9 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
   }
 
-  // Kinematic names (issue 25): every function that does not define them yet gets them
-  // first (conditioning, the multipliers formulation, partitions); unread ones are
-  // dropped by the lowering.
-  if (!m.kinematic_names.empty()) {
-    const auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
-    for (auto& f : specs) {
-      bool has = false;
-      for (const auto& step : f.steps)
-        if (const auto* d = std::get_if<ir::Define>(&step); d && d->sym.is_equal(m.kinematic_names.front().sym)) has = true;
-      if (has || !f.undefined_reason.empty()) continue;
-      std::vector<ir::Step> names;
-      for (const auto& k : m.kinematic_names) names.push_back(ir::Define{k.sym, fin(k.value), true});
-      f.steps.insert(f.steps.begin(), names.begin(), names.end());
-    }
-  }
+  // Kinematic names: every function that does not define them yet (conditioning,
+  // partitions) gets them first.
+  define_kinematic_names(m, eom, specs);
 
   emit::GeneratedModel g;
   g.name = opt.name.empty() ? m.name : opt.name;
