@@ -145,7 +145,12 @@ bool symbolic_linear_text(const run::LinearizeArgs& a, const model::Model& m, co
     try {
       const std::optional<sym::Eom> eom = sym::derive(m, sym::Options{}, diags);
       if (eom) {
-        auto fin = [&](const ex& e) { return sym::tidy(driver::finalize(m, *eom, e)); };
+        // Kinematic names (named body rotations) written out: everything below is
+        // differentiated by the coordinates or evaluated at the reference.
+        const GiNaC::exmap names = model::kinematic_name_values(m);
+        auto fin = [&](const ex& e) {
+          return sym::tidy(driver::finalize(m, *eom, names.empty() ? e : e.subs(names, GiNaC::subs_options::no_pattern)));
+        };
         // Speeds that follow the symbols through the velocity constraints (a wheel's spin
         // from the forward speed): the constraints solved for them.
         const SpeedSolver solve_speeds = [&](const std::vector<int>& speeds, GiNaC::exmap& at, std::string& why) {

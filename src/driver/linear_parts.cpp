@@ -31,8 +31,15 @@ void append_jacobian(std::vector<GiNaC::ex>& out, const std::vector<GiNaC::ex>& 
 
 }  // namespace
 
-ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<GiNaC::ex(const GiNaC::ex&)>& fin,
+ir::FunctionSpec linear_parts_spec(const model::Model& m, const std::function<GiNaC::ex(const GiNaC::ex&)>& finalize,
                                    std::vector<ir::Step> rebuild) {
+  // Every coefficient here is a partial derivative by the coordinates, which must see
+  // through the kinematic names (named body rotations, docs/formulation.md): they are
+  // written out first.
+  const GiNaC::exmap names = model::kinematic_name_values(m);
+  const auto fin = [&](const GiNaC::ex& e) {
+    return finalize(names.empty() ? e : e.subs(names, GiNaC::subs_options::no_pattern));
+  };
   const std::size_t nin = m.inputs.size(), n1 = m.speeds.size(), nc = m.constraints.size();
   ir::FunctionSpec f{"linear_parts",
                      "the Taylor coefficients the linear model is formed from (runtime/linear_model.hpp), over the\n"

@@ -150,6 +150,8 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
     }
     specs.push_back(std::move(f));
   }
+  // Every function reads the kinematic names it needs from their definitions.
+  define_kinematic_names(m, eom, specs);
   return specs;
 }
 

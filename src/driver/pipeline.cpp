@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -335,6 +337,46 @@ ir::LoweredFunction undefined_function(const ir::FunctionSpec& spec) {
 
 }  // namespace
 
+namespace {
+
+/// The defines in an order where each comes after the defines its value reads, otherwise
+/// in the given order (the first ready one each time: deterministic). A cycle, which the
+/// callers do not make, keeps the rest in the given order.
+std::vector<ir::Define> dependency_order(std::vector<ir::Define> defines) {
+  const std::size_t n = defines.size();
+  std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> index;
+  for (std::size_t i = 0; i < n; ++i) index.emplace(defines[i].sym, i);
+  std::vector<std::vector<std::size_t>> reads(n);
+  bool ordered = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::set<std::size_t> in;
+    for (GiNaC::const_preorder_iterator it = defines[i].value.preorder_begin(); it != defines[i].value.preorder_end(); ++it) {
+      if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+      const auto at = index.find(*it);
+      if (at != index.end() && at->second != i) in.insert(at->second);
+    }
+    reads[i].assign(in.begin(), in.end());
+    if (!in.empty() && *in.rbegin() > i) ordered = false;
+  }
+  if (ordered) return defines;
+  std::vector<bool> done(n, false);
+  std::vector<ir::Define> out;
+  out.reserve(n);
+  while (out.size() < n) {
+    std::size_t pick = n;
+    for (std::size_t i = 0; i < n && pick == n; ++i)
+      if (!done[i] && std::all_of(reads[i].begin(), reads[i].end(), [&](std::size_t r) { return done[r]; })) pick = i;
+    if (pick == n)  // a cycle: the rest as given
+      for (std::size_t i = 0; i < n && pick == n; ++i)
+        if (!done[i]) pick = i;
+    done[pick] = true;
+    out.push_back(std::move(defines[pick]));
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal) {
   std::vector<ir::FunctionSpec> specs;
@@ -351,8 +393,17 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
   // generated ABI"): one with nothing to compute has zero outputs and no steps.
   // --state minimal: coordinates and speeds outside the state come first in every function.
   std::vector<ir::Step> rebuild;
+  {
+    // Kinematic names (named body rotations, docs/formulation.md) and the rebuilt
+    // coordinates first, each after what it reads: a rebuilt mass centre reads names, and
+    // a name reads joint angles, one of which a position constraint may rebuild.
+    std::vector<ir::Define> defines;
+    for (const auto& k : m.kinematic_names) defines.push_back(ir::Define{k.sym, fin(k.value), true});
+    if (minimal)
+      for (const auto& d : minimal->coords) defines.push_back(ir::Define{d.sym, fin(d.value), true});
+    for (auto& d : dependency_order(std::move(defines))) rebuild.push_back(std::move(d));
+  }
   if (minimal) {
-    for (const auto& d : minimal->coords) rebuild.push_back(ir::Define{d.sym, fin(d.value), true});
     for (const auto& step : minimal->speeds) {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         rebuild.push_back(ir::Define{d->sym, fin(d->value), true});
@@ -503,7 +554,11 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
                        "d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)", "J",
                        "kNposc*kNqFull", rebuild_for(!pos.empty()), {}};
     f.outputs.reserve(pos.size() * m.coords.size());
-    for (const auto& g : pos) {
+    // Partial derivatives by the coordinates must see through the kinematic names (named
+    // body rotations, docs/formulation.md): the rows are written out first.
+    const GiNaC::exmap names = model::kinematic_name_values(m);
+    for (const auto& named : pos) {
+      const GiNaC::ex g = names.empty() ? named : named.subs(names, GiNaC::subs_options::no_pattern);
       const sym::SymbolSet in_g(g);
       for (const auto& q : m.coords) f.outputs.push_back(in_g.diff(g, q.sym));
     }
@@ -539,6 +594,22 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     specs.push_back(std::move(f));
   }
   return specs;
+}
+
+void define_kinematic_names(const model::Model& m, const sym::Eom& eom, std::vector<ir::FunctionSpec>& specs) {
+  // The names (named body rotations, docs/formulation.md) first, in definition order;
+  // the lowering drops the ones a function does not read.
+  if (m.kinematic_names.empty()) return;
+  const auto fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
+  std::vector<ir::Step> names;
+  for (const auto& k : m.kinematic_names) names.push_back(ir::Define{k.sym, fin(k.value), true});
+  for (auto& f : specs) {
+    bool has = false;
+    for (const auto& step : f.steps)
+      if (const auto* d = std::get_if<ir::Define>(&step); d && d->sym.is_equal(m.kinematic_names.front().sym)) has = true;
+    if (has || !f.undefined_reason.empty()) continue;
+    f.steps.insert(f.steps.begin(), names.begin(), names.end());
+  }
 }
 
 std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
@@ -608,6 +679,10 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     specs.insert(specs.end(), partitions->specs.begin(), partitions->specs.end());
     close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
   }
+
+  // Kinematic names: every function that does not define them yet (conditioning,
+  // partitions) gets them first.
+  define_kinematic_names(m, eom, specs);
 
   emit::GeneratedModel g;
   g.name = opt.name.empty() ? m.name : opt.name;

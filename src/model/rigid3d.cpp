@@ -21,6 +21,8 @@ Vec quaternion_rotation(const Vec& e) {
 
 namespace {
 
+bool expands_to_zero(const ex& e) { return GiNaC::expand(e).is_zero(); }
+
 int axis_index(char a) { return a - 'x'; }
 
 /// Rotation by angle a about coordinate axis i.
@@ -154,10 +156,6 @@ Vec parent_angular_velocity_in_parent_frame(const Model& m, const Node& child) {
   return parent.rigid3d.space_frame ? mat_t_vec(parent.rigid3d.rotation, w) : w;
 }
 
-namespace {
-bool expands_to_zero(const ex& e) { return GiNaC::expand(e).is_zero(); }
-}  // namespace
-
 Vec rotate_about(const Vec& n, const ex& q, const Vec& v) {
   const Vec nv = cross(n, v);
   if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) return v;  // along the axis
@@ -219,6 +217,16 @@ ex length_scale(const Model& m, const Node& node) {
 
 Vec direction_in_space(const Model& m, const Node& node, const Vec& local) {
   if (!node.rigid3d.placed()) return mat_vec(node.rigid3d.rotation, local);
+  if (node.rigid3d.named_rotation) {
+    // The rotation is a matrix of names (R = R_parent Q(q), issue 25): one product, no
+    // recursion into the ancestors. A direction along the joint axis is the parent's.
+    const Vec nv = cross(node.rigid3d.joint_axis, local);
+    if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) {
+      const int p = node.rigid3d.joint_parent;
+      return p < 0 ? local : direction_in_space(m, m.nodes[static_cast<std::size_t>(p)], local);
+    }
+    return mat_vec(node.rigid3d.rotation, local);
+  }
   const Vec turned = rotate_about(node.rigid3d.joint_axis, node.rigid3d.joint_angle, local);
   const int p = node.rigid3d.joint_parent;
   return p < 0 ? turned : direction_in_space(m, m.nodes[static_cast<std::size_t>(p)], turned);
@@ -252,3 +260,19 @@ GiNaC::ex gravity_potential(const Model& m, const Node& node) {
 }
 
 }  // namespace mbsc::model::rigid3d
+
+namespace mbsc::model {
+
+GiNaC::exmap kinematic_name_values(const Model& m) {
+  // Each name's full expansion, in definition order (values read only earlier names).
+  GiNaC::exmap full;
+  for (const auto& k : m.kinematic_names) full[k.sym] = k.value.subs(full, GiNaC::subs_options::no_pattern);
+  return full;
+}
+
+GiNaC::ex expand_kinematic_names(const Model& m, const GiNaC::ex& e) {
+  if (m.kinematic_names.empty() || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+  return e.subs(kinematic_name_values(m), GiNaC::subs_options::no_pattern);
+}
+
+}  // namespace mbsc::model

@@ -110,7 +110,63 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
   data.joint_rate = m_.speeds[static_cast<std::size_t>(e.coordinate_speed)].sym;
   const Vec turn = rigid3d::rotation_about(n, data.joint_angle);
   data.rotation = parent == PlanarLibrary::kGround ? turn : rigid3d::mat_mat(m_.nodes[parent].rigid3d.rotation, turn);
+  if (names_rotation(parent)) name_rotation(child);
   return Placed::Done;
+}
+
+bool SpatialLibrary::names_rotation(int parent) const {
+  // The rule of docs/formulation.md, "Named body rotations": a body placed under a body
+  // with an attitude of its own (a free base: its rotation is already a full matrix of
+  // attitude coordinates) is always named; in a chain that starts at the ground, the
+  // first kGroundJointsWritten bodies keep their rotations as written-out products of
+  // joint rotations (the exact axes' zeros and ones cancel there: naming them costs
+  // operations, 202 -> 264 for two links), the deeper ones are named.
+  int depth = 1;
+  int p = parent;
+  while (p != PlanarLibrary::kGround && m_.nodes[static_cast<std::size_t>(p)].rigid3d.placed()) {
+    ++depth;
+    p = m_.nodes[static_cast<std::size_t>(p)].rigid3d.joint_parent;
+  }
+  return p != PlanarLibrary::kGround || depth > kGroundJointsWritten;
+}
+
+void SpatialLibrary::name_rotation(int child) {
+  // R = R_parent Q(q) as 9 names (R_parent itself names when the parent is named too),
+  // each with its time derivative R' = R [w]x, w the child's body-frame
+  // angular speeds (the joint's velocity rows make them the parent's turned back by q
+  // plus n q'). Constant entries (a first joint on the ground) stay numbers.
+  Node& node = m_.nodes[static_cast<std::size_t>(child)];
+  Rigid3dData& data = node.rigid3d;
+  Vec named(9);
+  std::string base = node.name;
+  for (auto& ch : base)
+    if (ch == '.') ch = '_';
+  std::vector<std::size_t> fresh;
+  for (std::size_t k = 0; k < 9; ++k) {
+    const GiNaC::ex v = GiNaC::expand(data.rotation[k]);
+    if (GiNaC::is_a<GiNaC::numeric>(v)) {
+      named[k] = v;
+      continue;
+    }
+    const GiNaC::symbol s(fmt::format("R_{}_{}{}", base, k / 3, k % 3));
+    named[k] = s;
+    m_.kinematic_names.push_back({s, v, 0});
+    fresh.push_back(m_.kinematic_names.size() - 1);
+  }
+  // Column j of R [w]x is R (w x e_j).
+  const Vec w = rigid3d::angular_speeds(m_, node);
+  Vec rate(9, GiNaC::ex(0));
+  for (int j = 0; j < 3; ++j) {
+    Vec e(3, GiNaC::ex(0));
+    e[static_cast<std::size_t>(j)] = 1;
+    const Vec col = rigid3d::mat_vec(named, rigid3d::cross(w, e));
+    for (int i = 0; i < 3; ++i) rate[static_cast<std::size_t>(3 * i + j)] = col[static_cast<std::size_t>(i)];
+  }
+  std::size_t f = 0;
+  for (std::size_t k = 0; k < 9; ++k)
+    if (!GiNaC::is_a<GiNaC::numeric>(named[k])) m_.kinematic_names[fresh[f++]].rate = rate[k];
+  data.rotation = named;
+  data.named_rotation = true;
 }
 
 void SpatialLibrary::add_placement(int owner, const PlanarLibrary::Element& e, const std::string& name,

@@ -71,6 +71,13 @@ class SpatialLibrary {
   /// or at the joint in pass B by add_element).
   enum class Placed { Done, Later, Failed };
   Placed place(int owner, const PlanarLibrary::Element& e, int child);
+  /// Whether the body a joint with a coordinate places under `parent` gets a named
+  /// rotation (docs/formulation.md, "Named body rotations").
+  bool names_rotation(int parent) const;
+  static constexpr int kGroundJointsWritten = 4;
+  /// Replaces a placed body's rotation by kinematic names (Model::kinematic_names):
+  /// R = R_parent Q(n, q) entry by entry, with R' = R [w]x.
+  void name_rotation(int child);
 
   /// After every element: each rotational spring or damper must have its two axes joined
   /// by a revolute or cylindrical joint (reported at the element otherwise).

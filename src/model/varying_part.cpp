@@ -7,7 +7,8 @@
 
 namespace mbsc::model {
 
-std::string varying_part(const Model& m, const GiNaC::ex& e, const std::vector<int>& allowed_coords) {
+std::string varying_part(const Model& m, const GiNaC::ex& named, const std::vector<int>& allowed_coords) {
+  const GiNaC::ex e = expand_kinematic_names(m, named);
   for (std::size_t k = 0; k < m.coords.size(); ++k)
     if (std::find(allowed_coords.begin(), allowed_coords.end(), static_cast<int>(k)) == allowed_coords.end() &&
         e.has(m.coords[k].sym))

@@ -32,6 +32,14 @@ constexpr std::size_t kMaxGridWidth = 140;
 
 std::string fmt_ex(const GiNaC::ex& e, bool latex) { return canonical_text(display_simplify(e), latex); }
 
+/// An expression as print shows it: finalized, with every kinematic name (a named body
+/// rotation entry R_<body>_<ij>, docs/formulation.md) written out in the joint angles, so
+/// that the printed equations read only the model's own symbols, and derivatives taken
+/// here by coordinates see through the names.
+GiNaC::ex shown(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& e) {
+  return driver::finalize(m, eom, model::expand_kinematic_names(m, e));
+}
+
 std::string pad(const std::string& s, std::size_t w) { return s.size() >= w ? s : s + std::string(w - s.size(), ' '); }
 
 /// A labelled matrix. Text: an aligned grid with row and column labels, or, when an
@@ -104,7 +112,7 @@ class Intermediates {
     for (const auto& step : eom.pre_steps) {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         Step s;
-        s.define = ir::Define{d->sym, model::subs_present(driver::finalize(m, eom, d->value), aliases_), d->named};
+        s.define = ir::Define{d->sym, model::subs_present(shown(m, eom, d->value), aliases_), d->named};
         const GiNaC::ex closed = model::subs_present(s.define.value, closed_);
         if (node_count(closed, kMaxClosedNodes) <= kMaxClosedNodes) closed_[d->sym] = closed;
         if (GiNaC::is_a<GiNaC::symbol>(s.define.value) || GiNaC::is_a<GiNaC::numeric>(s.define.value)) {
@@ -119,8 +127,8 @@ class Intermediates {
       Step s;
       s.is_solve = true;
       s.solve = solve;
-      for (auto& e : s.solve.A) e = model::subs_present(driver::finalize(m, eom, e), aliases_);
-      for (auto& e : s.solve.B) e = model::subs_present(driver::finalize(m, eom, e), aliases_);
+      for (auto& e : s.solve.A) e = model::subs_present(shown(m, eom, e), aliases_);
+      for (auto& e : s.solve.B) e = model::subs_present(shown(m, eom, e), aliases_);
       close_solve(s.solve, closed_);
       steps_.push_back(std::move(s));
     }
@@ -268,14 +276,14 @@ class Intermediates {
     for (const auto& step : rebuild->speeds) {
       if (const auto* d = std::get_if<ir::Define>(&step)) {
         if (!is_dependent(d->sym)) continue;
-        const GiNaC::ex value = model::subs_present(driver::finalize(m, eom, d->value), speeds_);
+        const GiNaC::ex value = model::subs_present(shown(m, eom, d->value), speeds_);
         if (node_count(value, kMaxClosedNodes) <= kMaxClosedNodes) speeds_[d->sym] = value;
         continue;
       }
       ir::Solve s = std::get<ir::Solve>(step);
       if (s.condition || !std::all_of(s.X.begin(), s.X.end(), is_dependent)) continue;
-      for (auto& e : s.A) e = driver::finalize(m, eom, e);
-      for (auto& e : s.B) e = driver::finalize(m, eom, e);
+      for (auto& e : s.A) e = shown(m, eom, e);
+      for (auto& e : s.B) e = shown(m, eom, e);
       close_solve(s, speeds_);
     }
   }
@@ -359,7 +367,7 @@ std::vector<std::vector<GiNaC::ex>> display_rows(const model::Model& m, const sy
   std::vector<std::vector<GiNaC::ex>> v(X.rows(), std::vector<GiNaC::ex>(X.cols()));
   for (unsigned i = 0; i < X.rows(); ++i)
     for (unsigned j = 0; j < X.cols(); ++j) {
-      const GiNaC::ex e = driver::finalize(m, eom, X(i, j));
+      const GiNaC::ex e = shown(m, eom, X(i, j));
       v[i][j] = display_simplify(expand ? inter.expand(e) : inter.resolve(e));
     }
   return v;
@@ -459,7 +467,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       std::vector<std::string> rows;
       for (size_t q = 0; q < m.coords.size(); ++q) {
         rows.push_back(m.coords[q].name + "'");
-        v.push_back({display_simplify(driver::finalize(m, eom, m.coord_rates[q]))});
+        v.push_back({display_simplify(shown(m, eom, m.coord_rates[q]))});
       }
       out += matrix_text("kinematic transformations q0'", rows, {"value"}, v, latex);
     } else if (w == "A") {
@@ -469,7 +477,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         GiNaC::ex g = m.constraints[c].residual;
         if (m.constraints[c].level == model::Constraint::Level::Position) g = sym::time_derivative(m, g);
         std::vector<GiNaC::ex> row;
-        for (int s : speeds) row.push_back(display_simplify(driver::finalize(m, eom, g.diff(m.speeds[s].sym))));
+        for (int s : speeds) row.push_back(display_simplify(shown(m, eom, g.diff(m.speeds[s].sym))));
         v.push_back(row);
       }
       out += matrix_text("A", cons, names_of(m, speeds, false), v, latex);
@@ -497,7 +505,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       for (size_t i = 0; i < vars.size(); ++i) {
         GiNaC::ex e = hx(i, 0);
         for (size_t j = 0; j < vars.size(); ++j) e -= Mx(i, j) * m.speed_dots[vars[j]];
-        e = driver::finalize(m, eom, e);
+        e = shown(m, eom, e);
         v.push_back({display_simplify(expand ? inter.expand(e) : inter.resolve(e))});
       }
       out += matrix_text(full ? "f" : "fbar", full ? ynames : inames, {"value"}, v, latex) + where_of(v);
@@ -509,7 +517,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
       for (int ci : m.nodes[n].constraints) {
         const auto& c = m.constraints[ci];
         const char* level = c.level == model::Constraint::Level::Position ? "position" : "velocity";
-        const std::string text = fmt_ex(driver::finalize(m, eom, c.residual), latex);
+        const std::string text = fmt_ex(shown(m, eom, c.residual), latex);
         if (latex) equations.push_back({"0", text, fmt::format("{} ({})", c.name, level)});
         else out += fmt::format("  {} ({}): {} = 0\n", c.name, level, text);
       }

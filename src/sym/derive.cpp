@@ -472,6 +472,11 @@ class Deriver {
                a.constraints.size() == b.constraints.size() && a.children.size() == b.children.size() &&
                a.independent.size() == b.independent.size();
       }
+      // A body placed by a joint with a coordinate has a named rotation (Model::
+      // kinematic_names) whose values and rates read its parent's names: the renaming
+      // below does not carry them, so such an instance is derived on its own.
+      for (int k = static_cast<int>(n) - size + 1; k <= static_cast<int>(n) && same; ++k)
+        same = !m_.nodes[k].rigid3d.named_rotation && !m_.nodes[k - shift].rigid3d.named_rotation;
       if (!same) continue;
       GiNaC::exmap map = instance_map(static_cast<int>(n), p);
       // Forces aimed into the instance must be the prototype's, renamed.

@@ -153,11 +153,39 @@ class Eliminator {
     std::map<std::vector<int>, int> group_of_key;
     const int nc = static_cast<int>(m_.constraints.size());
     constraint_group_.assign(static_cast<std::size_t>(nc), -1);
+    std::vector<std::vector<int>> keys(static_cast<std::size_t>(nc));
     for (int r = 0; r < nc; ++r) {
-      std::vector<int> key;
+      std::vector<int>& key = keys[static_cast<std::size_t>(r)];
       for (const auto& e : sys_.A[static_cast<std::size_t>(r)]) key.push_back(speed_group_[static_cast<std::size_t>(e.col)]);
       std::sort(key.begin(), key.end());
       key.erase(std::unique(key.begin(), key.end()), key.end());
+    }
+    if (!m_.kinematic_names.empty()) {
+      // Named body rotations (docs/formulation.md): a joint with a coordinate writes rows over (parent, child)
+      // (the joint point) and over (parent, child, q') (the angular velocity); as two
+      // blocks they close a cycle parent - rows - child - rows, and the block graph is
+      // no forest. Rows whose speed groups are a subset of another block's join the
+      // smallest such block (one block per joint), which adds no edge.
+      std::set<std::vector<int>> distinct(keys.begin(), keys.end());
+      std::map<std::vector<int>, std::vector<int>> into;
+      for (const auto& k : distinct) {
+        const std::vector<int>* best = nullptr;
+        for (const auto& other : distinct)
+          if (other.size() > k.size() && std::includes(other.begin(), other.end(), k.begin(), k.end()) &&
+              (!best || other.size() < best->size()))
+            best = &other;
+        if (best) into[k] = *best;
+      }
+      for (auto& key : keys) {
+        for (int hops = 0; hops < 8; ++hops) {
+          const auto it = into.find(key);
+          if (it == into.end()) break;
+          key = it->second;
+        }
+      }
+    }
+    for (int r = 0; r < nc; ++r) {
+      const std::vector<int>& key = keys[static_cast<std::size_t>(r)];
       auto it = group_of_key.find(key);
       if (it == group_of_key.end()) {
         it = group_of_key.emplace(key, static_cast<int>(groups_.size())).first;

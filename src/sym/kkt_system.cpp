@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "mbsc/sym/own_force.hpp"
+#include "mbsc/sym/symbol_set.hpp"
 
 namespace mbsc::sym {
 
@@ -42,6 +43,11 @@ GiNaC::ex sparse_time_derivative(const model::Model& m, const GiNaC::exmap& coor
   GiNaC::ex result = e.diff(m.time);
   for (int i : symbols_in(e, coords)) result += e.diff(m.coords[static_cast<std::size_t>(i)].sym) * m.coord_rates[static_cast<std::size_t>(i)];
   for (int j : symbols_in(e, speeds)) result += e.diff(m.speeds[static_cast<std::size_t>(j)].sym) * m.speed_dots[static_cast<std::size_t>(j)];
+  if (!m.kinematic_names.empty()) {
+    const SymbolSet in_e(e);
+    for (const auto& k : m.kinematic_names)
+      if (in_e.contains(k.sym)) result += e.diff(k.sym) * k.rate;
+  }
   return result;
 }
 

@@ -64,15 +64,40 @@ class MinimalStateBuilder {
       return it == coord_index_.end() ? -1 : it->second;
     };
     for (std::size_t q = 0; q < nq; ++q) coord_index_[m_.coords[q].sym] = static_cast<int>(q);
+    // A kinematic name (a named body rotation entry, Model::kinematic_names) stands for an
+    // expression in the joint angles above its body: it reads the coordinates its value
+    // reads, through earlier names (a value reads only earlier ones).
+    std::map<GiNaC::ex, std::set<int>, GiNaC::ex_is_less> name_reads;
+    for (const auto& k : m_.kinematic_names) {
+      std::set<int>& set = name_reads[k.sym];
+      for (GiNaC::const_preorder_iterator it = k.value.preorder_begin(); it != k.value.preorder_end(); ++it) {
+        if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
+        const auto n = name_reads.find(*it);
+        if (n != name_reads.end()) set.insert(n->second.begin(), n->second.end());
+        if (const int x = coordinate_of(*it); x >= 0) set.insert(x);
+      }
+    }
+    auto a_name_reads = [&](const GiNaC::ex& e, int q) {
+      if (name_reads.empty()) return false;
+      for (GiNaC::const_preorder_iterator it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+        const auto n = name_reads.find(*it);
+        if (n != name_reads.end() && n->second.count(q)) return true;
+      }
+      return false;
+    };
     auto reads_of = [&](const GiNaC::ex& value) {
       std::set<int> out;
       for (GiNaC::const_preorder_iterator it = value.preorder_begin(); it != value.preorder_end(); ++it) {
         if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-        const int x = coordinate_of(*it);
-        if (x < 0) continue;
-        const auto r = reads.find(x);
-        if (r == reads.end()) out.insert(x);
-        else out.insert(r->second.begin(), r->second.end());
+        const auto n = name_reads.find(*it);
+        std::set<int> xs;
+        if (n != name_reads.end()) xs = n->second;
+        else if (const int x = coordinate_of(*it); x >= 0) xs.insert(x);
+        for (const int x : xs) {
+          const auto r = reads.find(x);
+          if (r == reads.end()) out.insert(x);
+          else out.insert(r->second.begin(), r->second.end());
+        }
       }
       return out;
     };
@@ -98,6 +123,8 @@ class MinimalStateBuilder {
             if (pass <= 0 && !rate_is_dependent(q)) continue;
             const GiNaC::ex a = c.residual.diff(sym);
             if (!GiNaC::is_a<GiNaC::numeric>(a) || a.is_zero()) continue;
+            // Linear in the coordinate through the names too: none of them reads it.
+            if (a_name_reads(c.residual, static_cast<int>(q))) continue;
             const GiNaC::ex value = -c.residual.subs(sym == 0) / a;
             std::set<int> value_reads = reads_of(value);
             if (value_reads.count(static_cast<int>(q))) continue;  // would be circular

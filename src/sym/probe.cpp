@@ -29,6 +29,7 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
   // A friction force is given like an input until the generated code closes its law.
   for (const auto& f : model.frictions) values_[f.force] = next(-1.0, 1.0);
   bind_parameters(model, param_values);
+  bind_kinematic_names(model);
 }
 
 Probe Probe::reference(const model::Model& model, const std::map<std::string, double>& param_values) {
@@ -39,7 +40,16 @@ Probe Probe::reference(const model::Model& model, const std::map<std::string, do
   for (const auto& in : model.inputs) p.values_[in.sym] = 0.0;
   for (const auto& f : model.frictions) p.values_[f.force] = 0.0;
   p.bind_parameters(model, param_values);
+  p.bind_kinematic_names(model);
   return p;
+}
+
+void Probe::bind_kinematic_names(const model::Model& model) {
+  // In definition order: each value reads only bound symbols and earlier names.
+  for (const auto& k : model.kinematic_names) {
+    const double v = eval(k.value);
+    if (std::isfinite(v)) values_[k.sym] = v;
+  }
 }
 
 void Probe::bind_parameters(const model::Model& model, const std::map<std::string, double>& param_values) {

@@ -13,6 +13,9 @@ GiNaC::ex time_derivative(const model::Model& model, const GiNaC::ex& e) {
     if (in_e.contains(model.coords[i].sym)) result += e.diff(model.coords[i].sym) * model.coord_rates[i];
   for (size_t j = 0; j < model.speeds.size(); ++j)
     if (in_e.contains(model.speeds[j].sym)) result += e.diff(model.speeds[j].sym) * model.speed_dots[j];
+  // Kinematic names (issue 25): d/dt R = R [w]x, never through the ancestors' angles.
+  for (const auto& k : model.kinematic_names)
+    if (in_e.contains(k.sym)) result += e.diff(k.sym) * k.rate;
   return result;
 }
 

@@ -90,3 +90,16 @@ TEST_CASE("spatial joint coordinates: every instance of a component places its o
   CHECK(r.output.find("constraints (12)") != std::string::npos);
   CHECK(r.output.find("arm1.q arm2.base.x") != std::string::npos);  // no attitude coordinates for the links
 }
+
+TEST_CASE("spatial joint coordinates: a rebuilt joint angle is defined before the named rotations that read it",
+          "[cli][spatial_joints][names]") {
+  // Link 5 is five joints from the ground, so its rotation is named (docs/formulation.md,
+  // "Named body rotations"); q5 is tied to q1, and --state minimal rebuilds it.
+  const auto dir = fresh_dir("chain6_tied");
+  const auto r = run(kMbsc + " generate " + path("tests/data/spatial_joints/chain6_tied.mbs") + " -q --state minimal -o " +
+                     quote(dir.string()));
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(std::filesystem::exists(dir / "chain6_tied" / "chain6_tied.cpp"));
+  std::filesystem::remove_all(dir);
+}

@@ -83,6 +83,11 @@ struct BaumgarteGains {
 void close_friction(const model::Model& m, const sym::Eom& eom, bool multipliers, const BaumgarteGains& gains,
                     std::vector<ir::FunctionSpec>& specs, std::optional<std::vector<ir::Step>>& closure);
 
+/// Prepends the model's kinematic names (named body rotations, Model::kinematic_names) as
+/// Defines to every spec that does not define them yet and is defined, so that a spec
+/// evaluated on its own (or emitted) never reads an undefined name.
+void define_kinematic_names(const model::Model& m, const sym::Eom& eom, std::vector<ir::FunctionSpec>& specs);
+
 /// rhs, multipliers and reaction_forces of the multipliers formulation.
 std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                                const BaumgarteGains& gains, Diagnostics& diags);

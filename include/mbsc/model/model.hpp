@@ -62,6 +62,9 @@ struct Rigid3dData {
   std::vector<GiNaC::ex> joint_axis;
   GiNaC::ex joint_angle, joint_rate;
   std::string joint_name;  // the placing joint, for messages
+  /// `rotation` holds kinematic names (Model::kinematic_names), not expressions in the
+  /// joint angles of the whole branch (docs/formulation.md, "Named body rotations").
+  bool named_rotation = false;
   bool placed() const { return sequence == "joint"; }
 };
 
@@ -108,6 +111,20 @@ struct Friction {
   GiNaC::symbol force;
   GiNaC::ex mu, slide_velocity, weight1, weight2;
   std::string row1, row2;  // constraint names (Constraint::name)
+};
+
+/// A named kinematic intermediate (issue 25): a symbol that stands for `value` (an
+/// expression of parameters, coordinates and earlier names) and whose time derivative
+/// along the model's kinematics is `rate` (an expression of names, coordinates and
+/// speeds). A joint-placed rigid3d body's rotation entries are such names,
+/// R = R_parent Q(q), with R' = R [w]x, so that nothing expands into the angles of the
+/// joints above it. The generated code defines each once, in this order, before
+/// anything reads it (ir::Define, named). Partial derivatives with respect to the
+/// coordinates do not see through a name: expand_kinematic_names first.
+struct KinematicName {
+  GiNaC::symbol sym;
+  GiNaC::ex value;
+  GiNaC::ex rate;
 };
 
 struct NamedExpr {
@@ -163,6 +180,8 @@ struct Model {
   /// Explicit kinematic transformations: d/dt coords[i] = coord_rates[i](t, q0, q1).
   std::vector<GiNaC::ex> coord_rates;
   std::vector<Constraint> constraints;
+  /// Kinematic names in definition order (each value reads only earlier ones).
+  std::vector<KinematicName> kinematic_names;
   std::vector<Force> forces;
   std::vector<Friction> frictions;  // closed in the generated code, never an input
   std::vector<NamedExpr> outputs;
@@ -194,5 +213,13 @@ struct Model {
     return static_cast<int>(k) + 1;
   }
 };
+
+/// e with every kinematic name replaced by its value, recursively (the fully expanded
+/// form the old path wrote): the fallback for partial derivatives with respect to the
+/// coordinates and for evaluators that do not bind the names.
+GiNaC::ex expand_kinematic_names(const Model& m, const GiNaC::ex& e);
+/// Every kinematic name -> its full expansion (what expand_kinematic_names substitutes),
+/// for callers that expand many expressions.
+GiNaC::exmap kinematic_name_values(const Model& m);
 
 }  // namespace mbsc::model

@@ -34,6 +34,7 @@ class Probe {
  private:
   Probe() = default;
   void bind_parameters(const model::Model& model, const std::map<std::string, double>& param_values);
+  void bind_kinematic_names(const model::Model& model);
   GiNaC::exmap values_;
 };
 
