@@ -121,6 +121,9 @@ exmap reference_values(const mbsc::model::Model& m, const mbsc::sym::Eom& eom, s
   for (const auto& p : m.params) v[p.sym] = param(rng);
   for (const auto& u : m.inputs) v[u.sym] = angle(rng);
   for (const auto& f : m.frictions) v[f.force] = angle(rng);  // printed as a symbol, like an input
+  // Named body rotations (docs/formulation.md) at these coordinates, in definition order:
+  // the pipeline's rows read them, the printed equations write them out.
+  for (const auto& k : m.kinematic_names) v[k.sym] = mbsc_test::eval(mbsc::driver::finalize(m, eom, k.value), v);
   consistent_speeds(m, eom, v);
   for (const auto& step : eom.pre_steps) {
     if (const auto* d = std::get_if<mbsc::ir::Define>(&step)) {
