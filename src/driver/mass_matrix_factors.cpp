@@ -45,7 +45,7 @@ long congruence_products(const GiNaC::matrix& C, const GiNaC::matrix& My) {
 bool form_mass_matrix_from_factors(ir::FunctionSpec& f, const model::Model& m, const sym::Eom& eom,
                                    const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
   const sym::NodeResult& root = eom.nodes[static_cast<std::size_t>(m.root())];
-  const GiNaC::matrix &C = root.C, &My = root.My;
+  const GiNaC::matrix &C = root.C.get(), &My = root.My;
   const int nd = eom.ndof();
   if (nd == 0 || static_cast<int>(C.cols()) != nd || !congruent_shapes(C, My)) return false;
   const unsigned ny = C.rows();

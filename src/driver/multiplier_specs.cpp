@@ -100,14 +100,14 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
   std::vector<GiNaC::ex> rhs_outputs;
   for (const auto& r : m.coord_rates) rhs_outputs.push_back(fin(r));
   for (const auto& s : m.speed_dots) rhs_outputs.push_back(s);
-  // The sparse elimination of the same system in a tree order (O(N), docs/formulation.md).
+  // The tree recursion or the sparse elimination of the same system (O(N), docs/formulation.md).
   std::optional<sym::KktElimination> sparse;
   if (opt.solver != Solver::Dense && nu > 0) {
     std::vector<GiNaC::ex> c;
     for (unsigned r = 0; r < nc; ++r)
       c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));
     std::string why;
-    sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+    sparse = rhs_solve_steps(m, eom, sys, c, lambda, /*with_multipliers=*/true, why);
     if (!sparse && opt.solver == Solver::Sparse) {
       diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
       return {};

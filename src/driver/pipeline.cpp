@@ -473,7 +473,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         lambda.emplace_back(fmt::format("lambda_{}", r));
       }
       std::string why;
-      const auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+      const auto sparse = rhs_solve_steps(m, eom, sys, c, lambda, /*with_multipliers=*/false, why);
       if (!sparse && opt.solver == Solver::Sparse) {
         diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' cannot be solved in a tree order: {}", m.name, why));
         return {};
@@ -499,7 +499,7 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     const sym::NodeResult& root = eom.nodes[static_cast<std::size_t>(m.root())];
     const bool factors = nd > 0 && (opt.mass_matrix == MassMatrixForm::Factors ||
                                     (opt.mass_matrix == MassMatrixForm::Auto &&
-                                     std::max(congruence_products(root.C, root.My), static_cast<long>(nd) * nd) >
+                                     std::max(congruence_products(root.C.get(), root.My), static_cast<long>(nd) * nd) >
                                          kFactorFormMinWork));
     if (!(factors && form_mass_matrix_from_factors(f, m, eom, fin)))
       for (int i = 0; i < nd; ++i)

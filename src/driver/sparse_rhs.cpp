@@ -6,6 +6,7 @@
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/tidy.hpp"
+#include "mbsc/sym/tree_recursion.hpp"
 
 namespace mbsc::driver {
 
@@ -23,6 +24,16 @@ std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, con
   // A loop is eliminated speeds first whenever it can be (forced or auto alike): that
   // order is as regular as the dense forms, so auto may take it too.
   return sym::eliminate_kkt(m, sys, c, lambda, fin, probe, /*loops_speeds_first=*/true, why);
+}
+
+std::optional<sym::KktElimination> rhs_solve_steps(const model::Model& m, const sym::Eom& eom, const sym::KktSystem& sys,
+                                                   const std::vector<GiNaC::ex>& c, const std::vector<GiNaC::symbol>& lambda,
+                                                   bool with_multipliers, std::string& why) {
+  const std::function<GiNaC::ex(const GiNaC::ex&)> fin = [&](const GiNaC::ex& e) { return sym::tidy(finalize(m, eom, e)); };
+  const sym::Probe probe(m, eom.param_values);
+  std::string not_a_tree;
+  if (auto tree = sym::tree_recursion(m, sys, c, fin, probe, with_multipliers ? &lambda : nullptr, not_a_tree)) return tree;
+  return sparse_solve_steps(m, eom, sys, c, lambda, why);
 }
 
 std::vector<ir::Step> sparse_steps_reported(const sym::KktElimination& sparse, const GiNaC::numeric& power) {

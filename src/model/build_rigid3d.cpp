@@ -141,6 +141,7 @@ void Builder::place_joint_bodies() {
   }
   std::vector<const Placement*> todo;
   for (const auto& [child, p] : by_child) todo.push_back(p);
+  spatial_.expect_placements(static_cast<int>(todo.size()));
   bool failed = false;
   while (!todo.empty()) {
     std::vector<const Placement*> later;

@@ -117,10 +117,14 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
 bool SpatialLibrary::names_rotation(int parent) const {
   // The rule of docs/formulation.md, "Named body rotations": a body placed under a body
   // with an attitude of its own (a free base: its rotation is already a full matrix of
-  // attitude coordinates) is always named; in a chain that starts at the ground, the
-  // first kGroundJointsWritten bodies keep their rotations as written-out products of
-  // joint rotations (the exact axes' zeros and ones cancel there: naming them costs
-  // operations, 202 -> 264 for two links), the deeper ones are named.
+  // attitude coordinates) is always named, and so is every placed body of a model with
+  // more than kGroundJointsWritten of them (the tree recursion reads each body's rows in
+  // its parent's speeds alone; a written-out rotation carries the joint rates of every
+  // joint above it). In a small model the first kGroundJointsWritten bodies below the
+  // ground keep their rotations as written-out products of joint rotations: the exact
+  // axes' zeros and ones cancel there, and naming them costs operations (202 -> 264 for
+  // two links).
+  if (placements_ > kGroundJointsWritten) return true;
   int depth = 1;
   int p = parent;
   while (p != PlanarLibrary::kGround && m_.nodes[static_cast<std::size_t>(p)].rigid3d.placed()) {

@@ -75,6 +75,10 @@ class SpatialLibrary {
   /// rotation (docs/formulation.md, "Named body rotations").
   bool names_rotation(int parent) const;
   static constexpr int kGroundJointsWritten = 4;
+  /// How many bodies joints with coordinates place in the whole model (set before the
+  /// first `place`): above kGroundJointsWritten every placed body is named, so that each
+  /// body's rows read its parent's speeds alone (what the tree recursion needs).
+  void expect_placements(int count) { placements_ = count; }
   /// Replaces a placed body's rotation by kinematic names (Model::kinematic_names):
   /// R = R_parent Q(n, q) entry by entry, with R' = R [w]x.
   void name_rotation(int child);
@@ -84,6 +88,7 @@ class SpatialLibrary {
   void finish();
 
  private:
+  int placements_ = 0;
   struct End {  // a resolved point or axis, in space
     int node = PlanarLibrary::kGround;
     Vec p;          // the point (the axis's point)

@@ -488,7 +488,7 @@ std::string print_node(const model::Model& m, const sym::Eom& eom, int n, const 
         out += matrix_text("B", cons, ynames, v, latex) + where_of(v);
       }
     } else if (w == "C") {
-      const auto v = rows_of(r.C);
+      const auto v = rows_of(r.C.get());
       out += matrix_text("C", ynames, inames, v, latex) + where_of(v);
     } else if (w == "S") {
       std::vector<int> rows;

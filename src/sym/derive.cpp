@@ -202,9 +202,10 @@ class Deriver {
       r.independent = requested(node).empty() ? r.y : requested(node);
       r.rank = 0;
       // C is a permutation (the given order of the independent speeds).
-      r.C = GiNaC::matrix(ny, ny);
+      GiNaC::matrix C(ny, ny);
       for (int j = 0; j < ny; ++j)
-        r.C(static_cast<int>(std::find(r.y.begin(), r.y.end(), r.independent[j]) - r.y.begin()), j) = 1;
+        C(static_cast<int>(std::find(r.y.begin(), r.y.end(), r.independent[j]) - r.y.begin()), j) = 1;
+      r.C = DeferredMatrix(std::move(C));
       r.e = GiNaC::matrix(ny, 1);
       reduce_forces(r, n != m_.root());
       return true;
@@ -240,14 +241,24 @@ class Deriver {
     }
     // C = [I on #; d sol/d y# on ⋆] in y order.
     const int nd = static_cast<int>(r.independent.size());
-    r.C = GiNaC::matrix(ny, nd);
-    for (int j = 0; j < nd; ++j) r.C(col[r.independent[j]], j) = 1;
     std::vector<GiNaC::symbol> independent_dots;
     for (int s : r.independent) independent_dots.push_back(m_.speed_dots[s]);
-    for (int s : r.dependent) {
+    auto form_C = [ny, nd, col, sol, independent_dots, independent = r.independent, dependent = r.dependent]() {
+      GiNaC::matrix C(static_cast<unsigned>(ny), static_cast<unsigned>(nd));
+      for (int j = 0; j < nd; ++j) C(static_cast<unsigned>(col.at(independent[static_cast<std::size_t>(j)])), static_cast<unsigned>(j)) = 1;
+      for (int s : dependent) {
+        const std::vector<GiNaC::ex> row = linear_gradient(sol.at(s), independent_dots);
+        for (int j = 0; j < nd; ++j) C(static_cast<unsigned>(col.at(s)), static_cast<unsigned>(j)) = row[static_cast<std::size_t>(j)];
+      }
+      return C;
+    };
+    // A triangular root needs C only where something reads it (M, the full complement):
+    // h comes from the transposed rate steps, the rhs from the steps themselves.
+    if (n == m_.root() && !r.rate_steps.empty()) {
+      r.C = DeferredMatrix(static_cast<unsigned>(ny), static_cast<unsigned>(nd), form_C);
+    } else {
       still_deriving(n);
-      const std::vector<GiNaC::ex> row = linear_gradient(sol[s], independent_dots);
-      for (int j = 0; j < nd; ++j) r.C(col[s], j) = row[static_cast<std::size_t>(j)];
+      r.C = DeferredMatrix(form_C());
     }
     // e: the dependent rates when every independent rate is zero.
     r.e = GiNaC::matrix(ny, 1);
@@ -297,7 +308,7 @@ class Deriver {
   /// The root leaves M to assemble_root, which defers it (DeferredMatrix).
   void reduce_forces(NodeResult& r, bool form_M = true) {
     const unsigned ny = r.C.rows(), nd = r.C.cols();
-    if (form_M) r.M = reduced_mass(r.C, r.My);
+    if (form_M) r.M = reduced_mass(r.C.get(), r.My);
     // rest = hy - My e, over My's nonzeros.
     GiNaC::matrix rest(ny, 1);
     for (unsigned i = 0; i < ny; ++i) {
@@ -578,7 +589,7 @@ class Deriver {
     }
     r.B = mat(src.B);
     r.b = mat(src.b);
-    r.C = mat(src.C);
+    r.C = DeferredMatrix(mat(src.C.get()));
     r.e = mat(src.e);
     r.My = mat(src.My);
     r.hy = mat(src.hy);
@@ -768,7 +779,7 @@ class Deriver {
     const NodeResult& root = eom_.nodes[m_.root()];
     eom_.independent = root.independent;
     const int nd = static_cast<int>(root.independent.size());
-    eom_.M = DeferredMatrix([C = root.C, My = root.My] { return reduced_mass(C, My); });
+    eom_.M = DeferredMatrix([C = root.C, My = root.My] { return reduced_mass(C.get(), My); });
     eom_.h = root.h;
     // Dependent rates, root to leaves (reverse post-order); the massless check below
     // follows them.

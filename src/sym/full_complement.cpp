@@ -31,7 +31,7 @@ GiNaC::matrix full_complement(const model::Model& m, const Eom& eom, int n, std:
     for (unsigned j = 0; j < Sc.cols(); ++j, ++col)
       for (unsigned i = 0; i < Sc.rows(); ++i) R(row_of(crow[i]), col) = Sc(i, j);
   }
-  return R.mul(r.C);
+  return R.mul(r.C.get());
 }
 
 }  // namespace mbsc::sym

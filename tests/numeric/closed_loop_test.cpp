@@ -137,7 +137,7 @@ void check_model(const std::string& file, const Generated& g, const std::vector<
     // B C = 0 at every subsystem with constraints.
     for (const auto& r : eom->nodes) {
       if (r.rows.empty()) continue;
-      GiNaC::matrix BC = r.B.mul(r.C);
+      GiNaC::matrix BC = r.B.mul(r.C.get());
       for (unsigned i = 0; i < BC.rows(); ++i)
         for (unsigned j = 0; j < BC.cols(); ++j) CHECK(std::abs(ev.eval(BC(i, j))) < 1e-9);
     }

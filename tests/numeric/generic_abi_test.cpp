@@ -27,6 +27,7 @@
 #include "four_bar_toggle/four_bar_toggle.hpp"
 #include "free_body_euler/free_body_euler.hpp"
 #include "free_body_quaternion/free_body_quaternion.hpp"
+#include "humanoid_tree/humanoid_tree.hpp"
 #include "heavy_top/heavy_top.hpp"
 #include "sssp/sssp.hpp"
 #include "slider_crank_3d/slider_crank_3d.hpp"
@@ -63,6 +64,7 @@ MBSC_GENERIC_MODEL(four_bar_mult);
 MBSC_GENERIC_MODEL(four_bar_toggle);
 MBSC_GENERIC_MODEL(free_body_euler);
 MBSC_GENERIC_MODEL(free_body_quaternion);
+MBSC_GENERIC_MODEL(humanoid_tree);
 MBSC_GENERIC_MODEL(heavy_top);
 MBSC_GENERIC_MODEL(sssp);
 MBSC_GENERIC_MODEL(slider_crank_3d);
@@ -325,7 +327,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 28);
+  REQUIRE(shipped == 29);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -335,6 +337,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<four_bar_toggle_abi>(rng);
     check_model<free_body_euler_abi>(rng);
     check_model<free_body_quaternion_abi>(rng);
+    check_model<humanoid_tree_abi>(rng);
     check_model<heavy_top_abi>(rng);
     check_model<sssp_abi>(rng);
     check_model<slider_crank_3d_abi>(rng);
@@ -426,6 +429,7 @@ TEST_CASE("the CSR values of both Jacobians expand to the dense Jacobians", "[ab
     check_sparse_jacobians<four_bar_toggle_abi>(rng);
     check_sparse_jacobians<free_body_euler_abi>(rng);
     check_sparse_jacobians<free_body_quaternion_abi>(rng);
+    check_sparse_jacobians<humanoid_tree_abi>(rng);
     check_sparse_jacobians<heavy_top_abi>(rng);
     check_sparse_jacobians<sssp_abi>(rng);
     check_sparse_jacobians<slider_crank_3d_abi>(rng);

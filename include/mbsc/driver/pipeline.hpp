@@ -101,6 +101,15 @@ std::optional<sym::KktElimination> sparse_solve_steps(const model::Model& m, con
                                                       const sym::KktSystem& sys, const std::vector<GiNaC::ex>& c,
                                                       const std::vector<GiNaC::symbol>& lambda, std::string& why);
 
+/// The accelerations: the articulated-body recursion where the model is a tree of bodies
+/// placed by joint coordinates (sym/tree_recursion.hpp: one pivot per joint, the
+/// multipliers only `with_multipliers`, from each body's own equations), else
+/// sparse_solve_steps. Its steps define every speed's rate, and every lambda when
+/// `with_multipliers` (or when the block elimination made them).
+std::optional<sym::KktElimination> rhs_solve_steps(const model::Model& m, const sym::Eom& eom, const sym::KktSystem& sys,
+                                                   const std::vector<GiNaC::ex>& c, const std::vector<GiNaC::symbol>& lambda,
+                                                   bool with_multipliers, std::string& why);
+
 /// The sparse steps with a speeds-first loop's constraint pivots reported to `power` in
 /// `conditioning` (ir::Solve::report_power: 1/3 in the complement form, 2/3 in the
 /// multipliers form); any other elimination's steps as they are.

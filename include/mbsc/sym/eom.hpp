@@ -25,6 +25,49 @@
 
 namespace mbsc::sym {
 
+/// A matrix formed on first use. The root's reduced mass matrix M = C^T My C is one:
+/// the O(N) rhs never reads it, and for a chain it is dense with entries of O(N) terms
+/// each (cubic work), so a model that asks only for rhs should not pay for it. Copies
+/// share the one result.
+class DeferredMatrix {
+ public:
+  DeferredMatrix() = default;
+  /// rows x cols, formed by `form` on first read.
+  DeferredMatrix(unsigned rows, unsigned cols, std::function<GiNaC::matrix()> form) : state_(std::make_shared<State>()) {
+    state_->rows = rows;
+    state_->cols = cols;
+    state_->form = std::move(form);
+  }
+  explicit DeferredMatrix(std::function<GiNaC::matrix()> form) : state_(std::make_shared<State>()) {
+    state_->form = std::move(form);
+    state_->sized = false;
+  }
+  /// A matrix formed already.
+  explicit DeferredMatrix(GiNaC::matrix value) : state_(std::make_shared<State>()) {
+    state_->rows = value.rows();
+    state_->cols = value.cols();
+    state_->value = std::move(value);
+  }
+  const GiNaC::ex& operator()(unsigned i, unsigned j) const { return get()(i, j); }
+  const GiNaC::matrix& get() const {
+    if (!state_) state_ = std::make_shared<State>();
+    if (!state_->value) state_->value = state_->form ? state_->form() : GiNaC::matrix(0, 0);
+    return *state_->value;
+  }
+  bool formed() const { return state_ && state_->value.has_value(); }
+  unsigned rows() const { return state_ && state_->sized ? state_->rows : get().rows(); }
+  unsigned cols() const { return state_ && state_->sized ? state_->cols : get().cols(); }
+
+ private:
+  struct State {
+    std::function<GiNaC::matrix()> form;
+    std::optional<GiNaC::matrix> value;
+    unsigned rows = 0, cols = 0;
+    bool sized = true;
+  };
+  mutable std::shared_ptr<State> state_;
+};
+
 /// What was derived at one node of the tree.
 struct NodeResult {
   int node = 0;
@@ -38,7 +81,9 @@ struct NodeResult {
   int rank = 0;
   bool symbolic_complement = true;   // false: B* is solved numerically (see `solve`)
   int numeric_core = 0;              // size of the block left to the numeric solve (0: none)
-  GiNaC::matrix C;               // ny x ndof, B*C == 0
+  /// ny x ndof, B*C == 0. Formed on first read at a triangular root: the rhs of a chain
+  /// reads the rate steps instead, and C's entries there are sums over the whole chain.
+  DeferredMatrix C;
   GiNaC::matrix e;               // ny x 1: y' = C z' + e (e is zero on the independent rows)
   GiNaC::matrix My, hy;          // f over y: f = -My y' + hy (My block-diagonal: own block, children's M)
   GiNaC::matrix M, h;            // fbar = C^T f = -M z' + h over the independent speeds z (root: M in Eom::M)
@@ -71,32 +116,6 @@ enum class MassAtReference {
   PositiveDefinite,
   SingularMassless,   // singular, massless bodies move in the motion without inertia (warned)
   SingularOtherwise,  // singular, but no massless body moves in that motion
-};
-
-/// A matrix formed on first use. The root's reduced mass matrix M = C^T My C is one:
-/// the O(N) rhs never reads it, and for a chain it is dense with entries of O(N) terms
-/// each (cubic work), so a model that asks only for rhs should not pay for it. Copies
-/// share the one result.
-class DeferredMatrix {
- public:
-  DeferredMatrix() = default;
-  explicit DeferredMatrix(std::function<GiNaC::matrix()> form) : state_(std::make_shared<State>()) {
-    state_->form = std::move(form);
-  }
-  const GiNaC::ex& operator()(unsigned i, unsigned j) const { return get()(i, j); }
-  const GiNaC::matrix& get() const {
-    if (!state_) state_ = std::make_shared<State>();
-    if (!state_->value) state_->value = state_->form ? state_->form() : GiNaC::matrix(0, 0);
-    return *state_->value;
-  }
-  bool formed() const { return state_ && state_->value.has_value(); }
-
- private:
-  struct State {
-    std::function<GiNaC::matrix()> form;
-    std::optional<GiNaC::matrix> value;
-  };
-  mutable std::shared_ptr<State> state_;
 };
 
 /// Derived equations of a whole model.

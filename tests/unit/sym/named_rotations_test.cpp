@@ -36,9 +36,10 @@ TEST_CASE("named rotations: deep in a chain on the ground and under a free base"
   const auto arm = load("arm_joint.mbs");
   CHECK(arm->kinematic_names.empty());
   CHECK(named_bodies(*arm).empty());
-  // Six joints from the ground: the fifth and sixth links are named.
+  // Six placed bodies (more than four): every one is named, so that each body's rows read
+  // its parent's speeds alone (the tree recursion).
   const auto chain = load("chain6_joint.mbs");
-  CHECK(named_bodies(*chain) == std::set<std::string>{"link5", "link6"});
+  CHECK(named_bodies(*chain) == std::set<std::string>{"link1", "link2", "link3", "link4", "link5", "link6"});
   // Under a free base every placed body is named, in each instance.
   const auto pair = load("arm_pair_component.mbs");
   CHECK(named_bodies(*pair) == std::set<std::string>{"left.upper", "left.fore", "right.upper", "right.fore"});

@@ -228,6 +228,63 @@ std::string random_tree(int n, std::mt19937& rng) {
   return s;
 }
 
+// A random spatial tree in joint coordinates: body k hangs from a random earlier body (or
+// from the ground, or from a free base with a quaternion attitude) by a revolute joint with
+// a coordinate, about a coordinate axis or a general unit axis (3/5, 0, 4/5); random
+// masses, inertia tensors with products, mass centres and joint points; rotational springs
+// and dampers on some joints so that the forces are not only gravity and gyroscopic.
+std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng) {
+  std::uniform_real_distribution<double> mass(0.5, 2.0), len(0.2, 0.8), off(-0.15, 0.15), small(-0.004, 0.004);
+  auto num = [](double v) { return std::to_string(v); };
+  const std::vector<std::string> axes = {"(1, 0, 0)", "(0, 1, 0)", "(0, 0, 1)", "(3/5, 0, 4/5)"};
+  std::vector<int> parent(static_cast<std::size_t>(n + 1), 0);
+  std::vector<int> axis(static_cast<std::size_t>(n + 1), 0);
+  for (int k = 1; k <= n; ++k) {
+    parent[static_cast<std::size_t>(k)] =
+        free_base && k == 1 ? -1 : std::uniform_int_distribution<int>(free_base ? 1 : 0, k - 1)(rng);
+    axis[static_cast<std::size_t>(k)] = std::uniform_int_distribution<int>(0, 3)(rng);
+    // Under the ground the joint turns about one of the ground's axes.
+    if (parent[static_cast<std::size_t>(k)] == 0 && axis[static_cast<std::size_t>(k)] == 3) axis[static_cast<std::size_t>(k)] = 2;
+  }
+  std::string s = "model random_spatial_tree\nparameter g = 9.81\ngravity (0, 0, -g)\n";
+  for (int k = 1; k <= n; ++k) {
+    const double m = mass(rng), l = len(rng);
+    s += "body b" + std::to_string(k) + " : rigid3d {\n  mass " + num(m) + "\n  inertia (" + num(0.02 + 0.05 * m * l) + ", " +
+         num(0.03 + 0.04 * m * l) + ", " + num(0.025 + 0.03 * m * l) + ", " + num(small(rng)) + ", " + num(small(rng)) + ", " +
+         num(small(rng)) + ")\n  com (" + num(off(rng)) + ", " + num(off(rng)) + ", " + num(l / 2) + ")\n";
+    if (parent[static_cast<std::size_t>(k)] != -1)
+      s += "  axis top (0, 0, 0) " + axes[static_cast<std::size_t>(axis[static_cast<std::size_t>(k)])] + "\n";
+    else
+      s += "  attitude quaternion body\n";
+    for (int c = k + 1; c <= n; ++c)
+      if (parent[static_cast<std::size_t>(c)] == k)
+        s += "  axis c" + std::to_string(c) + " (" + num(off(rng)) + ", " + num(off(rng)) + ", " + num(l) + ") " +
+             axes[static_cast<std::size_t>(axis[static_cast<std::size_t>(c)])] + "\n";
+    s += "}\n";
+  }
+  const char* ground_axes[] = {"ground.x_axis", "ground.y_axis", "ground.z_axis"};
+  for (int k = 1; k <= n; ++k) {
+    const int p = parent[static_cast<std::size_t>(k)];
+    if (p < 0) continue;
+    const std::string b = "b" + std::to_string(k), j = std::to_string(k);
+    const std::string end1 = p == 0 ? ground_axes[axis[static_cast<std::size_t>(k)]] : "b" + std::to_string(p) + ".c" + j;
+    s += "joint j" + j + " : revolute " + end1 + " " + b + ".top coordinate q" + j + "\n";
+    if (std::uniform_int_distribution<int>(0, 2)(rng) == 0) {
+      s += "spring s" + j + " rotational " + end1 + " " + b + ".top stiffness " + num(5 * mass(rng)) + " angle 0.2\n";
+      s += "damper d" + j + " rotational " + end1 + " " + b + ".top coefficient 0.05\n";
+    }
+  }
+  if (free_base) s += "initial b1.e0 = 1\n";
+  return s;
+}
+
+// Whether a spec's steps are the tree recursion's (its joint pivots carry that label).
+bool uses_tree_recursion(const mbsc::ir::FunctionSpec& f) {
+  for (const auto& step : f.steps)
+    if (const auto* s = std::get_if<mbsc::ir::Solve>(&step); s && s->label.rfind("tree recursion", 0) == 0) return true;
+  return false;
+}
+
 }  // namespace
 
 TEST_CASE("sparse elimination agrees with the dense rhs on every shipped model", "[sym][sparse]") {
@@ -552,4 +609,128 @@ TEST_CASE("auto takes the speeds-first elimination of the 40-window parallelogra
     INFO("relative errors against 32 digits: dense " << dense_error << ", auto " << auto_error);
     CHECK(auto_error < 5e-12);
   }
+}
+
+TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees of 1 to 40 bodies", "[sym][sparse][trees]") {
+  // Above four placed bodies every body's rotation is named and each body's rows read its
+  // parent's speeds alone: --solver sparse takes the articulated-body recursion
+  // (sym/tree_recursion.hpp). Its rhs, in double, against the dense rhs in 32 digits.
+  const mbsc::driver::BaumgarteGains gains;
+  std::mt19937 rng(20261205);
+  const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_spatial_tree.mbs").string();
+  struct Case {
+    int n;
+    bool free_base;
+  };
+  const std::vector<Case> cases = mbsc_test::small_scale()
+                                      ? std::vector<Case>{{1, false}, {6, false}, {7, true}, {12, false}}
+                                      : std::vector<Case>{{1, false}, {3, true}, {6, false}, {7, true}, {12, false}, {20, true}, {40, false}};
+  for (const auto& c : cases) {
+    const std::string text = random_spatial_tree(c.n, c.free_base, rng);
+    {
+      std::ofstream f(path);
+      f << text;
+    }
+    INFO(text);
+    const Loaded d = load(path);
+    for (const Variant v : {Variant{false, false}, Variant{false, true}}) {
+      std::string err;
+      const auto dense = rhs_spec(d, Solver::Dense, v, gains, err);
+      REQUIRE(dense);
+      const auto sparse = rhs_spec(d, Solver::Sparse, v, gains, err);
+      INFO(err);
+      REQUIRE(sparse);
+      if (c.n > 4 || c.free_base) CHECK(uses_tree_recursion(*sparse));
+      const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
+      INFO("n = " << c.n << (c.free_base ? " (free base)" : "") << (v.minimal ? " minimal" : " full")
+                  << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
+      CHECK(sparse_error < 1e-12);
+    }
+  }
+  std::remove(path.c_str());
+}
+
+TEST_CASE("the tree recursion's multipliers equal the dense multipliers formulation's", "[sym][sparse]") {
+  // --formulation multipliers: the recursion defines every row's lambda leaves to root
+  // from each body's own equations; the rows are independent, so lambda is unique and
+  // must equal the dense KKT solve's (rhs with Baumgarte terms, multipliers, reactions).
+  const mbsc::driver::BaumgarteGains gains;
+  std::mt19937 rng(20261206);
+  const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_spatial_tree_mult.mbs").string();
+  for (bool free_base : {false, true}) {
+    const std::string text = random_spatial_tree(7, free_base, rng);
+    {
+      std::ofstream f(path);
+      f << text;
+    }
+    INFO(text);
+    const Loaded d = load(path);
+    auto specs = [&](Solver solver) {
+      mbsc::driver::GenerateOptions opt;
+      opt.functions = {"rhs", "multipliers", "reaction_forces"};
+      opt.solver = solver;
+      opt.multipliers = true;
+      mbsc::Diagnostics diags;
+      auto out = mbsc::driver::multiplier_specs(*d.m, *d.eom, opt, gains, diags);
+      INFO(diags.format());
+      REQUIRE(out.size() == 3);
+      return out;
+    };
+    const auto dense = specs(Solver::Dense), tree = specs(Solver::Sparse);
+    CHECK(uses_tree_recursion(tree[0]));
+    for (std::size_t f = 0; f < 3; ++f) {
+      mbsc::sym::Probe pa(*d.m, d.eom->param_values, 21), pb(*d.m, d.eom->param_values, 21);
+      for (auto* p : {&pa, &pb}) {
+        p->bind(gains.alpha, 7.0);
+        p->bind(gains.beta, 5.0);
+      }
+      const auto xa = evaluate(dense[f], pa), xb = evaluate(tree[f], pb);
+      REQUIRE(xa.size() == xb.size());
+      REQUIRE_FALSE(xa.empty());
+      double scale = 1.0, diff = 0.0;
+      for (std::size_t i = 0; i < xa.size(); ++i) {
+        REQUIRE(std::isfinite(xb[i]));
+        scale = std::max(scale, std::fabs(xa[i]));
+        diff = std::max(diff, std::fabs(xa[i] - xb[i]));
+      }
+      INFO(dense[f].name << (free_base ? " (free base)" : "") << ": relative difference " << diff / scale);
+      CHECK(diff < 1e-10 * scale);
+    }
+  }
+  std::remove(path.c_str());
+}
+
+TEST_CASE("auto takes the tree recursion for a long spatial chain and the dense rhs for a short one", "[sym][sparse][auto]") {
+  // A chain of n links, axes z, y, x, ...: at 3 links the written-out rotations' dense rhs
+  // is cheaper; at 10 the recursion (linear in n) is, and auto must take it.
+  auto chain = [](int n) {
+    const char* axes[] = {"(0, 0, 1)", "(0, 1, 0)", "(1, 0, 0)"};
+    std::string s = "model spatial_chain\nparameter g = 9.81\ngravity (0, 0, -g)\n";
+    for (int k = 1; k <= n; ++k) {
+      s += "body l" + std::to_string(k) + " : rigid3d {\n  mass 1.1\n  inertia (0.05, 0.06, 0.04, 0.001, -0.002, 0.003)\n"
+           "  com (0.1, 0.02, 0.2)\n  axis top (0, 0, 0) " + std::string(axes[(k - 1) % 3]) + "\n";
+      if (k < n) s += "  axis tip (0, 0, 0.5) " + std::string(axes[k % 3]) + "\n";
+      s += "}\n";
+    }
+    s += "joint j1 : revolute ground.z_axis l1.top coordinate q1\n";
+    for (int k = 2; k <= n; ++k)
+      s += "joint j" + std::to_string(k) + " : revolute l" + std::to_string(k - 1) + ".tip l" + std::to_string(k) + ".top coordinate q" +
+           std::to_string(k) + "\n";
+    return s;
+  };
+  const mbsc::driver::BaumgarteGains gains;
+  const std::string path = (std::filesystem::temp_directory_path() / "mbsc_spatial_chain.mbs").string();
+  for (int n : {3, 10}) {
+    {
+      std::ofstream f(path);
+      f << chain(n);
+    }
+    const Loaded d = load(path);
+    std::string err;
+    const auto autos = rhs_spec(d, Solver::Auto, Variant{false, true}, gains, err);
+    INFO("n = " << n << ": " << err);
+    REQUIRE(autos);
+    CHECK(uses_tree_recursion(*autos) == (n == 10));
+  }
+  std::remove(path.c_str());
 }

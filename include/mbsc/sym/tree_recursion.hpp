@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The articulated-body recursion on a tree of bodies placed by joint coordinates
+/// (docs/formulation.md, "The tree recursion"), read off the sparse system of
+/// sym/kkt_system.hpp without forming a multiplier:
+///
+///   every body c (a leaf's speeds u_c) is fixed by exactly |u_c| rows that tie it to one
+///   parent body p (or to the ground) and to joint speeds s_c of its own,
+///       u_c = X_c u_p + S_c s_c + ...,     u_c' = X_c u_p' + S_c s_c' + k_c,
+///   a row's entries on u_c being numbers in a triangular pattern (a body's velocity
+///   rows turn its angular speeds into the velocity of its mass centre);
+///   a body with no rows at all is a free root (its own speeds are independent).
+///
+/// Leaves to root, each body's articulated inertia I_c and force p_c (its My block and hy,
+/// plus what its children pass on) give the joint pivot D = S^T I_c S + My_s, the gains
+/// G = D^-1 U^T (U = I_c S) and g = D^-1 (h_s + S^T (p_c - I_c k_c)); the parent receives
+///       I_p += X^T (I_c - U G) X,      p_p += X^T (p_c - I_c k_c - U g).
+/// Root to leaves: s_c' = g - G X u_p',  u_c' = X u_p' + S s_c' + k_c. Every entry is a
+/// named intermediate, so the work per body is bounded and the code is O(N), with the
+/// zeros and ones of exact axes and frozen parameters folded by the algebra.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mbsc/model/model.hpp"
+#include "mbsc/sym/kkt_elimination.hpp"
+#include "mbsc/sym/kkt_system.hpp"
+#include "mbsc/sym/probe.hpp"
+
+namespace mbsc::sym {
+
+/// The recursion's steps (every m.speed_dots[j] defined after them, and with `lambda`
+/// every row's multiplier, leaves to root from each body's own equations), or
+/// nullopt with `why` when the model is not such a tree (a closed loop, a row on two
+/// parents, a joint speed shared by two bodies, a joint pivot not definite at the probe
+/// point). `c` are the rows' right-hand sides at order 2 (A q1' = c); `fin` and `probe` as
+/// for eliminate_kkt.
+std::optional<KktElimination> tree_recursion(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
+                                             const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
+                                             const std::vector<GiNaC::symbol>* lambda, std::string& why);
+
+}  // namespace mbsc::sym
