@@ -105,10 +105,15 @@ struct FinalSubstitutions {
   GiNaC::exmap formals, frozen;
 };
 
+// What identifies the substitutions: the model (its address, sizes, and its first and
+// last parameter and formal, symbols no other model shares) and the frozen values. O(1)
+// in the model's size but for the frozen list: finalize runs for every expression, and a
+// key over every parameter made a big model's generation quadratic.
 std::string substitution_key(const model::Model& m, const sym::Eom& eom) {
   std::string key = fmt::format("{}/{}/{}", static_cast<const void*>(&m), m.params.size(), m.formals.size());
-  for (const auto& [name, f] : m.formals) key += fmt::format("/{}", f.sym.gethash());
-  for (const auto& p : m.params) key += fmt::format("/{}", p.sym.gethash());
+  if (!m.params.empty()) key += fmt::format("/{}/{}", m.params.front().sym.gethash(), m.params.back().sym.gethash());
+  if (!m.formals.empty())
+    key += fmt::format("/{}/{}", m.formals.begin()->second.sym.gethash(), m.formals.rbegin()->second.sym.gethash());
   for (const auto& [name, v] : eom.options.frozen) key += fmt::format("/{}={}", name, v);
   return key;
 }

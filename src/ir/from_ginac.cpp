@@ -202,12 +202,18 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
       solve_live_[static_cast<std::size_t>(info->step)] = 1;
       if (info->node < 0) info->node = dag_.make_sym(info->step, info->elem);
       return info->node;
-    case SymKind::Define:
-      if (std::get<Define>(spec_.steps[static_cast<std::size_t>(info->step)]).named) {
+    case SymKind::Define: {
+      const Define& d = std::get<Define>(spec_.steps[static_cast<std::size_t>(info->step)]);
+      // A named number (a speed that the minimal state rebuilds as a constant 0) is the
+      // number itself, so that products with it fold away.
+      if (d.named && GiNaC::is_exactly_a<GiNaC::numeric>(d.value))
+        return dag_.make_number(to_double_checked(GiNaC::ex_to<GiNaC::numeric>(d.value), d.value));
+      if (d.named) {
         named_ref_[static_cast<std::size_t>(info->step)] = 1;
         return dag_.make_sym(info->step, -1);
       }
       break;
+    }
   }
   const auto st = static_cast<std::size_t>(info->step);
   if (define_state_[st] == kDone) return define_node_[st];

@@ -163,6 +163,13 @@ Vec rotate_about(const Vec& n, const ex& q, const Vec& v) {
   return {c * v[0] + s * nv[0] + along * n[0], c * v[1] + s * nv[1] + along * n[1], c * v[2] + s * nv[2] + along * n[2]};
 }
 
+Vec rotate_back_about(const Vec& n, const ex& q, const Vec& v) {
+  const Vec nv = cross(n, v);
+  if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) return v;  // along the axis
+  const ex c = cos(q), s = sin(q), along = (1 - c) * dot(n, v);
+  return {c * v[0] - s * nv[0] + along * n[0], c * v[1] - s * nv[1] + along * n[1], c * v[2] - s * nv[2] + along * n[2]};
+}
+
 Vec rotation_about(const Vec& n, const ex& q) {
   Vec R(9, ex(0));
   for (int j = 0; j < 3; ++j) {

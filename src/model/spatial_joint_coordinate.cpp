@@ -208,8 +208,8 @@ void SpatialLibrary::add_placement(int owner, const PlanarLibrary::Element& e, c
   for (std::size_t k = 0; k < 3; ++k)
     row(owner, name + "." + xyz[k], b->p[k] - a->p[k], e.pos, Constraint::Level::Position, child.coords[k]);
   // The child's body-frame angular velocity: the parent's turned back by q, plus n q'.
-  const Vec wp = rigid3d::rotate_about(data.joint_axis, -data.joint_angle,
-                                       rigid3d::parent_angular_velocity_in_parent_frame(m_, child));
+  const Vec wp = rigid3d::rotate_back_about(data.joint_axis, data.joint_angle,
+                                            rigid3d::parent_angular_velocity_in_parent_frame(m_, child));
   const Vec w = rigid3d::angular_speeds(m_, child);
   const char* const names[] = {"wx", "wy", "wz"};
   for (std::size_t k = 0; k < 3; ++k)

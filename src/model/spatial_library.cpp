@@ -67,10 +67,18 @@ void SpatialLibrary::add_ground_axis(const std::string& name, const Vec& v, cons
 
 double SpatialLibrary::at_defaults(const GiNaC::ex& e) const {
   try {
-    GiNaC::exmap defaults;
-    for (std::size_t i = 0; i < m_.params.size(); ++i) defaults[m_.params[i].sym] = m_.param_defaults[i];
     double value = std::numeric_limits<double>::quiet_NaN();
-    return evaluate_number(GiNaC::evalf(subs_present(e, defaults)), value) ? value : std::numeric_limits<double>::quiet_NaN();
+    if (GiNaC::is_a<GiNaC::numeric>(e)) {
+      evaluate_number(e, value);
+      return value;
+    }
+    // The parameters' defaults, built once (parameters are all declared before the joints).
+    if (defaults_size_ != m_.params.size()) {
+      defaults_.clear();
+      for (std::size_t i = 0; i < m_.params.size(); ++i) defaults_[m_.params[i].sym] = m_.param_defaults[i];
+      defaults_size_ = m_.params.size();
+    }
+    return evaluate_number(GiNaC::evalf(subs_present(e, defaults_)), value) ? value : std::numeric_limits<double>::quiet_NaN();
   } catch (const std::exception&) {
     return std::numeric_limits<double>::quiet_NaN();
   }

@@ -89,6 +89,8 @@ class SpatialLibrary {
 
  private:
   int placements_ = 0;
+  mutable GiNaC::exmap defaults_;        // parameter -> default, for at_defaults
+  mutable std::size_t defaults_size_ = static_cast<std::size_t>(-1);
   struct End {  // a resolved point or axis, in space
     int node = PlanarLibrary::kGround;
     Vec p;          // the point (the axis's point)

@@ -52,12 +52,12 @@ struct Body {
   std::vector<int> joint;   // s_c, indices into m.speeds (ascending)
   int parent = -1;          // body index; -1: the ground (or none, for a free root)
   std::string name;
-  Mat X, S;                 // u_c' = X u_p' + S s_c' + k
+  Mat T, Phi;               // u_c' = T u_p' + Phi s_c' + k (docs/notation.md)
   std::vector<Q> k;
-  Mat I;                    // articulated inertia (own My block, then children's share)
+  Mat IA;                   // articulated inertia (own My block, then children's share)
   /// The rows in the order they were solved: (row, the speed it gives (local), its coefficient).
   std::vector<std::tuple<int, int, GiNaC::ex>> steps;
-  std::vector<Q> p;         // articulated force
+  std::vector<Q> pA;        // articulated force
 };
 
 class Recursion {
@@ -321,8 +321,8 @@ class Recursion {
     const int nu = static_cast<int>(b.speeds.size()), ns = static_cast<int>(b.joint.size());
     const std::vector<int>* up = b.parent >= 0 ? &bodies_[static_cast<std::size_t>(b.parent)].speeds : nullptr;
     const int np = up ? static_cast<int>(up->size()) : 0;
-    b.X = Mat(nu, np);
-    b.S = Mat(nu, ns);
+    b.T = Mat(nu, np);
+    b.Phi = Mat(nu, ns);
     b.k.assign(static_cast<std::size_t>(nu), Q{});
     std::vector<char> solved(static_cast<std::size_t>(nu), 0), used(b.rows.size(), 0);
     for (int step = 0; step < nu; ++step) {
@@ -359,8 +359,8 @@ class Recursion {
         if (l == a) continue;
         const Q w = Q{0, 0.0} - read(e.value) * inverse;
         if (l >= 0) {  // an own speed solved before: its map, scaled
-          for (int j = 0; j < np; ++j) x[static_cast<std::size_t>(j)] = x[static_cast<std::size_t>(j)] + w * b.X(l, j);
-          for (int j = 0; j < ns; ++j) s[static_cast<std::size_t>(j)] = s[static_cast<std::size_t>(j)] + w * b.S(l, j);
+          for (int j = 0; j < np; ++j) x[static_cast<std::size_t>(j)] = x[static_cast<std::size_t>(j)] + w * b.T(l, j);
+          for (int j = 0; j < ns; ++j) s[static_cast<std::size_t>(j)] = s[static_cast<std::size_t>(j)] + w * b.Phi(l, j);
           k = k + w * b.k[static_cast<std::size_t>(l)];
         } else if (up && position(*up, e.col) >= 0) {
           x[static_cast<std::size_t>(position(*up, e.col))] = x[static_cast<std::size_t>(position(*up, e.col))] + w;
@@ -370,8 +370,8 @@ class Recursion {
         }
       }
       b.steps.emplace_back(row, a, pivot);
-      for (int j = 0; j < np; ++j) b.X(a, j) = named(x[static_cast<std::size_t>(j)]);
-      for (int j = 0; j < ns; ++j) b.S(a, j) = named(s[static_cast<std::size_t>(j)]);
+      for (int j = 0; j < np; ++j) b.T(a, j) = named(x[static_cast<std::size_t>(j)]);
+      for (int j = 0; j < ns; ++j) b.Phi(a, j) = named(s[static_cast<std::size_t>(j)]);
       b.k[static_cast<std::size_t>(a)] = named(k);
       solved[static_cast<std::size_t>(a)] = 1;
     }
@@ -382,11 +382,11 @@ class Recursion {
 
   void start(Body& b) {
     const int nu = static_cast<int>(b.speeds.size());
-    b.I = Mat(nu, nu);
-    b.p.assign(static_cast<std::size_t>(nu), Q{});
+    b.IA = Mat(nu, nu);
+    b.pA.assign(static_cast<std::size_t>(nu), Q{});
     for (int i = 0; i < nu; ++i) {
-      b.p[static_cast<std::size_t>(i)] = read(sys_.hy[static_cast<std::size_t>(b.speeds[static_cast<std::size_t>(i)])]);
-      for (int j = 0; j < nu; ++j) b.I(i, j) = read(my(b.speeds[static_cast<std::size_t>(i)], b.speeds[static_cast<std::size_t>(j)]));
+      b.pA[static_cast<std::size_t>(i)] = read(sys_.hy[static_cast<std::size_t>(b.speeds[static_cast<std::size_t>(i)])]);
+      for (int j = 0; j < nu; ++j) b.IA(i, j) = read(my(b.speeds[static_cast<std::size_t>(i)], b.speeds[static_cast<std::size_t>(j)]));
     }
   }
 
@@ -440,47 +440,47 @@ class Recursion {
     const int nu = static_cast<int>(b.speeds.size()), ns = static_cast<int>(b.joint.size());
     // The children's shares were added as sums: name the totals once.
     for (int i = 0; i < nu; ++i) {
-      for (int j = i; j < nu; ++j) b.I(j, i) = b.I(i, j) = named(b.I(i, j));
-      b.p[static_cast<std::size_t>(i)] = named(b.p[static_cast<std::size_t>(i)]);
+      for (int j = i; j < nu; ++j) b.IA(j, i) = b.IA(i, j) = named(b.IA(i, j));
+      b.pA[static_cast<std::size_t>(i)] = named(b.pA[static_cast<std::size_t>(i)]);
     }
-    if (b.rows.empty()) {  // a free root: I u' = p
+    if (b.rows.empty()) {  // a free root: IA u' = pA
       Mat rhs(nu, 1);
-      for (int i = 0; i < nu; ++i) rhs(i, 0) = b.p[static_cast<std::size_t>(i)];
+      for (int i = 0; i < nu; ++i) rhs(i, 0) = b.pA[static_cast<std::size_t>(i)];
       Mat x;
-      if (!pivot_solve(b, b.I, rhs, x, fmt::format("tree recursion: free body {}", b.name))) {
+      if (!pivot_solve(b, b.IA, rhs, x, fmt::format("tree recursion: free body {}", b.name))) {
         why = fmt::format("the articulated inertia of free body '{}' is not positive definite", b.name);
         return false;
       }
       for (int i = 0; i < nu; ++i) accel_[b.speeds[static_cast<std::size_t>(i)]] = x(i, 0).e;
       return true;
     }
-    // z = p - I k, U = I S.
-    std::vector<Q> z(static_cast<std::size_t>(nu));
+    // beta = pA - IA k, U = IA Phi.
+    std::vector<Q> beta(static_cast<std::size_t>(nu));
     for (int i = 0; i < nu; ++i) {
-      Q sum = b.p[static_cast<std::size_t>(i)];
-      for (int j = 0; j < nu; ++j) sum = sum - b.I(i, j) * b.k[static_cast<std::size_t>(j)];
-      z[static_cast<std::size_t>(i)] = named(sum);
+      Q sum = b.pA[static_cast<std::size_t>(i)];
+      for (int j = 0; j < nu; ++j) sum = sum - b.IA(i, j) * b.k[static_cast<std::size_t>(j)];
+      beta[static_cast<std::size_t>(i)] = named(sum);
     }
     Mat U(nu, ns);
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < ns; ++j) {
         Q sum;
-        for (int t = 0; t < nu; ++t) sum = sum + b.I(i, t) * b.S(t, j);
+        for (int t = 0; t < nu; ++t) sum = sum + b.IA(i, t) * b.Phi(t, j);
         U(i, j) = named(sum);
       }
     Mat G(ns, nu);
     std::vector<Q> g(static_cast<std::size_t>(ns));
     if (ns > 0) {
-      // D = S^T U + My_s, r = h_s + S^T z; [G | g] = D^-1 [U^T | r].
+      // D = Phi^T U + My_s, r = h_s + Phi^T beta; [G | g] = D^-1 [U^T | r].
       Mat D(ns, ns), rhs(ns, nu + 1);
       for (int i = 0; i < ns; ++i) {
         for (int j = 0; j < ns; ++j) {
           Q sum = read(my(b.joint[static_cast<std::size_t>(i)], b.joint[static_cast<std::size_t>(j)]));
-          for (int t = 0; t < nu; ++t) sum = sum + b.S(t, i) * U(t, j);
+          for (int t = 0; t < nu; ++t) sum = sum + b.Phi(t, i) * U(t, j);
           D(i, j) = sum;
         }
         Q r = read(sys_.hy[static_cast<std::size_t>(b.joint[static_cast<std::size_t>(i)])]);
-        for (int t = 0; t < nu; ++t) r = r + b.S(t, i) * z[static_cast<std::size_t>(t)];
+        for (int t = 0; t < nu; ++t) r = r + b.Phi(t, i) * beta[static_cast<std::size_t>(t)];
         for (int j = 0; j < nu; ++j) rhs(i, j) = U(j, i);
         rhs(i, nu) = r;
       }
@@ -497,39 +497,39 @@ class Recursion {
     b_G_[bi] = G;
     b_g_[bi] = g;
     if (b.parent < 0) return true;
-    // What the parent receives: X^T (I - U G) X and X^T (z - U g).
-    Mat Ia(nu, nu);
-    std::vector<Q> pa(static_cast<std::size_t>(nu));
+    // What the parent receives: T^T (IA - U G) T and T^T (beta - U g).
+    Mat kept(nu, nu);  // IA - U G: what the joint does not take
+    std::vector<Q> passed(static_cast<std::size_t>(nu));  // beta - U g
     for (int i = 0; i < nu; ++i) {
       for (int j = i; j < nu; ++j) {
-        Q sum = b.I(i, j);
+        Q sum = b.IA(i, j);
         for (int t = 0; t < ns; ++t) sum = sum - U(i, t) * G(t, j);
-        Ia(j, i) = Ia(i, j) = named(sum);
+        kept(j, i) = kept(i, j) = named(sum);
       }
-      Q sum = z[static_cast<std::size_t>(i)];
+      Q sum = beta[static_cast<std::size_t>(i)];
       for (int t = 0; t < ns; ++t) sum = sum - U(i, t) * g[static_cast<std::size_t>(t)];
-      pa[static_cast<std::size_t>(i)] = named(sum);
+      passed[static_cast<std::size_t>(i)] = named(sum);
     }
     Body& p = bodies_[static_cast<std::size_t>(b.parent)];
     if (started_.insert(b.parent).second) start(p);
     const int np = static_cast<int>(p.speeds.size());
-    Mat T(nu, np);  // Ia X
+    Mat IaT(nu, np);  // (IA - U G) T
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < np; ++j) {
         Q sum;
-        for (int t = 0; t < nu; ++t) sum = sum + Ia(i, t) * b.X(t, j);
-        T(i, j) = named(sum);
+        for (int t = 0; t < nu; ++t) sum = sum + kept(i, t) * b.T(t, j);
+        IaT(i, j) = named(sum);
       }
     for (int i = 0; i < np; ++i) {
       for (int j = i; j < np; ++j) {
         Q sum;
-        for (int t = 0; t < nu; ++t) sum = sum + b.X(t, i) * T(t, j);
-        p.I(i, j) = p.I(i, j) + sum;
-        if (j != i) p.I(j, i) = p.I(i, j);
+        for (int t = 0; t < nu; ++t) sum = sum + b.T(t, i) * IaT(t, j);
+        p.IA(i, j) = p.IA(i, j) + sum;
+        if (j != i) p.IA(j, i) = p.IA(i, j);
       }
       Q sum;
-      for (int t = 0; t < nu; ++t) sum = sum + b.X(t, i) * pa[static_cast<std::size_t>(t)];
-      p.p[static_cast<std::size_t>(i)] = p.p[static_cast<std::size_t>(i)] + sum;
+      for (int t = 0; t < nu; ++t) sum = sum + b.T(t, i) * passed[static_cast<std::size_t>(t)];
+      p.pA[static_cast<std::size_t>(i)] = p.pA[static_cast<std::size_t>(i)] + sum;
     }
     return true;
   }
@@ -549,14 +549,14 @@ class Recursion {
       for (int s : b.speeds) define(s, accel_.at(s));
       return;
     }
-    // y = X u_p' (zero under the ground).
+    // y = T u_p' (zero under the ground).
     std::vector<GiNaC::ex> y(static_cast<std::size_t>(nu), GiNaC::ex(0));
     if (b.parent >= 0) {
       const Body& p = bodies_[static_cast<std::size_t>(b.parent)];
       for (int i = 0; i < nu; ++i) {
         GiNaC::ex sum = 0;
         for (std::size_t j = 0; j < p.speeds.size(); ++j)
-          if (!b.X(i, static_cast<int>(j)).e.is_zero()) sum += b.X(i, static_cast<int>(j)).e * accel_.at(p.speeds[j]);
+          if (!b.T(i, static_cast<int>(j)).e.is_zero()) sum += b.T(i, static_cast<int>(j)).e * accel_.at(p.speeds[j]);
         y[static_cast<std::size_t>(i)] = named(Q{sum, 0.0}).e;
       }
     }
@@ -571,7 +571,7 @@ class Recursion {
     for (int i = 0; i < nu; ++i) {
       GiNaC::ex value = y[static_cast<std::size_t>(i)] + b.k[static_cast<std::size_t>(i)].e;
       for (int j = 0; j < ns; ++j)
-        if (!b.S(i, j).e.is_zero()) value += b.S(i, j).e * accel_.at(b.joint[static_cast<std::size_t>(j)]);
+        if (!b.Phi(i, j).e.is_zero()) value += b.Phi(i, j).e * accel_.at(b.joint[static_cast<std::size_t>(j)]);
       define(b.speeds[static_cast<std::size_t>(i)], value);
     }
   }
@@ -630,7 +630,7 @@ class Recursion {
   std::vector<std::vector<int>> row_bodies_;  // per row: the bodies it touches (1 or 2)
   std::map<std::pair<int, int>, std::vector<int>> edge_rows_;  // (lower, higher body) -> rows on both
   std::vector<int> order_;                    // roots first, each body after its parent
-  std::set<int> started_;                     // bodies whose I, p were initialised
+  std::set<int> started_;                     // bodies whose IA, pA were initialised
   std::map<int, Mat> b_G_;
   std::map<int, std::vector<Q>> b_g_;
   std::map<int, GiNaC::ex> accel_;            // speed -> its rate's symbol once defined

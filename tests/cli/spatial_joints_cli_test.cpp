@@ -5,6 +5,8 @@
 // invariants` shows the joint's rows under their names.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -101,5 +103,27 @@ TEST_CASE("spatial joint coordinates: a rebuilt joint angle is defined before th
   INFO(r.output);
   CHECK(r.exit_code == 0);
   CHECK(std::filesystem::exists(dir / "chain6_tied" / "chain6_tied.cpp"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("the tree recursion conserves a tumbling humanoid's energy, in both states", "[cli][spatial_joints][tree]") {
+  // tests/data/spatial_joints/humanoid_tree.mbs: a free torso with four three-link limbs,
+  // no dissipation; auto takes the articulated-body recursion. One second at tight
+  // tolerances: the energy stays put (relative change below 1e-9).
+  const auto dir = fresh_dir("humanoid_tree");
+  for (const std::string state : {"full", "minimal"}) {
+    const auto r = run(kMbsc + " run " + path("tests/data/spatial_joints/humanoid_tree.mbs") + " --state " + state +
+                       " --t-end 1 --rtol 1e-10 -o " + quote((dir / (state + ".csv")).string()) + " --cache-dir " +
+                       quote((dir / "cache").string()));
+    INFO(state << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto at = r.output.find("energy change: largest |E - E0| = ");
+    REQUIRE(at != std::string::npos);
+    const double change = std::stod(r.output.substr(at + 35));
+    const auto e0_at = r.output.find("(E0 = ", at);
+    REQUIRE(e0_at != std::string::npos);
+    const double e0 = std::stod(r.output.substr(e0_at + 6));
+    CHECK(std::fabs(change) < 1e-9 * std::fabs(e0));
+  }
   std::filesystem::remove_all(dir);
 }

@@ -38,8 +38,6 @@
 #include "free_body_euler_mult/free_body_euler_mult.hpp"
 #include "free_body_quaternion/free_body_quaternion.hpp"
 #include "free_body_quaternion_mult/free_body_quaternion_mult.hpp"
-#include "humanoid_tree/humanoid_tree.hpp"
-#include "humanoid_tree_mult/humanoid_tree_mult.hpp"
 #include "heavy_top/heavy_top.hpp"
 #include "heavy_top_mult/heavy_top_mult.hpp"
 #include "sssp/sssp.hpp"
@@ -517,21 +515,6 @@ std::vector<Case> shipped_models() {
                    body_speeds,
                    {},
                    {}});
-  // The humanoid tree: a free torso near upright, every joint angle given; the limbs'
-  // mass centres follow from the joints (assembly).
-  {
-    std::vector<Range> coords{{"torso.x", 0.0, 1.0}, {"torso.y", 0.0, 1.0}, {"torso.z", 1.0, 0.5},
-                              {"torso.e1", 0.1, 0.05}, {"torso.e2", -0.1, 0.05}, {"torso.e3", 0.05, 0.05}};
-    std::vector<Range> speeds{{"torso.u", 0.0, 1.0}, {"torso.v", 0.0, 1.0}, {"torso.w", 0.0, 1.0},
-                              {"torso.wx", 0.3, 1.0}, {"torso.wy", -0.2, 1.0}, {"torso.wz", 1.0, 1.0}};
-    for (const char* q : {"q_arm_l1", "q_arm_l2", "q_arm_l3", "q_arm_r1", "q_arm_r2", "q_arm_r3", "q_leg_l1", "q_leg_l2",
-                          "q_leg_l3", "q_leg_r1", "q_leg_r2", "q_leg_r3"})
-      coords.push_back({q, 0.0, 0.8});
-    for (const char* q : {"q_arm_l1_dot", "q_arm_l2_dot", "q_arm_l3_dot", "q_arm_r1_dot", "q_arm_r2_dot", "q_arm_r3_dot",
-                          "q_leg_l1_dot", "q_leg_l2_dot", "q_leg_l3_dot", "q_leg_r1_dot", "q_leg_r2_dot", "q_leg_r3_dot"})
-      speeds.push_back({q, 0.0, 1.0});
-    cases.push_back({PAIR(humanoid_tree), {{"torso.e0", 1.0}}, coords, speeds, {}, {}});
-  }
   // Away from gimbal lock (theta = +-pi/2).
   cases.push_back({PAIR_VELOCITY_ONLY(free_body_euler),
                    {},
@@ -665,7 +648,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 29);
+  REQUIRE(shipped.size() == 28);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

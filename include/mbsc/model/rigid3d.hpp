@@ -66,6 +66,9 @@ GiNaC::ex length_scale(const Model& m, const Node& node);
 /// v turned by angle q about the unit vector n (Rodrigues):
 /// cos q v + sin q (n x v) + (1 - cos q) (n . v) n; v itself when v is a multiple of n.
 Vec rotate_about(const Vec& n, const GiNaC::ex& q, const Vec& v);
+/// v turned by -q about n (the transpose of rotate_about's turn), written in sin q and
+/// cos q rather than of -q, so that the generated code shares them with the turn itself.
+Vec rotate_back_about(const Vec& n, const GiNaC::ex& q, const Vec& v);
 /// The matrix of rotate_about (row-major 3x3).
 Vec rotation_about(const Vec& n, const GiNaC::ex& q);
 /// 3x3 row-major product A B.

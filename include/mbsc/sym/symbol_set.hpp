@@ -22,6 +22,8 @@ class SymbolSet {
   bool contains(const GiNaC::ex& s) const { return symbols_.count(s) > 0; }
   /// e.diff(s), or 0 at once when s does not occur in e (what diff would return).
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& s) const { return contains(s) ? e.diff(s) : GiNaC::ex(0); }
+  /// The symbols themselves (in no particular order).
+  const std::unordered_set<GiNaC::ex, ExHash, GiNaC::ex_is_equal>& symbols() const { return symbols_; }
 
  private:
   std::unordered_set<GiNaC::ex, ExHash, GiNaC::ex_is_equal> symbols_;

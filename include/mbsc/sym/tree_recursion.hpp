@@ -6,18 +6,20 @@
 ///
 ///   every body c (a leaf's speeds u_c) is fixed by exactly |u_c| rows that tie it to one
 ///   parent body p (or to the ground) and to joint speeds s_c of its own,
-///       u_c = X_c u_p + S_c s_c + ...,     u_c' = X_c u_p' + S_c s_c' + k_c,
+///       u_c = T_c u_p + Phi_c s_c + ...,     u_c' = T_c u_p' + Phi_c s_c' + k_c,
 ///   a row's entries on u_c being numbers in a triangular pattern (a body's velocity
 ///   rows turn its angular speeds into the velocity of its mass centre);
 ///   a body with no rows at all is a free root (its own speeds are independent).
 ///
-/// Leaves to root, each body's articulated inertia I_c and force p_c (its My block and hy,
-/// plus what its children pass on) give the joint pivot D = S^T I_c S + My_s, the gains
-/// G = D^-1 U^T (U = I_c S) and g = D^-1 (h_s + S^T (p_c - I_c k_c)); the parent receives
-///       I_p += X^T (I_c - U G) X,      p_p += X^T (p_c - I_c k_c - U g).
-/// Root to leaves: s_c' = g - G X u_p',  u_c' = X u_p' + S s_c' + k_c. Every entry is a
-/// named intermediate, so the work per body is bounded and the code is O(N), with the
-/// zeros and ones of exact axes and frozen parameters folded by the algebra.
+/// Leaves to root, each body's articulated inertia IA_c and force pA_c (its My block and
+/// hy, plus what its children pass on) give beta = pA_c - IA_c k_c, U = IA_c Phi_c, the
+/// joint pivot D = Phi_c^T U + My_s and the gains [G | g] = D^-1 [U^T | h_s + Phi_c^T beta];
+/// the parent receives
+///       IA_p += T_c^T (IA_c - U G) T_c,      pA_p += T_c^T (beta - U g).
+/// Root to leaves: s_c' = g - G T_c u_p',  u_c' = T_c u_p' + Phi_c s_c' + k_c. Every entry
+/// is a named intermediate, so the work per body is bounded and the code is O(N), with the
+/// zeros and ones of exact axes and frozen parameters folded by the algebra. Letters as in
+/// docs/notation.md.
 #include <functional>
 #include <optional>
 #include <string>
