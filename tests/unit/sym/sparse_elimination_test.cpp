@@ -194,7 +194,7 @@ std::pair<double, double> errors(const Loaded& d, const mbsc::ir::FunctionSpec& 
 // A random planar tree: body k (k = 1..n) hangs from a random earlier body or the ground
 // by a revolute, prismatic or pin-in-slot joint at random points; random masses,
 // inertias, mass centres; a spring on some joints so that the forces are not only gravity.
-std::string random_tree(int n, std::mt19937& rng) {
+std::string random_tree(int n, std::mt19937& rng, bool coordinates = false) {
   std::uniform_real_distribution<double> mass(0.5, 2.0), len(0.2, 1.0), off(-0.2, 0.2);
   auto num = [](double v) { return std::to_string(v); };
   std::string s = "model random_tree\nparameter g = 9.81\ngravity (0, -g)\n";
@@ -210,13 +210,16 @@ std::string random_tree(int n, std::mt19937& rng) {
     const std::string b = "b" + std::to_string(k);
     const std::string pp = parent == 0 ? "ground.origin" : "b" + std::to_string(parent) + ".D";
     const std::string pa = parent == 0 ? "ground.x_axis" : "b" + std::to_string(parent) + ".X";
-    switch (std::uniform_int_distribution<int>(0, 3)(rng)) {
+    // With `coordinates`, revolute and prismatic joints carry a coordinate of their own
+    // (joint coordinates: the tree recursion's case); pin-in-slot joints have none.
+    const std::string own = coordinates ? " coordinate q" + std::to_string(k) : "";
+    switch (std::uniform_int_distribution<int>(0, coordinates ? 2 : 3)(rng)) {
       case 0:
       case 1:
-        s += "joint j" + std::to_string(k) + " : revolute " + pp + " " + b + ".P\n";
+        s += "joint j" + std::to_string(k) + " : revolute " + pp + " " + b + ".P" + own + "\n";
         break;
       case 2:
-        s += "joint j" + std::to_string(k) + " : prismatic " + pa + " " + b + ".P\n";
+        s += "joint j" + std::to_string(k) + " : prismatic " + pa + " " + b + ".P" + own + "\n";
         break;
       default:
         s += "joint j" + std::to_string(k) + " : pin_in_slot " + pa + " " + b + ".P\n";
@@ -643,6 +646,37 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
       if (c.n > 4 || c.free_base) CHECK(uses_tree_recursion(*sparse));
       const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
       INFO("n = " << c.n << (c.free_base ? " (free base)" : "") << (v.minimal ? " minimal" : " full")
+                  << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
+      CHECK(sparse_error < 1e-12);
+    }
+  }
+  std::remove(path.c_str());
+}
+
+TEST_CASE("the tree recursion agrees with the dense rhs on random planar trees in joint coordinates", "[sym][sparse][trees]") {
+  // Revolute and prismatic joints with coordinates place each body from its parent: the
+  // rows give the child's x, y, theta one by one, and --solver sparse takes the recursion.
+  const mbsc::driver::BaumgarteGains gains;
+  std::mt19937 rng(20261207);
+  const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_joint_tree.mbs").string();
+  for (int n : {1, 4, 12, 30}) {
+    const std::string text = random_tree(n, rng, /*coordinates=*/true);
+    {
+      std::ofstream f(path);
+      f << text;
+    }
+    INFO(text);
+    const Loaded d = load(path);
+    for (const Variant v : {Variant{false, false}, Variant{false, true}, Variant{true, false}}) {
+      std::string err;
+      const auto dense = rhs_spec(d, Solver::Dense, v, gains, err);
+      REQUIRE(dense);
+      const auto sparse = rhs_spec(d, Solver::Sparse, v, gains, err);
+      INFO(err);
+      REQUIRE(sparse);
+      CHECK(uses_tree_recursion(*sparse));
+      const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
+      INFO("n = " << n << (v.multipliers ? " multipliers" : v.minimal ? " minimal" : " full")
                   << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
       CHECK(sparse_error < 1e-12);
     }
