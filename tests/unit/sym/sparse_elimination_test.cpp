@@ -288,6 +288,32 @@ bool uses_tree_recursion(const mbsc::ir::FunctionSpec& f) {
   return false;
 }
 
+// The model `text` (written to `path`): for each variant, --solver sparse must take the tree
+// recursion (when `tree`) and agree with the dense rhs's 32-digit evaluation to 1e-12.
+void check_tree_against_dense(const std::string& text, const std::string& path, const std::vector<Variant>& variants,
+                              bool tree, const std::string& label) {
+  const mbsc::driver::BaumgarteGains gains;
+  {
+    std::ofstream f(path);
+    f << text;
+  }
+  INFO(text);
+  const Loaded d = load(path);
+  for (const Variant& v : variants) {
+    std::string err;
+    const auto dense = rhs_spec(d, Solver::Dense, v, gains, err);
+    REQUIRE(dense);
+    const auto sparse = rhs_spec(d, Solver::Sparse, v, gains, err);
+    INFO(err);
+    REQUIRE(sparse);
+    if (tree) CHECK(uses_tree_recursion(*sparse));
+    const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
+    INFO(label << (v.multipliers ? " multipliers" : v.minimal ? " minimal" : " full")
+               << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
+    CHECK(sparse_error < 1e-12);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("sparse elimination agrees with the dense rhs on every shipped model", "[sym][sparse]") {
@@ -618,7 +644,6 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   // Above four placed bodies every body's rotation is named and each body's rows read its
   // parent's speeds alone: --solver sparse takes the articulated-body recursion
   // (sym/tree_recursion.hpp). Its rhs, in double, against the dense rhs in 32 digits.
-  const mbsc::driver::BaumgarteGains gains;
   std::mt19937 rng(20261205);
   const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_spatial_tree.mbs").string();
   struct Case {
@@ -628,59 +653,20 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   const std::vector<Case> cases = mbsc_test::small_scale()
                                       ? std::vector<Case>{{1, false}, {6, false}, {7, true}, {12, false}}
                                       : std::vector<Case>{{1, false}, {3, true}, {6, false}, {7, true}, {12, false}, {20, true}, {40, false}};
-  for (const auto& c : cases) {
-    const std::string text = random_spatial_tree(c.n, c.free_base, rng);
-    {
-      std::ofstream f(path);
-      f << text;
-    }
-    INFO(text);
-    const Loaded d = load(path);
-    for (const Variant v : {Variant{false, false}, Variant{false, true}}) {
-      std::string err;
-      const auto dense = rhs_spec(d, Solver::Dense, v, gains, err);
-      REQUIRE(dense);
-      const auto sparse = rhs_spec(d, Solver::Sparse, v, gains, err);
-      INFO(err);
-      REQUIRE(sparse);
-      if (c.n > 4 || c.free_base) CHECK(uses_tree_recursion(*sparse));
-      const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
-      INFO("n = " << c.n << (c.free_base ? " (free base)" : "") << (v.minimal ? " minimal" : " full")
-                  << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
-      CHECK(sparse_error < 1e-12);
-    }
-  }
+  for (const auto& c : cases)
+    check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng), path, {Variant{false, false}, Variant{false, true}},
+                             c.n > 4 || c.free_base, "n = " + std::to_string(c.n) + (c.free_base ? " (free base)" : ""));
   std::remove(path.c_str());
 }
 
 TEST_CASE("the tree recursion agrees with the dense rhs on random planar trees in joint coordinates", "[sym][sparse][trees]") {
   // Revolute and prismatic joints with coordinates place each body from its parent: the
   // rows give the child's x, y, theta one by one, and --solver sparse takes the recursion.
-  const mbsc::driver::BaumgarteGains gains;
   std::mt19937 rng(20261207);
   const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_joint_tree.mbs").string();
-  for (int n : {1, 4, 12, 30}) {
-    const std::string text = random_tree(n, rng, /*coordinates=*/true);
-    {
-      std::ofstream f(path);
-      f << text;
-    }
-    INFO(text);
-    const Loaded d = load(path);
-    for (const Variant v : {Variant{false, false}, Variant{false, true}, Variant{true, false}}) {
-      std::string err;
-      const auto dense = rhs_spec(d, Solver::Dense, v, gains, err);
-      REQUIRE(dense);
-      const auto sparse = rhs_spec(d, Solver::Sparse, v, gains, err);
-      INFO(err);
-      REQUIRE(sparse);
-      CHECK(uses_tree_recursion(*sparse));
-      const auto [dense_error, sparse_error] = errors(d, *dense, *sparse, gains);
-      INFO("n = " << n << (v.multipliers ? " multipliers" : v.minimal ? " minimal" : " full")
-                  << ", relative errors against 32 digits: dense " << dense_error << ", tree " << sparse_error);
-      CHECK(sparse_error < 1e-12);
-    }
-  }
+  for (int n : {1, 4, 12, 30})
+    check_tree_against_dense(random_tree(n, rng, /*coordinates=*/true), path,
+                             {Variant{false, false}, Variant{false, true}, Variant{true, false}}, true, "n = " + std::to_string(n));
   std::remove(path.c_str());
 }
 
