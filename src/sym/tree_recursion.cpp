@@ -16,7 +16,6 @@
 #include <deque>
 #include <map>
 #include <set>
-#include <tuple>
 
 namespace mbsc::sym {
 
@@ -45,6 +44,13 @@ struct Mat {
   const Q& operator()(int i, int j) const { return q[static_cast<std::size_t>(i * cols + j)]; }
 };
 
+/// One step of a body's substitution: `row` gives speed `local` (its position in the
+/// body's speeds), whose coefficient there is the number `pivot`.
+struct Substitution {
+  int row = 0, local = 0;
+  GiNaC::ex pivot;
+};
+
 /// One body of the tree: its speeds u, the rows that fix them and its joint speeds s.
 struct Body {
   std::vector<int> speeds;  // u_c, indices into m.speeds (ascending)
@@ -55,8 +61,7 @@ struct Body {
   Mat T, Phi;               // u_c' = T u_p' + Phi s_c' + k (docs/notation.md)
   std::vector<Q> k;
   Mat IA;                   // articulated inertia (own My block, then children's share)
-  /// The rows in the order they were solved: (row, the speed it gives (local), its coefficient).
-  std::vector<std::tuple<int, int, GiNaC::ex>> steps;
+  std::vector<Substitution> steps;  // its rows in the order they were solved
   std::vector<Q> pA;        // articulated force
 };
 
@@ -182,7 +187,7 @@ class Recursion {
                             bodies_[static_cast<std::size_t>(n)].name);
           return false;
         }
-        if (check && !explicit_rows(rows_between(b, n), n)) return false;
+        if (check && !substitution_order(rows_between(b, n), n)) return false;
         parent_of[n] = b;
         order.push_back(n);
       }
@@ -200,34 +205,37 @@ class Recursion {
     return it == edge_rows_.end() ? none : it->second;
   }
 
-  // Whether `rows` give body b's speeds one by one: each in turn has a single speed of b
-  // not given yet, with a number for its coefficient.
-  bool explicit_rows(const std::vector<int>& rows, int b) const {
+  // The order in which `rows` give body b's speeds one by one: each in turn has a single
+  // speed of b not given yet, with a number for its coefficient. nullopt when there is
+  // none (the rows do not fix b explicitly).
+  std::optional<std::vector<Substitution>> substitution_order(const std::vector<int>& rows, int b) const {
     const Body& body = bodies_[static_cast<std::size_t>(b)];
-    if (rows.size() != body.speeds.size()) return false;
+    if (rows.size() != body.speeds.size()) return std::nullopt;
+    std::vector<Substitution> order;
     std::vector<char> solved(body.speeds.size(), 0), used(rows.size(), 0);
     for (std::size_t step = 0; step < rows.size(); ++step) {
       bool found = false;
       for (std::size_t t = 0; t < rows.size() && !found; ++t) {
         if (used[t]) continue;
         int open = 0, at = -1;
-        bool number = false;
+        GiNaC::ex coefficient;
         for (const auto& e : sys_.A[static_cast<std::size_t>(rows[t])]) {
           const int l = position(body.speeds, e.col);
           if (l < 0 || solved[static_cast<std::size_t>(l)]) continue;
           ++open;
           at = l;
-          number = GiNaC::is_a<GiNaC::numeric>(e.value) && !e.value.is_zero();
+          coefficient = e.value;
         }
-        if (open == 1 && number) {
+        if (open == 1 && GiNaC::is_a<GiNaC::numeric>(coefficient) && !coefficient.is_zero()) {
           used[t] = 1;
           solved[static_cast<std::size_t>(at)] = 1;
+          order.push_back({rows[t], at, coefficient});
           found = true;
         }
       }
-      if (!found) return false;
+      if (!found) return std::nullopt;
     }
-    return true;
+    return order;
   }
 
   // Each row fixes the deeper of its bodies; each body needs as many rows as speeds, and
@@ -324,32 +332,12 @@ class Recursion {
     b.T = Mat(nu, np);
     b.Phi = Mat(nu, ns);
     b.k.assign(static_cast<std::size_t>(nu), Q{});
-    std::vector<char> solved(static_cast<std::size_t>(nu), 0), used(b.rows.size(), 0);
-    for (int step = 0; step < nu; ++step) {
-      int row = -1, a = -1;
-      GiNaC::ex pivot;
-      for (std::size_t t = 0; t < b.rows.size() && row < 0; ++t) {
-        if (used[t]) continue;
-        int open = 0, at = -1;
-        GiNaC::ex coefficient;
-        for (const auto& e : sys_.A[static_cast<std::size_t>(b.rows[t])]) {
-          const int l = position(b.speeds, e.col);
-          if (l < 0 || solved[static_cast<std::size_t>(l)]) continue;
-          ++open;
-          at = l;
-          coefficient = e.value;
-        }
-        if (open == 1 && GiNaC::is_a<GiNaC::numeric>(coefficient) && !coefficient.is_zero()) {
-          row = b.rows[t];
-          a = at;
-          pivot = coefficient;
-          used[t] = 1;
-        }
-      }
-      if (row < 0) {
-        why = fmt::format("the rows of body '{}' do not give its speeds one by one", b.name);
-        return false;
-      }
+    const auto order = substitution_order(b.rows, bi);
+    if (!order) {
+      why = fmt::format("the rows of body '{}' do not give its speeds one by one", b.name);
+      return false;
+    }
+    for (const auto& [row, a, pivot] : *order) {
       // u_a' = (c_r - sum_j A_rj u_j') / pivot.
       const Q inverse{1 / pivot, 1.0 / GiNaC::ex_to<GiNaC::numeric>(pivot).to_double()};
       Q k = read(c_[static_cast<std::size_t>(row)]) * inverse;
@@ -369,12 +357,11 @@ class Recursion {
           s[static_cast<std::size_t>(j)] = s[static_cast<std::size_t>(j)] + w;
         }
       }
-      b.steps.emplace_back(row, a, pivot);
       for (int j = 0; j < np; ++j) b.T(a, j) = named(x[static_cast<std::size_t>(j)]);
       for (int j = 0; j < ns; ++j) b.Phi(a, j) = named(s[static_cast<std::size_t>(j)]);
       b.k[static_cast<std::size_t>(a)] = named(k);
-      solved[static_cast<std::size_t>(a)] = 1;
     }
+    b.steps = *order;
     return true;
   }
 
@@ -611,7 +598,7 @@ class Recursion {
       const auto& [row, a, pivot] = *step;
       GiNaC::ex value = rest[static_cast<std::size_t>(a)];
       for (auto later = b.steps.rbegin(); later != step; ++later) {
-        const int r = std::get<0>(*later);
+        const int r = later->row;
         for (const auto& e : sys_.A[static_cast<std::size_t>(r)])
           if (position(b.speeds, e.col) == a) value -= read(e.value).e * (*lambda_)[static_cast<std::size_t>(r)];
       }
