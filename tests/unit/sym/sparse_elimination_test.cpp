@@ -653,8 +653,12 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   const std::vector<Case> cases = mbsc_test::small_scale()
                                       ? std::vector<Case>{{1, false}, {6, false}, {7, true}, {12, false}}
                                       : std::vector<Case>{{1, false}, {3, true}, {6, false}, {7, true}, {12, false}, {20, true}, {40, false}};
+  // The big trees in the full state only: the dense reference's 32-digit evaluation is
+  // what costs (the minimal state's rows are the same, checked on the smaller trees).
   for (const auto& c : cases)
-    check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng), path, {Variant{false, false}, Variant{false, true}},
+    check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng), path,
+                             c.n >= 20 ? std::vector<Variant>{Variant{false, false}}
+                                       : std::vector<Variant>{Variant{false, false}, Variant{false, true}},
                              c.n > 4 || c.free_base, "n = " + std::to_string(c.n) + (c.free_base ? " (free base)" : ""));
   std::remove(path.c_str());
 }
