@@ -8,8 +8,9 @@
 #
 #   bash bench/run_spatial_chain.sh   (from the repository root; ~5 min on 2 cores)
 #
-# Environment: NS (default "1 2 4 8 12 16 24 32 48 64"), DENSE_MAX_N (default 12),
-# MBSC_BIN (default build/mbsc). Per N and solver: rhs operations (the generated header),
+# Environment: NS (default "1 2 4 8 12 16 24 32 48 64"), DENSE_MAX_N (default 12; 4 with
+# BALL=1), MBSC_BIN (default build/mbsc), BALL=1 for the chain of spherical joints with
+# zyx angles (bench/spatial_chain_model.py --ball; results in ball_chain.md). Per N and solver: rhs operations (the generated header),
 # generation CPU time and peak memory (GNU time), g++ -O2 time and peak memory,
 # instructions per rhs call (callgrind over bench/rhs_count_driver.cpp's 20 states), and
 # the agreement of the auto and dense rhs at 100 random states
@@ -21,17 +22,20 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
 NS=${NS:-"1 2 4 8 12 16 24 32 48 64"}
-DENSE_MAX_N=${DENSE_MAX_N:-12}
+BALL=${BALL:-0}
+KIND=$([ "$BALL" = 1 ] && echo ball_chain || echo spatial_chain)
+MODEL_FLAG=$([ "$BALL" = 1 ] && echo --ball || true)
+DENSE_MAX_N=${DENSE_MAX_N:-$([ "$BALL" = 1 ] && echo 4 || echo 12)}
 MBSC=${MBSC_BIN:-build/mbsc}
-WORK=bench/work/spatial_chain
+WORK=bench/work/$KIND
 rm -rf "$WORK"; mkdir -p "$WORK" bench/results
 for tool in valgrind /usr/bin/time g++; do command -v "$tool" >/dev/null || { echo "needs $tool" >&2; exit 2; }; done
-{ date -u; uname -srm; nproc; g++ --version | head -1; "$MBSC" --version 2>/dev/null || true; } >bench/results/spatial_chain_env.txt
+{ date -u; uname -srm; nproc; g++ --version | head -1; "$MBSC" --version 2>/dev/null || true; } >"bench/results/${KIND}_env.txt"
 
 measure() {  # N solver -> one table row
   local n=$1 solver=$2 name="chain${1}_$2" d="$WORK/$1_$2"
   mkdir -p "$d"
-  /usr/bin/python3 bench/spatial_chain_model.py "$n" "$d/model.mbs"
+  /usr/bin/python3 bench/spatial_chain_model.py $MODEL_FLAG "$n" "$d/model.mbs"
   /usr/bin/time -f "%U %M" -o "$d/gen.time" "$MBSC" generate "$d/model.mbs" -o "$d" --name "$name" -q \
     --state minimal --outputs rhs --solver "$solver"
   local ops tree gen_s gen_kb cc_s cc_kb total calls
@@ -61,7 +65,7 @@ agree() {  # N -> agreement of the auto and dense builds
   "$d/agree" | sed -n 's/^agreement=//p'
 }
 
-OUT=bench/results/spatial_chain.md
+OUT=bench/results/$KIND.md
 {
   echo "| N | --solver | rhs | ops | instructions / call | generation (CPU, peak) | g++ -O2 (wall, peak) | auto vs dense |"
   echo "|---:|---|---|---:|---:|---:|---:|---:|"

@@ -96,7 +96,11 @@ class Builder {
   const Statement* placing_joint(int id, const std::string& prefix);
   void fill_rigid3d_geometry(int id);
   void place_joint_bodies();
-  PlanarLibrary::Element placement_element(const Statement& s, std::pair<int, int> variables) const;
+  struct JointVariables {  // a joint's own coordinates and their speeds (indices), in order
+    std::vector<int> coordinates, speeds;
+  };
+  PlanarLibrary::Element placement_element(const Statement& s, const JointVariables& variables) const;
+  static void fill_joint_coordinates(PlanarLibrary::Element& e, const Statement& s, const JointVariables& variables);
   void fill_rigid3d_inertia(int id, const Statement& s);
   void add_rigid3d_torque(int id, const Statement& s);
   void add_rigid3d_geometry(int id, const Statement& s, const std::vector<GiNaC::ex>& v);
@@ -151,7 +155,7 @@ class Builder {
   std::map<int, GiNaC::ex> builtin_rates_;
   std::map<int, SourcePos> rigid3d_inertia_pos_;  // rigid3d bodies' inertia statements
   std::map<int, SourcePos> rigid3d_com_pos_;      // rigid3d bodies' com statements
-  std::map<std::pair<int, const Statement*>, std::pair<int, int>> joint_variables_;  // (node, joint) -> its coordinate, speed
+  std::map<std::pair<int, const Statement*>, JointVariables> joint_variables_;  // (node, joint) -> its variables
   std::map<std::pair<int, const Statement*>, std::vector<int>> contact_coordinates_;  // rolling_sphere -> (xc, yc)
   // Pass A: the statements of the subsystems being declared, outermost first, where a
   // rigid3d body finds the joint with a coordinate that places it (placing_joint).

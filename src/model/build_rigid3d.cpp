@@ -28,8 +28,8 @@ void Builder::declare_rigid3d(int id, const std::string& prefix, const SourcePos
     if (s->kind != Kind::Attitude) continue;
     if (placing) {
       diags_.error(s->pos, fmt::format("body '{}' is placed by joint '{}' with coordinate '{}' (at {}): its attitude is "
-                                       "its parent's turned by that angle, so it takes no 'attitude' statement",
-                                       prefix, placing->name, placing->joint_coordinate.text,
+                                       "its parent's turned by the joint, so it takes no 'attitude' statement",
+                                       prefix, placing->name, placing->joint_coordinates.front().text,
                                        position_text(placing->pos, s->pos)));
       return;
     }
@@ -96,7 +96,8 @@ const Statement* Builder::placing_joint(int id, const std::string& prefix) {
   const Statement* first = nullptr;
   for (std::size_t k = scopes_.size(); k-- > 0;) {
     for (const auto& s : *scopes_[k].second) {
-      if (s->kind != Kind::Joint || s->joint_coordinate.text.empty() || s->kind_name != "revolute" || s->paths.size() < 2)
+      if (s->kind != Kind::Joint || s->joint_coordinates.empty() || !SpatialLibrary::places(s->kind_name) ||
+          s->paths.size() < 2)
         continue;
       const std::string& end = s->paths[1].text;
       const auto dot = end.rfind('.');
@@ -141,7 +142,11 @@ void Builder::place_joint_bodies() {
   }
   std::vector<const Placement*> todo;
   for (const auto& [child, p] : by_child) todo.push_back(p);
-  spatial_.expect_placements(static_cast<int>(todo.size()));
+  // The naming rule counts turns (a revolute joint's rotation is one, a spherical joint's
+  // three): what a written-out rotation's size grows with.
+  int turns = 0;
+  for (const Placement* p : todo) turns += SpatialLibrary::turn_count(p->joint->kind_name);
+  spatial_.expect_turns(turns);
   bool failed = false;
   while (!todo.empty()) {
     std::vector<const Placement*> later;
@@ -177,7 +182,7 @@ void Builder::place_joint_bodies() {
   }
 }
 
-PlanarLibrary::Element Builder::placement_element(const Statement& s, std::pair<int, int> variables) const {
+PlanarLibrary::Element Builder::placement_element(const Statement& s, const JointVariables& variables) const {
   PlanarLibrary::Element e;
   e.name = s.name;
   e.kind = s.kind_name;
@@ -187,10 +192,21 @@ PlanarLibrary::Element Builder::placement_element(const Statement& s, std::pair<
   e.end1_pos = s.paths[0].pos;
   e.end2 = s.paths[1].text;
   e.end2_pos = s.paths[1].pos;
-  e.coordinate = variables.first;
-  e.coordinate_speed = variables.second;
-  e.coordinate_pos = s.joint_coordinate.pos;
+  fill_joint_coordinates(e, s, variables);
   return e;
+}
+
+/// A joint element's own coordinates and speeds, where they are written, and the
+/// sequence of a spherical joint's angles.
+void Builder::fill_joint_coordinates(PlanarLibrary::Element& e, const Statement& s, const JointVariables& variables) {
+  e.coordinates = variables.coordinates;
+  e.coordinate_speeds = variables.speeds;
+  for (const auto& c : s.joint_coordinates) e.coordinate_positions.push_back(c.pos);
+  e.coordinate = e.coordinates.empty() ? -1 : e.coordinates.front();
+  e.coordinate_speed = e.coordinate_speeds.empty() ? -1 : e.coordinate_speeds.front();
+  e.coordinate_pos = s.joint_coordinates.empty() ? s.pos : s.joint_coordinates.front().pos;
+  e.sequence = s.joint_sequence.text;
+  e.sequence_pos = s.joint_sequence.pos;
 }
 
 /// `inertia (Ixx, Iyy, Izz [, Ixy, Ixz, Iyz])` of a rigid3d body: the tensor about the

@@ -230,12 +230,10 @@ void Builder::fill_node(int id) {
         }
         e.option = s.kind == Kind::Joint ? s.level : "";
         e.option_pos = s.path.pos;
-        if (!s.joint_coordinate.text.empty()) {
+        if (!s.joint_coordinates.empty()) {
           const auto jv = joint_variables_.find({id, &s});
           if (jv == joint_variables_.end()) break;  // its declaration failed (reported)
-          e.coordinate = jv->second.first;
-          e.coordinate_speed = jv->second.second;
-          e.coordinate_pos = s.joint_coordinate.pos;
+          fill_joint_coordinates(e, s, jv->second);
         }
         if (s.kind == Kind::Joint && s.kind_name == "rolling_sphere") {
           const auto cc = contact_coordinates_.find({id, &s});

@@ -149,25 +149,39 @@ int Builder::declare_node(const std::vector<ast::StatementPtr>& body, const std:
     if (s->kind == Kind::Coordinate) add_variable(id, join(prefix, s->name), s->name_pos, true);
     if (s->kind == Kind::Speed) add_variable(id, join(prefix, s->name), s->name_pos, false);
     if (s->kind == Kind::Let) declare_let(id, join(prefix, s->name), *s);
-    if (s->kind == Kind::Joint && !s->joint_coordinate.text.empty()) declare_joint_coordinate(id, prefix, *s);
+    if (s->kind == Kind::Joint && !s->joint_coordinates.empty()) declare_joint_coordinate(id, prefix, *s);
     if (s->kind == Kind::Joint && s->kind_name == "rolling_sphere") declare_contact_coordinates(id, prefix, *s);
   }
   return id;
 }
 
-/// `joint ... coordinate q [speed s]`: the joint's relative coordinate q and its rate s
-/// (default q_dot, s = q') become variables of the node the joint is written at.
+/// `joint ... coordinate q1, q2 [speed s1, s2]`: the joint's relative coordinates and
+/// their rates (default q1_dot, ...; s = q') become variables of the node the joint is
+/// written at. How many a joint kind takes is checked where the joint is built.
 void Builder::declare_joint_coordinate(int id, const std::string& prefix, const Statement& s) {
-  const std::string speed = s.joint_speed.text.empty() ? s.joint_coordinate.text + "_dot" : s.joint_speed.text;
-  const SourcePos speed_pos = s.joint_speed.text.empty() ? s.joint_coordinate.pos : s.joint_speed.pos;
-  const int q = add_variable(id, join(prefix, s.joint_coordinate.text), s.joint_coordinate.pos, /*coordinate=*/true);
-  const int u = add_variable(id, join(prefix, speed), speed_pos, /*coordinate=*/false);
-  if (q < 0 || u < 0) return;  // reported: a name declared twice
   const std::string joint = s.name.empty() ? std::string("joint") : fmt::format("joint '{}'", s.name);
-  table_[join(prefix, s.joint_coordinate.text)].what = "the coordinate of " + joint;
-  table_[join(prefix, speed)].what = "the speed of " + joint;
-  builtin_rates_[q] = m_.speeds[static_cast<std::size_t>(u)].sym;
-  joint_variables_[{id, &s}] = {q, u};
+  if (!s.joint_speeds.empty() && s.joint_speeds.size() != s.joint_coordinates.size()) {
+    diags_.error(s.joint_speeds.front().pos,
+                 fmt::format("{} names {} {} for {} {}: give one speed per coordinate, in the same order, or none", joint,
+                             s.joint_speeds.size(), s.joint_speeds.size() == 1 ? "speed" : "speeds",
+                             s.joint_coordinates.size(), s.joint_coordinates.size() == 1 ? "coordinate" : "coordinates"));
+    return;
+  }
+  JointVariables v;
+  for (std::size_t k = 0; k < s.joint_coordinates.size(); ++k) {
+    const ast::Path& c = s.joint_coordinates[k];
+    const ast::Path speed = s.joint_speeds.empty() ? ast::Path{c.text + "_dot", c.pos} : s.joint_speeds[k];
+    const int q = add_variable(id, join(prefix, c.text), c.pos, /*coordinate=*/true);
+    const int u = add_variable(id, join(prefix, speed.text), speed.pos, /*coordinate=*/false);
+    if (q < 0 || u < 0) return;  // reported: a name declared twice
+    const char* article = s.joint_coordinates.size() == 1 ? "the" : "a";
+    table_[join(prefix, c.text)].what = fmt::format("{} coordinate of {}", article, joint);
+    table_[join(prefix, speed.text)].what = fmt::format("{} speed of {}", article, joint);
+    builtin_rates_[q] = m_.speeds[static_cast<std::size_t>(u)].sym;
+    v.coordinates.push_back(q);
+    v.speeds.push_back(u);
+  }
+  joint_variables_[{id, &s}] = v;
 }
 
 /// `joint NAME : rolling_sphere ...`: the contact point's x and y on the surface are two

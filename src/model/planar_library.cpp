@@ -567,6 +567,18 @@ void PlanarLibrary::add_element(int owner, const Element& e) {
                                                what, e.kind));
     return;
   }
+  if (relative && e.coordinates.size() > 1) {
+    diags_.error(e.coordinate_positions[1], fmt::format("{}: a planar {} joint takes one coordinate (its {}), not {}", what,
+                                                        e.kind, e.kind == "revolute" ? "angle" : "slide",
+                                                        e.coordinates.size()));
+    return;
+  }
+  if (relative && !e.sequence.empty()) {
+    diags_.error(e.sequence_pos, fmt::format("{}: 'euler' names the sequence of a spatial spherical joint's three angles; "
+                                             "a planar joint has one coordinate",
+                                             what));
+    return;
+  }
   if (e.kind == "knife_edge") {
     add_knife_edge(owner, e, name, what);
     return;

@@ -56,9 +56,13 @@ class PlanarLibrary {
     std::string option2;              // joints: a second option (rolling_inside: ring) or ""
     SourcePos option2_pos;
     std::optional<GiNaC::ex> value2;
-    int coordinate = -1;  // revolute, prismatic: `coordinate q`, the joint's own coordinate (index), or -1
+    int coordinate = -1;  // `coordinate q, ...`: the joint's first own coordinate (index), or -1
     int coordinate_speed = -1;  // and its rate's speed (index)
     SourcePos coordinate_pos;
+    std::vector<int> coordinates, coordinate_speeds;  // all of them, in order (spatial joints take up to three)
+    std::vector<SourcePos> coordinate_positions;
+    std::string sequence;  // `euler SEQ` (a spherical joint's angles), or ""
+    SourcePos sequence_pos;
     std::vector<int> contact;  // rolling_sphere: the contact point's coordinates (xc, yc), indices
   };
   void add_element(int owner, const Element& e);

@@ -181,6 +181,41 @@ Vec rotation_about(const Vec& n, const ex& q) {
   return R;
 }
 
+Vec joint_turn(const Rigid3dData& data, const Vec& v) {
+  Vec out = v;
+  for (auto it = data.joint_turns.rbegin(); it != data.joint_turns.rend(); ++it) out = rotate_about(it->axis, it->angle, out);
+  return out;
+}
+
+Vec joint_turn_back(const Rigid3dData& data, const Vec& v) {
+  Vec out = v;
+  for (const auto& turn : data.joint_turns) out = rotate_back_about(turn.axis, turn.angle, out);
+  return out;
+}
+
+Vec joint_rotation(const Rigid3dData& data) {
+  Vec Q(9, ex(0));
+  for (int j = 0; j < 3; ++j) {
+    Vec e(3, ex(0));
+    e[static_cast<std::size_t>(j)] = 1;
+    const Vec col = joint_turn(data, e);
+    for (int i = 0; i < 3; ++i) Q[static_cast<std::size_t>(3 * i + j)] = col[static_cast<std::size_t>(i)];
+  }
+  return Q;
+}
+
+Vec joint_relative_angular_velocity(const Rigid3dData& data) {
+  // Each turn's axis n_i q_i', carried into the child's frame by the turns after it.
+  Vec w(3, ex(0));
+  const std::size_t k = data.joint_turns.size();
+  for (std::size_t i = 0; i < k; ++i) {
+    Vec term = data.joint_turns[i].axis;
+    for (std::size_t j = i + 1; j < k; ++j) term = rotate_back_about(data.joint_turns[j].axis, data.joint_turns[j].angle, term);
+    for (std::size_t c = 0; c < 3; ++c) w[c] += term[c] * data.joint_turns[i].rate;
+  }
+  return w;
+}
+
 Vec mat_mat(const Vec& A, const Vec& B) {
   Vec C(9, ex(0));
   for (int i = 0; i < 3; ++i)
@@ -224,18 +259,16 @@ ex length_scale(const Model& m, const Node& node) {
 
 Vec direction_in_space(const Model& m, const Node& node, const Vec& local) {
   if (!node.rigid3d.placed()) return mat_vec(node.rigid3d.rotation, local);
+  const Vec turned = joint_turn(node.rigid3d, local);
+  const int p = node.rigid3d.joint_parent;
   if (node.rigid3d.named_rotation) {
     // The rotation is a matrix of names (R = R_parent Q(q), issue 25): one product, no
-    // recursion into the ancestors. A direction along the joint axis is the parent's.
-    const Vec nv = cross(node.rigid3d.joint_axis, local);
-    if (expands_to_zero(nv[0]) && expands_to_zero(nv[1]) && expands_to_zero(nv[2])) {
-      const int p = node.rigid3d.joint_parent;
-      return p < 0 ? local : direction_in_space(m, m.nodes[static_cast<std::size_t>(p)], local);
-    }
-    return mat_vec(node.rigid3d.rotation, local);
+    // recursion into the ancestors, except for a direction the joint does not turn in a
+    // small model (Rigid3dData::unturned_from_parent).
+    bool unturned = node.rigid3d.unturned_from_parent && !node.rigid3d.joint_turns.empty();
+    for (std::size_t k = 0; k < 3 && unturned; ++k) unturned = expands_to_zero(turned[k] - local[k]);
+    if (!unturned) return mat_vec(node.rigid3d.rotation, local);
   }
-  const Vec turned = rotate_about(node.rigid3d.joint_axis, node.rigid3d.joint_angle, local);
-  const int p = node.rigid3d.joint_parent;
   return p < 0 ? turned : direction_in_space(m, m.nodes[static_cast<std::size_t>(p)], turned);
 }
 

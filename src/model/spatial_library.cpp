@@ -259,15 +259,17 @@ void SpatialLibrary::add_element(int owner, const PlanarLibrary::Element& e) {
     add_rolling_sphere(owner, e, name, what);
     return;
   }
-  if (e.coordinate >= 0 && e.kind == "revolute") {
-    const auto a = axis_key(owner, e.end1), b = axis_key(owner, e.end2);
-    if (a && b) hinged_.insert(std::minmax(*a, *b));
+  if (e.coordinate >= 0 && places(e.kind)) {
+    if (e.kind == "revolute" || e.kind == "cylindrical") {
+      const auto a = axis_key(owner, e.end1), b = axis_key(owner, e.end2);
+      if (a && b) hinged_.insert(std::minmax(*a, *b));
+    }
     add_placement(owner, e, name, what);
     return;
   }
   if (e.coordinate >= 0) {
-    diags_.error(e.coordinate_pos, fmt::format("{}: in space only a revolute joint takes a coordinate of its own (a {} "
-                                               "joint does not)",
+    diags_.error(e.coordinate_pos, fmt::format("{}: in space revolute, prismatic, cylindrical, universal and spherical "
+                                               "joints take coordinates of their own (a {} joint does not)",
                                                what, e.kind));
     return;
   }

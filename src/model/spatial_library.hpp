@@ -65,20 +65,28 @@ class SpatialLibrary {
   /// The joint kinds this library knows.
   static const std::vector<std::string>& kinds();
 
-  /// Before pass B: body `child`, placed by the revolute joint e with a coordinate, gets
-  /// its attitude, R_parent R_joint(q) (spatial_joint_coordinate.cpp). Later when the
+  /// The joint kinds that take coordinates of their own in space and place their second
+  /// body (revolute, prismatic, cylindrical, universal, spherical), and how many.
+  static bool places(const std::string& kind);
+  static int coordinate_count(const std::string& kind);
+
+  /// Before pass B: body `child`, placed by the joint e with coordinates, gets its
+  /// attitude, R_parent Q(q) (spatial_joint_coordinate.cpp). Later when the
   /// parent is itself placed and not yet done; Failed when it cannot be (reported here,
   /// or at the joint in pass B by add_element).
   enum class Placed { Done, Later, Failed };
   Placed place(int owner, const PlanarLibrary::Element& e, int child);
-  /// Whether the body a joint with a coordinate places under `parent` gets a named
-  /// rotation (docs/formulation.md, "Named body rotations").
-  bool names_rotation(int parent) const;
+  /// Whether the body a joint with coordinates places under `parent`, turning it by
+  /// `turns` rotations, gets a named rotation (docs/formulation.md, "Named body
+  /// rotations").
+  bool names_rotation(int parent, std::size_t turns) const;
   static constexpr int kGroundJointsWritten = 4;
-  /// How many bodies joints with coordinates place in the whole model (set before the
+  /// How many turns a joint kind with coordinates makes (revolute 1, spherical 3, ...).
+  static int turn_count(const std::string& kind);
+  /// How many turns the joints with coordinates of the whole model make (set before the
   /// first `place`): above kGroundJointsWritten every placed body is named, so that each
   /// body's rows read its parent's speeds alone (what the tree recursion needs).
-  void expect_placements(int count) { placements_ = count; }
+  void expect_turns(int count) { turns_ = count; }
   /// Replaces a placed body's rotation by kinematic names (Model::kinematic_names):
   /// R = R_parent Q(n, q) entry by entry, with R' = R [w]x.
   void name_rotation(int child);
@@ -88,7 +96,7 @@ class SpatialLibrary {
   void finish();
 
  private:
-  int placements_ = 0;
+  int turns_ = 0;
   mutable GiNaC::exmap defaults_;        // parameter -> default, for at_defaults
   mutable std::size_t defaults_size_ = static_cast<std::size_t>(-1);
   struct End {  // a resolved point or axis, in space
@@ -115,12 +123,23 @@ class SpatialLibrary {
   std::pair<Vec, Vec> normals(const Vec& d) const;
   void row(int owner, const std::string& name, const GiNaC::ex& residual, const SourcePos& pos,
            Constraint::Level level = Constraint::Level::Position, int explicit_coordinate = -1);
-  /// A revolute joint with a coordinate: the rows that place its second body
+  /// A joint with coordinates: the rows that place its second body
   /// (spatial_joint_coordinate.cpp).
   void add_placement(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);
   /// The body-frame direction (dx, dy, dz) of axis `path` (ground or rigid3d body) and its
   /// body, without reporting (pass B's end() reports what is wrong).
   std::optional<std::pair<int, Vec>> axis_direction(int owner, const std::string& path) const;
+  /// The body of point `path`, without reporting.
+  std::optional<int> point_body(int owner, const std::string& path) const;
+  /// Whether e's coordinates are as many as its kind takes (and a spherical joint's
+  /// sequence is given and valid); reported at the element otherwise.
+  bool coordinates_fit(const PlanarLibrary::Element& e, const std::string& what);
+  /// Whether the child's axis c points as the parent's d in body coordinates (reported
+  /// otherwise): a joint with coordinates starts where the two frames coincide.
+  bool same_direction(const PlanarLibrary::Element& e, const std::string& what, const Vec& d, const Vec& c, int parent,
+                      int child);
+  /// d over its length (exactly d when that is 1 symbolically).
+  static Vec unit(const Vec& d);
   /// A disc (an axis of a rigid3d body: its centre and spin axis) rolling without slip
   /// on a plane of the ground (spatial_rolling.cpp).
   void add_rolling(int owner, const PlanarLibrary::Element& e, const std::string& name, const std::string& what);

@@ -683,18 +683,29 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // ['coordinate' IDENT ['speed' IDENT]]: the joint's relative coordinate and its rate,
-  // before or after the actuator option.
+  // ['coordinate' IDENT {',' IDENT} ['speed' IDENT {',' IDENT}] ['euler' SEQ]]: the joint's
+  // relative coordinates and their rates (a spherical joint's three angles name their
+  // Euler sequence), before or after the actuator option.
   void parse_joint_coordinate(Statement& st, const std::string& what) {
     if (!at_keyword("coordinate")) return;
     const Token word = take();
-    if (!st.joint_coordinate.text.empty()) fail(word.pos, what + ": 'coordinate' given twice");
-    const Token name = expect_name("name of the joint's coordinate after 'coordinate'");
-    st.joint_coordinate = ast::Path{name.text, name.pos};
-    if (!at_keyword("speed")) return;
-    take();
-    const Token speed = expect_name("name of the joint's speed after 'speed'");
-    st.joint_speed = ast::Path{speed.text, speed.pos};
+    if (!st.joint_coordinates.empty()) fail(word.pos, what + ": 'coordinate' given twice");
+    auto names = [&](std::vector<ast::Path>& into, const char* noun, const char* after) {
+      do {
+        const Token name = expect_name(std::string("name of the joint's ") + noun + " after '" + after + "'");
+        into.push_back(ast::Path{name.text, name.pos});
+      } while (accept(TK::Comma));
+    };
+    names(st.joint_coordinates, "coordinate", "coordinate");
+    if (at_keyword("speed")) {
+      take();
+      names(st.joint_speeds, "speed", "speed");
+    }
+    if (peek().kind == TK::Ident && peek().text == "euler") {
+      take();
+      const Token seq = expect_name("Euler sequence after 'euler' (three axes of x, y, z, e.g. zyx)");
+      st.joint_sequence = ast::Path{seq.text, seq.pos};
+    }
   }
 
   // ... 'knife_edge' PATH ['point' IDENT] ['axis' IDENT]   (the blade's body, point and direction)

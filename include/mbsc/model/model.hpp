@@ -37,10 +37,11 @@ inline bool is_rigid2d(LeafKind kind) { return kind == LeafKind::Rigid2d || kind
 /// in the body frame, or in the space frame when `space_frame`).
 struct Rigid3dData {
   /// "quaternion", the Euler axis sequence ("zyx", "zxz", ...), or "joint": the body is
-  /// placed by a spatial revolute joint with a coordinate (`joint J : revolute P.a B.a
-  /// coordinate q`): it has no attitude coordinates, its attitude is its parent's turned
-  /// by q about the joint axis, R = R_parent R_joint(q) (docs/formulation.md "Joint
-  /// coordinates in space"), and its angular speeds are in its body frame.
+  /// placed by a spatial joint with coordinates (`joint J : revolute P.a B.a coordinate
+  /// q`; prismatic, cylindrical, universal and spherical alike): it has no attitude
+  /// coordinates, its attitude is its parent's turned by the joint, R = R_parent Q(q)
+  /// (docs/formulation.md "Joint coordinates in space"), and its angular speeds are in
+  /// its body frame.
   std::string sequence;
   bool space_frame = false;  // angular speeds in the space frame (else the body frame)
   /// Body-to-space rotation matrix R (row-major 3x3) in the attitude coordinates: a
@@ -55,16 +56,30 @@ struct Rigid3dData {
   std::map<std::string, std::vector<GiNaC::ex>> points;
   /// Axes: a point and a direction, both in body coordinates (6 entries), by local name.
   std::map<std::string, std::vector<GiNaC::ex>> axes;
-  /// sequence "joint" only: the parent body (node index, or -1 for the ground), the
-  /// joint axis as a unit vector in the parent's body frame (the child's too: the two
-  /// frames coincide at q = 0), the joint coordinate q and its rate's speed symbol.
+  /// sequence "joint" only: the parent body (node index, or -1 for the ground) and the
+  /// joint's motion Q(q), a slide then turns: the child's joint point is the parent's
+  /// moved by s along `slide_axis`, and its attitude is the parent's turned by
+  /// Q = Q_1(q_1) Q_2(q_2) ... about the turns' unit axes, each in the frame the turns
+  /// before it leave (at q = 0 every frame is the parent's: the two bodies' frames
+  /// coincide there). Axes are unit vectors in body coordinates.
   int joint_parent = -1;
-  std::vector<GiNaC::ex> joint_axis;
-  GiNaC::ex joint_angle, joint_rate;
+  struct JointTurn {
+    std::vector<GiNaC::ex> axis;
+    GiNaC::ex angle, rate;  // the coordinate and its speed
+  };
+  std::vector<JointTurn> joint_turns;
+  std::vector<GiNaC::ex> slide_axis;  // empty: no slide
+  GiNaC::ex slide, slide_rate;
   std::string joint_name;  // the placing joint, for messages
   /// `rotation` holds kinematic names (Model::kinematic_names), not expressions in the
   /// joint angles of the whole branch (docs/formulation.md, "Named body rotations").
   bool named_rotation = false;
+  /// With a named rotation: a direction the joint does not turn (along a revolute axis) is
+  /// read as the parent's, so that it carries no trace of this body's angle (a wheel's spin
+  /// axis is its frame's). Only in small models: in a tree of many bodies each body's
+  /// directions are its own names, so that the rows of the joints below it read its speeds
+  /// and not its parent's (what the tree recursion needs).
+  bool unturned_from_parent = false;
   bool placed() const { return sequence == "joint"; }
 };
 

@@ -73,6 +73,15 @@ Vec rotate_back_about(const Vec& n, const GiNaC::ex& q, const Vec& v);
 Vec rotation_about(const Vec& n, const GiNaC::ex& q);
 /// 3x3 row-major product A B.
 Vec mat_mat(const Vec& A, const Vec& B);
+/// A placed body's joint turns (Rigid3dData::joint_turns), Q = Q_1 Q_2 ...:
+/// joint_turn gives Q v (the last turn first), joint_turn_back Q^T v (the first turn
+/// first), joint_rotation the matrix Q, each in sin q_i and cos q_i.
+Vec joint_turn(const Rigid3dData& data, const Vec& v);
+Vec joint_turn_back(const Rigid3dData& data, const Vec& v);
+Vec joint_rotation(const Rigid3dData& data);
+/// The child's angular velocity relative to its parent, in the child's frame:
+/// sum over turns i of (Q_{i+1} ... Q_k)^T n_i q_i' (Q^T Q' = [that]x).
+Vec joint_relative_angular_velocity(const Rigid3dData& data);
 /// The angular velocity of a placed body's parent in the parent's body frame (0 for the
 /// ground): what the joint's velocity rows turn into the child's frame.
 Vec parent_angular_velocity_in_parent_frame(const Model& m, const Node& child);

@@ -87,10 +87,11 @@ struct Statement {
     Com,          // com (ex, ey [, ez])                exprs = {ex, ey[, ez]}
     Axis,         // axis NAME (px, py) (dx, dy)        name, exprs = {px, py, dx, dy} (or three of each)
     Ground,       // ground { point/axis ... }          body
-    Joint,        // joint [NAME :] KIND PATH PATH [coordinate Q [speed S]] [OPTION expr [OPTION2 expr2]]
+    Joint,        // joint [NAME :] KIND PATH PATH [coordinate Q, ... [speed S, ...] [euler SEQ]] [OPTION expr [OPTION2 expr2]]
                   //                                    name (may be empty), kind_name, paths, level = OPTION,
                   //                                    path.pos = OPTION's position, value; option2, exprs = {expr2};
-                  //                                    joint_coordinate / joint_speed (text empty when absent)
+                  //                                    joint_coordinates / joint_speeds (empty when absent),
+                  //                                    joint_sequence (spherical: the angles' Euler sequence)
                   // joint [NAME :] knife_edge BODY [point P] [axis A]
                   //                                    paths = {BODY, P, A} (text empty when not given)
     Spring,       // spring NAME [rotational] PATH PATH stiffness expr [length|angle expr]
@@ -118,8 +119,9 @@ struct Statement {
   std::vector<Equation> equations; // Constraint rows
   Path path;                       // Force target
   Path option2;                    // Joint: the second option word (text empty when absent)
-  Path joint_coordinate;           // Joint: 'coordinate Q', the joint's own (relative) coordinate, or empty
-  Path joint_speed;                // Joint: 'speed S', the name of its rate (empty: Q_rate)
+  std::vector<Path> joint_coordinates;  // Joint: 'coordinate Q, ...', the joint's own (relative) coordinates, or none
+  std::vector<Path> joint_speeds;       // Joint: 'speed S, ...', the names of their rates (none: Q_dot, ...)
+  Path joint_sequence;                  // Joint: 'euler SEQ' after the coordinates (spherical), or empty
   std::vector<Path> paths;         // Independent list; Joint / Spring / Damper ends
   std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
   bool has_body = false;

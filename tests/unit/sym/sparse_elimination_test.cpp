@@ -236,19 +236,35 @@ std::string random_tree(int n, std::mt19937& rng, bool coordinates = false) {
 // a coordinate, about a coordinate axis or a general unit axis (3/5, 0, 4/5); random
 // masses, inertia tensors with products, mass centres and joint points; rotational springs
 // and dampers on some joints so that the forces are not only gravity and gyroscopic.
-std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng) {
+// `mixed`: each joint's kind is drawn from revolute, prismatic, cylindrical, universal
+// (the second axis perpendicular to the first) and spherical (three angles of a random
+// Euler sequence).
+std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng, bool mixed = false) {
   std::uniform_real_distribution<double> mass(0.5, 2.0), len(0.2, 0.8), off(-0.15, 0.15), small(-0.004, 0.004);
   auto num = [](double v) { return std::to_string(v); };
   const std::vector<std::string> axes = {"(1, 0, 0)", "(0, 1, 0)", "(0, 0, 1)", "(3/5, 0, 4/5)"};
+  const std::vector<std::string> normal_axes = {"(0, 1, 0)", "(0, 0, 1)", "(1, 0, 0)", "(0, 1, 0)"};  // perpendicular
+  const std::vector<std::string> kinds = {"revolute", "prismatic", "cylindrical", "universal", "spherical"};
+  const std::vector<std::string> sequences = {"zyx", "xyz", "zxz", "yzy"};
   std::vector<int> parent(static_cast<std::size_t>(n + 1), 0);
   std::vector<int> axis(static_cast<std::size_t>(n + 1), 0);
+  std::vector<std::string> kind(static_cast<std::size_t>(n + 1), "revolute");
   for (int k = 1; k <= n; ++k) {
-    parent[static_cast<std::size_t>(k)] =
-        free_base && k == 1 ? -1 : std::uniform_int_distribution<int>(free_base ? 1 : 0, k - 1)(rng);
-    axis[static_cast<std::size_t>(k)] = std::uniform_int_distribution<int>(0, 3)(rng);
+    const auto K = static_cast<std::size_t>(k);
+    parent[K] = free_base && k == 1 ? -1 : std::uniform_int_distribution<int>(free_base ? 1 : 0, k - 1)(rng);
+    axis[K] = std::uniform_int_distribution<int>(0, 3)(rng);
     // Under the ground the joint turns about one of the ground's axes.
-    if (parent[static_cast<std::size_t>(k)] == 0 && axis[static_cast<std::size_t>(k)] == 3) axis[static_cast<std::size_t>(k)] = 2;
+    if (parent[K] == 0 && axis[K] == 3) axis[K] = 2;
+    if (mixed) kind[K] = kinds[static_cast<std::size_t>(std::uniform_int_distribution<int>(0, 4)(rng))];
   }
+  // An end: an axis (with the joint's direction; the child's second axis for universal)
+  // or, for spherical, a point.
+  auto end = [&](int c, const std::string& name, const std::string& at, bool child) {
+    const auto C = static_cast<std::size_t>(c);
+    if (kind[C] == "spherical") return "  point " + name + " " + at + "\n";
+    const std::string& dir = child && kind[C] == "universal" ? normal_axes[static_cast<std::size_t>(axis[C])] : axes[static_cast<std::size_t>(axis[C])];
+    return "  axis " + name + " " + at + " " + dir + "\n";
+  };
   std::string s = "model random_spatial_tree\nparameter g = 9.81\ngravity (0, 0, -g)\n";
   for (int k = 1; k <= n; ++k) {
     const double m = mass(rng), l = len(rng);
@@ -256,23 +272,29 @@ std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng) {
          num(0.03 + 0.04 * m * l) + ", " + num(0.025 + 0.03 * m * l) + ", " + num(small(rng)) + ", " + num(small(rng)) + ", " +
          num(small(rng)) + ")\n  com (" + num(off(rng)) + ", " + num(off(rng)) + ", " + num(l / 2) + ")\n";
     if (parent[static_cast<std::size_t>(k)] != -1)
-      s += "  axis top (0, 0, 0) " + axes[static_cast<std::size_t>(axis[static_cast<std::size_t>(k)])] + "\n";
+      s += end(k, "top", "(0, 0, 0)", true);
     else
       s += "  attitude quaternion body\n";
     for (int c = k + 1; c <= n; ++c)
       if (parent[static_cast<std::size_t>(c)] == k)
-        s += "  axis c" + std::to_string(c) + " (" + num(off(rng)) + ", " + num(off(rng)) + ", " + num(l) + ") " +
-             axes[static_cast<std::size_t>(axis[static_cast<std::size_t>(c)])] + "\n";
+        s += end(c, "c" + std::to_string(c), "(" + num(off(rng)) + ", " + num(off(rng)) + ", " + num(l) + ")", false);
     s += "}\n";
   }
   const char* ground_axes[] = {"ground.x_axis", "ground.y_axis", "ground.z_axis"};
   for (int k = 1; k <= n; ++k) {
-    const int p = parent[static_cast<std::size_t>(k)];
+    const auto K = static_cast<std::size_t>(k);
+    const int p = parent[K];
     if (p < 0) continue;
     const std::string b = "b" + std::to_string(k), j = std::to_string(k);
-    const std::string end1 = p == 0 ? ground_axes[axis[static_cast<std::size_t>(k)]] : "b" + std::to_string(p) + ".c" + j;
-    s += "joint j" + j + " : revolute " + end1 + " " + b + ".top coordinate q" + j + "\n";
-    if (std::uniform_int_distribution<int>(0, 2)(rng) == 0) {
+    const std::string end1 = p == 0 ? (kind[K] == "spherical" ? std::string("ground.origin") : ground_axes[axis[K]])
+                                    : "b" + std::to_string(p) + ".c" + j;
+    const std::string coordinates = kind[K] == "revolute" || kind[K] == "prismatic" ? "q" + j
+                                    : kind[K] == "spherical" ? "al" + j + ", be" + j + ", ga" + j + " euler " +
+                                                                   sequences[static_cast<std::size_t>(k) % sequences.size()]
+                                                             : "q" + j + ", r" + j;
+    s += "joint j" + j + " : " + kind[K] + " " + end1 + " " + b + ".top coordinate " + coordinates + "\n";
+    const bool hinged = kind[K] == "revolute" || kind[K] == "cylindrical";
+    if (hinged && std::uniform_int_distribution<int>(0, 2)(rng) == 0) {
       s += "spring s" + j + " rotational " + end1 + " " + b + ".top stiffness " + num(5 * mass(rng)) + " angle 0.2\n";
       s += "damper d" + j + " rotational " + end1 + " " + b + ".top coefficient 0.05\n";
     }
@@ -646,6 +668,28 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   std::remove(path.c_str());
 }
 
+TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees of mixed joint kinds",
+          "[sym][sparse][trees]") {
+  // Revolute, prismatic, cylindrical, universal and spherical joints with coordinates: every
+  // kind places its child by a slide and turns (docs/formulation.md, "Joint coordinates in
+  // space"), and the tree recursion reads them all alike.
+  std::mt19937 rng(20261209);
+  const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_mixed_tree.mbs").string();
+  struct Case {
+    int n;
+    bool free_base;
+  };
+  const std::vector<Case> cases = mbsc_test::small_scale() ? std::vector<Case>{{2, false}, {6, true}, {10, false}}
+                                                           : std::vector<Case>{{1, false}, {2, false}, {3, true}, {6, true},
+                                                                               {10, false}, {16, true}};
+  for (const auto& c : cases)
+    check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng, /*mixed=*/true), path,
+                             c.n >= 16 ? std::vector<Variant>{Variant{false, false}}
+                                       : std::vector<Variant>{Variant{false, false}, Variant{false, true}},
+                             c.n > 4 || c.free_base, "n = " + std::to_string(c.n) + (c.free_base ? " (free base)" : ""));
+  std::remove(path.c_str());
+}
+
 TEST_CASE("the tree recursion agrees with the dense rhs on random planar trees in joint coordinates", "[sym][sparse][trees]") {
   // Revolute and prismatic joints with coordinates place each body from its parent: the
   // rows give the child's x, y, theta one by one, and --solver sparse takes the recursion.
@@ -664,8 +708,11 @@ TEST_CASE("the tree recursion's multipliers equal the dense multipliers formulat
   const mbsc::driver::BaumgarteGains gains;
   std::mt19937 rng(20261206);
   const std::string path = (std::filesystem::temp_directory_path() / "mbsc_random_spatial_tree_mult.mbs").string();
-  for (bool free_base : {false, true}) {
-    const std::string text = random_spatial_tree(7, free_base, rng);
+  // Revolute trees, and trees of mixed kinds (whose joints fix their children by one to
+  // three rates each).
+  for (const auto& [free_base, mixed] : {std::pair{false, false}, std::pair{true, false}, std::pair{false, true},
+                                         std::pair{true, true}}) {
+    const std::string text = random_spatial_tree(7, free_base, rng, mixed);
     {
       std::ofstream f(path);
       f << text;
@@ -700,7 +747,8 @@ TEST_CASE("the tree recursion's multipliers equal the dense multipliers formulat
         scale = std::max(scale, std::fabs(xa[i]));
         diff = std::max(diff, std::fabs(xa[i] - xb[i]));
       }
-      INFO(dense[f].name << (free_base ? " (free base)" : "") << ": relative difference " << diff / scale);
+      INFO(dense[f].name << (free_base ? " (free base)" : "") << (mixed ? " (mixed kinds)" : "") << ": relative difference "
+                         << diff / scale);
       CHECK(diff < 1e-10 * scale);
     }
   }
