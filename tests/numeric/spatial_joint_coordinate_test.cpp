@@ -22,6 +22,7 @@
 #include "arm_joint/arm_joint.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/dop853.hpp"
+#include "spatial_support.hpp"
 #include "test_support.hpp"
 
 namespace A = mbsc_gen::arm_absolute;
@@ -31,7 +32,9 @@ using mbsc_test::index_of;
 namespace {
 
 using State = std::vector<double>;
-using Mat = std::array<std::array<double, 3>, 3>;
+using Mat = mbsc_test::Mat3;
+using mbsc_test::product;
+using mbsc_test::total_energy;
 
 std::size_t at_j(const std::string& n) { return static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, n)); }
 std::size_t at_a(const std::string& n) { return static_cast<std::size_t>(index_of(A::kStateNames, A::kNx, n)); }
@@ -42,13 +45,6 @@ Mat rotation(const std::array<double, 3>& n, double q) {
   return {{{c + n[0] * n[0] * v, n[0] * n[1] * v - n[2] * s, n[0] * n[2] * v + n[1] * s},
            {n[1] * n[0] * v + n[2] * s, c + n[1] * n[1] * v, n[1] * n[2] * v - n[0] * s},
            {n[2] * n[0] * v - n[1] * s, n[2] * n[1] * v + n[0] * s, c + n[2] * n[2] * v}}};
-}
-Mat product(const Mat& a, const Mat& b) {
-  Mat r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) r[i][j] += a[i][k] * b[k][j];
-  return r;
 }
 
 /// The joint state at (q1, q2, q1', q2'): the rest assembled from the rows.
@@ -91,13 +87,6 @@ State absolute_state(const State& xj) {
 const char* const kSpeeds[] = {"link1.u", "link1.v", "link1.w", "link1.wx", "link1.wy", "link1.wz",
                                "link2.u", "link2.v", "link2.w", "link2.wx", "link2.wy", "link2.wz"};
 
-double energy_of(int (*energy)(double, const double*, const double*, const double*, double*), const State& x,
-                 const double* p) {
-  std::array<double, 3> e{};
-  REQUIRE(energy(0.0, x.data(), nullptr, p, e.data()) == 0);
-  return e[2];
-}
-
 }  // namespace
 
 TEST_CASE("spatial joint coordinates: the arm's accelerations equal those in absolute coordinates", "[numeric][spatial]") {
@@ -116,7 +105,8 @@ TEST_CASE("spatial joint coordinates: the arm's accelerations equal those in abs
     REQUIRE(A::velocity_constraints(0.0, xa.data(), T, A::kParamDefaults, c.data()) == 0);
     for (double r : g) CHECK(std::fabs(r) < 1e-12);
     for (double r : c) CHECK(std::fabs(r) < 1e-12);
-    CHECK(energy_of(J::energy, xj, J::kParamDefaults) == Approx(energy_of(A::energy, xa, A::kParamDefaults)).epsilon(1e-12));
+    CHECK(total_energy(J::energy, xj, J::kParamDefaults) ==
+          Approx(total_energy(A::energy, xa, A::kParamDefaults)).epsilon(1e-12));
     State dj(xj.size()), da(xa.size());
     REQUIRE(J::rhs(0.0, xj.data(), T, J::kParamDefaults, dj.data()) == 0);
     REQUIRE(A::rhs(0.0, xa.data(), T, A::kParamDefaults, da.data()) == 0);

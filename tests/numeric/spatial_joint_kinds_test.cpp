@@ -25,6 +25,7 @@
 #include "mbsc/runtime/assemble.hpp"
 #include "mixed_absolute/mixed_absolute.hpp"
 #include "mixed_joint/mixed_joint.hpp"
+#include "spatial_support.hpp"
 #include "test_support.hpp"
 
 namespace A = mbsc_gen::mixed_absolute;
@@ -34,7 +35,9 @@ using mbsc_test::index_of;
 namespace {
 
 using State = std::vector<double>;
-using Mat = std::array<std::array<double, 3>, 3>;
+using Mat = mbsc_test::Mat3;
+using mbsc_test::product;
+using mbsc_test::total_energy;
 
 std::size_t at_j(const std::string& n) { return static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, n)); }
 std::size_t at_a(const std::string& n) { return static_cast<std::size_t>(index_of(A::kStateNames, A::kNx, n)); }
@@ -50,13 +53,6 @@ Mat turn(int i, double q) {
   R[k][j] = s;
   R[j][k] = -s;
   return R;
-}
-Mat product(const Mat& a, const Mat& b) {
-  Mat r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) r[i][j] += a[i][k] * b[k][j];
-  return r;
 }
 
 /// The four links' rotations at the joint coordinates of state x.
@@ -122,13 +118,6 @@ State absolute_state(const State& xj) {
   return x;
 }
 
-double energy_of(int (*energy)(double, const double*, const double*, const double*, double*), const State& x,
-                 const double* p) {
-  std::array<double, 3> e{};
-  REQUIRE(energy(0.0, x.data(), nullptr, p, e.data()) == 0);
-  return e[2];
-}
-
 }  // namespace
 
 TEST_CASE("spatial joint kinds: the mixed chain's accelerations equal those in absolute coordinates", "[numeric][spatial]") {
@@ -157,7 +146,8 @@ TEST_CASE("spatial joint kinds: the mixed chain's accelerations equal those in a
       INFO("velocity row " << r << " at trial " << trial);
       CHECK(std::fabs(c[r]) < 1e-12);
     }
-    CHECK(energy_of(J::energy, xj, J::kParamDefaults) == Approx(energy_of(A::energy, xa, A::kParamDefaults)).epsilon(1e-12));
+    CHECK(total_energy(J::energy, xj, J::kParamDefaults) ==
+          Approx(total_energy(A::energy, xa, A::kParamDefaults)).epsilon(1e-12));
     State dj(xj.size()), da(xa.size());
     REQUIRE(J::rhs(0.0, xj.data(), inputs, J::kParamDefaults, dj.data()) == 0);
     REQUIRE(A::rhs(0.0, xa.data(), inputs, A::kParamDefaults, da.data()) == 0);
