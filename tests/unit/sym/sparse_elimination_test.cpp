@@ -681,10 +681,10 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   };
   const std::vector<Case> cases = mbsc_test::small_scale() ? std::vector<Case>{{2, false}, {6, true}, {10, false}}
                                                            : std::vector<Case>{{1, false}, {2, false}, {3, true}, {6, true},
-                                                                               {10, false}, {16, true}};
+                                                                               {9, false}, {12, true}};
   for (const auto& c : cases)
     check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng, /*mixed=*/true), path,
-                             c.n >= 16 ? std::vector<Variant>{Variant{false, false}}
+                             c.n >= 9 ? std::vector<Variant>{Variant{false, false}}
                                        : std::vector<Variant>{Variant{false, false}, Variant{false, true}},
                              c.n > 4 || c.free_base, "n = " + std::to_string(c.n) + (c.free_base ? " (free base)" : ""));
   std::remove(path.c_str());
