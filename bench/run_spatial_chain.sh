@@ -17,7 +17,8 @@
 # (bench/spatial_chain_driver.cpp; an agreement above 1e-10 fails the run after the table).
 # Pinocchio and RBDL were measured outside this repository (docs/benchmarks.md says how);
 # nothing here builds them. Writes bench/results/spatial_chain.md (also printed) and
-# spatial_chain_env.txt; scratch in bench/work/spatial_chain/.
+# spatial_chain_env.txt; scratch in bench/work/spatial_chain/ (with BALL=1: ball_chain.md,
+# ball_chain_env.txt, bench/work/ball_chain/).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
