@@ -10,7 +10,9 @@
 #
 # Environment: NS (default "1 2 4 8 12 16 24 32 48 64"), DENSE_MAX_N (default 12; 4 with
 # BALL=1), MBSC_BIN (default build/mbsc), BALL=1 for the chain of spherical joints with
-# zyx angles (bench/spatial_chain_model.py --ball; results in ball_chain.md). Per N and solver: rhs operations (the generated header),
+# zyx angles (bench/spatial_chain_model.py --ball; results in ball_chain.md), LOOP=1 for the
+# revolute chain with its tip held on a ground plane (--loop: a loop closed on the tree;
+# results in loop_chain.md; DENSE_MAX_N default 16). Per N and solver: rhs operations (the generated header),
 # generation CPU time and peak memory (GNU time), g++ -O2 time and peak memory,
 # instructions per rhs call (callgrind over bench/rhs_count_driver.cpp's 20 states), and
 # the agreement of the auto and dense rhs at 100 random states
@@ -18,15 +20,16 @@
 # Pinocchio and RBDL were measured outside this repository (docs/benchmarks.md says how);
 # nothing here builds them. Writes bench/results/spatial_chain.md (also printed) and
 # spatial_chain_env.txt; scratch in bench/work/spatial_chain/ (with BALL=1: ball_chain.md,
-# ball_chain_env.txt, bench/work/ball_chain/).
+# ball_chain_env.txt, bench/work/ball_chain/; with LOOP=1 the same with loop_chain).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
 NS=${NS:-"1 2 4 8 12 16 24 32 48 64"}
 BALL=${BALL:-0}
-KIND=$([ "$BALL" = 1 ] && echo ball_chain || echo spatial_chain)
-MODEL_FLAG=$([ "$BALL" = 1 ] && echo --ball || true)
-DENSE_MAX_N=${DENSE_MAX_N:-$([ "$BALL" = 1 ] && echo 4 || echo 12)}
+LOOP=${LOOP:-0}
+KIND=$([ "$BALL" = 1 ] && echo ball_chain || { [ "$LOOP" = 1 ] && echo loop_chain; } || echo spatial_chain)
+MODEL_FLAG=$([ "$BALL" = 1 ] && echo --ball || { [ "$LOOP" = 1 ] && echo --loop; } || true)
+DENSE_MAX_N=${DENSE_MAX_N:-$([ "$BALL" = 1 ] && echo 4 || { [ "$LOOP" = 1 ] && echo 16; } || echo 12)}
 MBSC=${MBSC_BIN:-build/mbsc}
 WORK=bench/work/$KIND
 rm -rf "$WORK"; mkdir -p "$WORK" bench/results

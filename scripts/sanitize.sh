@@ -69,8 +69,11 @@ symbolized "$BUILD/build.log" cmake --build "$BUILD" -j"$(nproc)"
 # model of the `cli` and `robustness` entries), and the determinism entries (the same
 # commands in ten processes each, 90 s of one core in Release: GiNaC's run-dependent
 # order is the same under the sanitizers, and the commands themselves run here in `cli`,
-# `golden` and `linearize`).
+# `golden` and `linearize`), and run_shipped (every shipped model generated, compiled and
+# simulated by `mbsc run`: its time is g++ building and running the generated code, which
+# the sanitizers do not instrument; the same models' generation runs here in `golden`,
+# and `mbsc run` itself in `run_command`).
 symbolized "$BUILD/ctest.log" ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" \
-  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale|determinism|determinism_tricycle)$'
+  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale|determinism|determinism_tricycle|run_shipped)$'
 # The fuzzer symbolizes as it goes (its reports are rare and come with the input).
 ASAN_OPTIONS=$CHECKS FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh

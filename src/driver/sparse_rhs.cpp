@@ -33,7 +33,9 @@ std::optional<sym::KktElimination> rhs_solve_steps(const model::Model& m, const 
   const sym::Probe probe(m, eom.param_values);
   std::string not_a_tree;
   if (auto tree = sym::tree_recursion(m, sys, c, fin, probe, with_multipliers ? &lambda : nullptr, not_a_tree)) return tree;
-  return sparse_solve_steps(m, eom, sys, c, lambda, why);
+  auto sparse = sparse_solve_steps(m, eom, sys, c, lambda, why);
+  if (!sparse) why += fmt::format(" (not a tree recursion either: {})", not_a_tree);
+  return sparse;
 }
 
 std::vector<ir::Step> sparse_steps_reported(const sym::KktElimination& sparse, const GiNaC::numeric& power) {

@@ -18,8 +18,13 @@
 ///       IA_p += T_c^T (IA_c - U G) T_c,      pA_p += T_c^T (beta - U g).
 /// Root to leaves: s_c' = g - G T_c u_p',  u_c' = T_c u_p' + Phi_c s_c' + k_c. Every entry
 /// is a named intermediate, so the work per body is bounded and the code is O(N), with the
-/// zeros and ones of exact axes and frozen parameters folded by the algebra. Letters as in
-/// docs/notation.md.
+/// zeros and ones of exact axes and frozen parameters folded by the algebra.
+///
+/// Rows the tree does not need (loops closed on it: A_l u' = c_l) are closed with their
+/// multipliers: the inward sweep also carries each loop row's unit force, the bodies the
+/// loop rows read are swept outwards for u'_0 and X (u' = u'_0 + X lambda_l), the small
+/// SPD system (A_l X) lambda_l = c_l - A_l u'_0 gives lambda_l, and the gains take it in
+/// before the one sweep root to leaves. Letters as in docs/notation.md.
 #include <functional>
 #include <optional>
 #include <string>
@@ -33,10 +38,12 @@
 namespace mbsc::sym {
 
 /// The recursion's steps (every m.speed_dots[j] defined after them, and with `lambda`
-/// every row's multiplier, leaves to root from each body's own equations), or
-/// nullopt with `why` when the model is not such a tree (a closed loop, a row on two
-/// parents, a joint speed shared by two bodies, a joint pivot not definite at the probe
-/// point). `c` are the rows' right-hand sides at order 2 (A q1' = c); `fin` and `probe` as
+/// every row's multiplier: the loop rows' from their solve, the others leaves to root
+/// from each body's own equations), or nullopt with `why` when the model is not such a
+/// tree (a body that no rows place from the ground or a placed body, a joint speed
+/// shared by two bodies, a joint pivot not definite or loop rows redundant at the probe
+/// point). `forest` when no row closes a loop, else `speeds_first` (the loop pivot is a
+/// Schur complement of A M^-1 A^T). `c` are the rows' right-hand sides at order 2 (A q1' = c); `fin` and `probe` as
 /// for eliminate_kkt.
 std::optional<KktElimination> tree_recursion(const model::Model& m, const KktSystem& sys, const std::vector<GiNaC::ex>& c,
                                              const std::function<GiNaC::ex(const GiNaC::ex&)>& fin, const Probe& probe,
