@@ -9,8 +9,9 @@
 #   bash bench/run_spatial_chain.sh   (from the repository root; ~5 min on 2 cores)
 #
 # Environment: NS (default "1 2 4 8 12 16 24 32 48 64"), DENSE_MAX_N (default 12; 4 with
-# BALL=1), MBSC_BIN (default build/mbsc), BALL=1 for the chain of spherical joints with
-# zyx angles (bench/spatial_chain_model.py --ball; results in ball_chain.md), LOOP=1 for the
+# BALL=1 or QUAT=1), MBSC_BIN (default build/mbsc), BALL=1 for the chain of spherical joints with
+# zyx angles (bench/spatial_chain_model.py --ball; results in ball_chain.md), QUAT=1 for the
+# same joints with a quaternion each (--quat; quat_chain.md), LOOP=1 for the
 # revolute chain with its tip held on a ground plane (--loop: a loop closed on the tree;
 # results in loop_chain.md; DENSE_MAX_N default 16). Per N and solver: rhs operations (the generated header),
 # generation CPU time and peak memory (GNU time), g++ -O2 time and peak memory,
@@ -20,16 +21,21 @@
 # Pinocchio and RBDL were measured outside this repository (docs/benchmarks.md says how);
 # nothing here builds them. Writes bench/results/spatial_chain.md (also printed) and
 # spatial_chain_env.txt; scratch in bench/work/spatial_chain/ (with BALL=1: ball_chain.md,
-# ball_chain_env.txt, bench/work/ball_chain/; with LOOP=1 the same with loop_chain).
+# ball_chain_env.txt, bench/work/ball_chain/; with QUAT=1 and LOOP=1 the same with quat_chain
+# and loop_chain).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$ROOT"
 NS=${NS:-"1 2 4 8 12 16 24 32 48 64"}
 BALL=${BALL:-0}
+QUAT=${QUAT:-0}
 LOOP=${LOOP:-0}
-KIND=$([ "$BALL" = 1 ] && echo ball_chain || { [ "$LOOP" = 1 ] && echo loop_chain; } || echo spatial_chain)
-MODEL_FLAG=$([ "$BALL" = 1 ] && echo --ball || { [ "$LOOP" = 1 ] && echo --loop; } || true)
-DENSE_MAX_N=${DENSE_MAX_N:-$([ "$BALL" = 1 ] && echo 4 || { [ "$LOOP" = 1 ] && echo 16; } || echo 12)}
+if [ "$QUAT" = 1 ]; then KIND=quat_chain MODEL_FLAG=--quat DENSE_DEFAULT=4
+elif [ "$BALL" = 1 ]; then KIND=ball_chain MODEL_FLAG=--ball DENSE_DEFAULT=4
+elif [ "$LOOP" = 1 ]; then KIND=loop_chain MODEL_FLAG=--loop DENSE_DEFAULT=16
+else KIND=spatial_chain MODEL_FLAG= DENSE_DEFAULT=12
+fi
+DENSE_MAX_N=${DENSE_MAX_N:-$DENSE_DEFAULT}
 MBSC=${MBSC_BIN:-build/mbsc}
 WORK=bench/work/$KIND
 rm -rf "$WORK"; mkdir -p "$WORK" bench/results
@@ -53,6 +59,8 @@ measure() {  # N solver -> one table row
     >"$d/count.txt" 2>"$d/cg.log"
   total=$(sed -n 's/.*Collected : \([0-9]*\).*/\1/p' "$d/cg.log")
   calls=$(sed -n 's/^count_calls=//p' "$d/count.txt")
+  # A call that fails (a singular solve) returns early: its count would not be the rhs's.
+  [ "$(sed -n 's/^failed=//p' "$d/count.txt")" = 0 ] || { echo "N = $n $solver: rhs calls failed" >&2; exit 1; }
   printf '| %s | %s | %s | %s | %.0f | %.2f s, %.0f MiB | %.1f s, %.0f MiB |' "$n" "$solver" \
     "$([ "$tree" -gt 0 ] && echo "tree recursion" || echo "dense Cholesky")" "$ops" \
     "$(awk -v a="$total" -v b="$calls" 'BEGIN { print a / b }')" "$gen_s" "$(awk -v k="$gen_kb" 'BEGIN { print k / 1024 }')" \

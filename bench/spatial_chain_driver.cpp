@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Agreement of two generated rhs of the same model (bench/run_spatial_chain.sh): MODEL_A
 // and MODEL_B (e.g. the tree recursion and the dense Cholesky of one spatial chain) at 100
-// pseudo-random states, entries uniform in [-1.5, 1.5], parameters at their defaults.
-// Prints max |a - b| / max(1, |a|_inf) over the states, and failed=<calls with status != 0>.
+// pseudo-random states, entries uniform in [-1.5, 1.5] (each unit quaternion of the state,
+// kQuaternionIndices, then divided by its norm), parameters at their defaults. Prints max |a - b| / max(1, |a|_inf) over the states, and failed=<calls with status != 0>.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +25,11 @@ int main() {
   int failed = 0;
   for (int s = 0; s < 100; ++s) {
     for (double& v : x) v = dist(rng);
+    for (int q = 0; q < a::kNquaternions; ++q) {
+      double n2 = 0.0;
+      for (int k = 0; k < 4; ++k) n2 += x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])] * x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])];
+      for (int k = 0; k < 4; ++k) x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])] /= std::sqrt(n2);
+    }
     failed += a::rhs(0.0, x.data(), nullptr, p.data(), xa.data()) != 0;
     failed += b::rhs(0.0, x.data(), nullptr, p.data(), xb.data()) != 0;
     double scale = 1.0, diff = 0.0;

@@ -204,24 +204,42 @@ ir::LoweredFunction undefined_energy(const model::Model& m) {
 
 // Whether any step reads an input (then the blocks the forcing is built on depend on u,
 // and h is not h0 + H u with H = dh/du).
-bool steps_read_inputs(const model::Model& m, const std::vector<ir::Step>& steps) {
+// The inverse dynamics computes the inputs, so none of its steps may read them. A named
+// intermediate that reads an input (a joint torque turned into a body's frame, issue 26)
+// is taken out of `steps` and returned as a substitution, its value written in the
+// inputs and the names before it, for the forcing h to be read through. False when a
+// solve reads an input: then h is not known to be affine in them.
+bool inline_input_steps(const model::Model& m, std::vector<ir::Step>& steps, GiNaC::exmap& inlined) {
   auto reads = [&](const GiNaC::ex& e) {
     for (const auto& in : m.inputs)
       if (e.has(in.sym)) return true;
     return false;
   };
-  for (const auto& step : steps) {
-    if (const auto* d = std::get_if<ir::Define>(&step)) {
-      if (reads(d->value)) return true;
+  auto through = [&](const GiNaC::ex& e) { return inlined.empty() ? e : e.subs(inlined, GiNaC::subs_options::no_pattern); };
+  // A step kept reads the inlined names' values: their inputs may cancel in it (a
+  // reaction passed from a child to its parent with the opposite sign).
+  std::vector<ir::Step> kept;
+  for (auto& step : steps) {
+    if (auto* d = std::get_if<ir::Define>(&step)) {
+      const GiNaC::ex value = through(d->value);
+      if (reads(value)) {
+        inlined[d->sym] = value;
+        continue;
+      }
+      d->value = value;
+      kept.push_back(std::move(step));
       continue;
     }
-    const auto& solve = std::get<ir::Solve>(step);
-    for (const auto& e : solve.A)
-      if (reads(e)) return true;
-    for (const auto& e : solve.B)
-      if (reads(e)) return true;
+    auto& solve = std::get<ir::Solve>(step);
+    for (auto* entries : {&solve.A, &solve.B})
+      for (auto& e : *entries) {
+        e = through(e);
+        if (reads(e)) return false;
+      }
+    kept.push_back(std::move(step));
   }
-  return false;
+  steps = std::move(kept);
+  return true;
 }
 
 // inverse_dynamics(t, x, zdot, p, u): the inputs that give the independent accelerations
@@ -250,9 +268,10 @@ ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eo
   std::vector<GiNaC::ex> h0(static_cast<std::size_t>(nd)), H(static_cast<std::size_t>(nd * nin));
   GiNaC::exmap zero_inputs;
   for (const auto& in : m.inputs) zero_inputs[in.sym] = 0;
-  bool affine = !steps_read_inputs(m, f.steps);
+  GiNaC::exmap inlined;
+  bool affine = inline_input_steps(m, f.steps, inlined);
   for (int i = 0; i < nd && affine; ++i) {
-    const GiNaC::ex h = fin(eom.h(i, 0));
+    const GiNaC::ex h = inlined.empty() ? fin(eom.h(i, 0)) : fin(fin(eom.h(i, 0)).subs(inlined, GiNaC::subs_options::no_pattern));
     h0[static_cast<std::size_t>(i)] = h.subs(zero_inputs);
     for (int k = 0; k < nin; ++k) {
       const GiNaC::ex d = fin(h.diff(m.inputs[static_cast<std::size_t>(k)].sym));

@@ -87,6 +87,7 @@ class Builder {
   int declare_node(const std::vector<ast::StatementPtr>& body, const std::string& prefix, const SourcePos& pos,
                    const Statement* decl, int depth);
   void declare_joint_coordinate(int id, const std::string& prefix, const Statement& s);
+  void declare_joint_quaternion(int id, const std::string& prefix, const Statement& s, const std::string& joint);
   void declare_contact_coordinates(int id, const std::string& prefix, const Statement& s);
   std::string unknown_kind_message(const std::string& subsystem, const std::string& kind) const;
   int add_variable(int node, const std::string& full, const SourcePos& pos, bool coordinate, bool builtin = false);

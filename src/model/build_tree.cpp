@@ -10,6 +10,7 @@
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/model/rigid3d.hpp"
 
 namespace mbsc::model::build_detail {
 
@@ -160,6 +161,10 @@ int Builder::declare_node(const std::vector<ast::StatementPtr>& body, const std:
 /// written at. How many a joint kind takes is checked where the joint is built.
 void Builder::declare_joint_coordinate(int id, const std::string& prefix, const Statement& s) {
   const std::string joint = s.name.empty() ? std::string("joint") : fmt::format("joint '{}'", s.name);
+  if (s.joint_sequence.text == "quaternion") {
+    declare_joint_quaternion(id, prefix, s, joint);
+    return;
+  }
   if (!s.joint_speeds.empty() && s.joint_speeds.size() != s.joint_coordinates.size()) {
     diags_.error(s.joint_speeds.front().pos,
                  fmt::format("{} names {} {} for {} {}: give one speed per coordinate, in the same order, or none", joint,
@@ -181,6 +186,61 @@ void Builder::declare_joint_coordinate(int id, const std::string& prefix, const 
     v.coordinates.push_back(q);
     v.speeds.push_back(u);
   }
+  joint_variables_[{id, &s}] = v;
+}
+
+/// `joint NAME : spherical P.a B.a coordinate e0, e1, e2, e3 quaternion [speed w1, w2, w3]`:
+/// four coordinates, the joint's quaternion (scalar part first), and three speeds, the
+/// child's angular velocity relative to its parent in the child's axes (default
+/// NAME_wx, NAME_wy, NAME_wz). The speeds are not coordinate rates: the rates are the
+/// kinematic equations e' = 1/2 e o (0, w), as for a body's `attitude quaternion body`.
+void Builder::declare_joint_quaternion(int id, const std::string& prefix, const Statement& s, const std::string& joint) {
+  if (s.kind_name != "spherical") {
+    diags_.error(s.joint_sequence.pos, fmt::format("{}: 'quaternion' names a spherical joint's four quaternion "
+                                                   "coordinates; a {} joint turns about its axes",
+                                                   joint, s.kind_name));
+    return;
+  }
+  if (s.joint_coordinates.size() != 4) {
+    const SourcePos& at = s.joint_coordinates.size() > 4 ? s.joint_coordinates[4].pos : s.joint_coordinates.front().pos;
+    diags_.error(at, fmt::format("{}: a spherical joint with a quaternion takes 4 coordinates (the scalar part, then "
+                                 "the vector part, e.g. `coordinate e0, e1, e2, e3 quaternion`), not {}",
+                                 joint, s.joint_coordinates.size()));
+    return;
+  }
+  if (!s.joint_speeds.empty() && s.joint_speeds.size() != 3) {
+    diags_.error(s.joint_speeds.front().pos,
+                 fmt::format("{} names {} {} for its quaternion: give three, the angular speeds about the second "
+                             "body's x, y and z axes relative to the first body, or none",
+                             joint, s.joint_speeds.size(), s.joint_speeds.size() == 1 ? "speed" : "speeds"));
+    return;
+  }
+  if (s.joint_speeds.empty() && s.name.empty()) {
+    diags_.error(s.joint_sequence.pos, "an unnamed spherical joint with a quaternion needs its three speeds named "
+                                       "(`speed w1, w2, w3`), or a name (`joint NAME : ...`) for the default NAME_wx, "
+                                       "NAME_wy, NAME_wz");
+    return;
+  }
+  JointVariables v;
+  for (const ast::Path& c : s.joint_coordinates) {
+    const int q = add_variable(id, join(prefix, c.text), c.pos, /*coordinate=*/true);
+    if (q < 0) return;  // reported: a name declared twice
+    table_[join(prefix, c.text)].what = fmt::format("a quaternion coordinate of {}", joint);
+    v.coordinates.push_back(q);
+  }
+  const char* const axes[] = {"wx", "wy", "wz"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const ast::Path speed = s.joint_speeds.empty() ? ast::Path{s.name + "_" + axes[k], s.name_pos} : s.joint_speeds[k];
+    const int u = add_variable(id, join(prefix, speed.text), speed.pos, /*coordinate=*/false);
+    if (u < 0) return;
+    table_[join(prefix, speed.text)].what = fmt::format("an angular speed of {}", joint);
+    v.speeds.push_back(u);
+  }
+  rigid3d::Vec e, w;
+  for (int q : v.coordinates) e.push_back(m_.coords[static_cast<std::size_t>(q)].sym);
+  for (int u : v.speeds) w.push_back(m_.speeds[static_cast<std::size_t>(u)].sym);
+  const rigid3d::Vec rates = rigid3d::quaternion_rates(e, w, /*space_frame=*/false);
+  for (std::size_t k = 0; k < 4; ++k) builtin_rates_[v.coordinates[k]] = rates[k];
   joint_variables_[{id, &s}] = v;
 }
 

@@ -135,10 +135,12 @@ Vec angular_speeds(const Model& m, const Node& node) {
 std::vector<std::vector<std::string>> unit_quaternion_names(const Model& m) {
   std::vector<std::vector<std::string>> out;
   for (const Node& node : m.nodes) {
-    if (node.kind != LeafKind::Rigid3d || node.rigid3d.sequence != "quaternion" || node.coords.size() < 7) continue;
+    if (node.kind != LeafKind::Rigid3d) continue;
     std::vector<std::string> names;
-    for (std::size_t k = 3; k < 7; ++k) names.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].name);
-    out.push_back(names);
+    if (node.rigid3d.sequence == "quaternion" && node.coords.size() >= 7)
+      for (std::size_t k = 3; k < 7; ++k) names.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].name);
+    for (int c : node.rigid3d.joint_quaternion_coords) names.push_back(m.coords[static_cast<std::size_t>(c)].name);
+    if (names.size() == 4) out.push_back(names);
   }
   return out;
 }
@@ -182,12 +184,14 @@ Vec rotation_about(const Vec& n, const ex& q) {
 }
 
 Vec joint_turn(const Rigid3dData& data, const Vec& v) {
+  if (!data.joint_quaternion.empty()) return mat_vec(quaternion_rotation(data.joint_quaternion), v);
   Vec out = v;
   for (auto it = data.joint_turns.rbegin(); it != data.joint_turns.rend(); ++it) out = rotate_about(it->axis, it->angle, out);
   return out;
 }
 
 Vec joint_turn_back(const Rigid3dData& data, const Vec& v) {
+  if (!data.joint_quaternion.empty()) return mat_t_vec(quaternion_rotation(data.joint_quaternion), v);
   Vec out = v;
   for (const auto& turn : data.joint_turns) out = rotate_back_about(turn.axis, turn.angle, out);
   return out;
@@ -205,6 +209,7 @@ Vec joint_rotation(const Rigid3dData& data) {
 }
 
 Vec joint_relative_angular_velocity(const Rigid3dData& data) {
+  if (!data.joint_quaternion.empty()) return data.joint_quaternion_speeds;
   // Each turn's axis n_i q_i', carried into the child's frame by the turns after it.
   Vec w(3, ex(0));
   const std::size_t k = data.joint_turns.size();
@@ -249,8 +254,10 @@ Vec point_in_space(const Model& m, const Node& node, const Vec& local) {
 
 ex length_scale(const Model& m, const Node& node) {
   if (node.rigid3d.placed()) {
+    const Vec& e = node.rigid3d.joint_quaternion;
+    const ex own = e.empty() ? ex(1) : e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
     const int p = node.rigid3d.joint_parent;
-    return p < 0 ? ex(1) : length_scale(m, m.nodes[static_cast<std::size_t>(p)]);
+    return p < 0 ? own : own * length_scale(m, m.nodes[static_cast<std::size_t>(p)]);
   }
   if (node.rigid3d.sequence != "quaternion") return 1;
   const Vec e = attitude_coordinates(m, node);

@@ -8,7 +8,8 @@
 //   revolute    q about the axis n                     prismatic  s along n
 //   cylindrical s along n, then q about it              universal  q1 about the first axis,
 //   spherical   three turns about the parent's frame      then q2 about the second
-//               axes of an Euler sequence (intrinsic)
+//               axes of an Euler sequence (intrinsic),
+//               or no turns but a quaternion e: Q = Q(e), w_rel = the joint's three speeds
 // with n the first end's unit axis in the parent's body frame; the two bodies' frames
 // coincide at q = 0, so each turn's axis is also where the child's frame has it.
 //   * the child has no attitude coordinates: its attitude is R = R_parent Q(q);
@@ -77,6 +78,9 @@ std::optional<int> SpatialLibrary::point_body(int owner, const std::string& path
 }
 
 bool SpatialLibrary::coordinates_fit(const PlanarLibrary::Element& e, const std::string& what) {
+  // A spherical joint's quaternion (four coordinates, three speeds) was checked where its
+  // variables were declared (build_tree.cpp).
+  if (e.kind == "spherical" && e.sequence == "quaternion") return e.coordinates.size() == 4 && e.coordinate_speeds.size() == 3;
   const int want = coordinate_count(e.kind);
   const int given = static_cast<int>(e.coordinates.size());
   static const std::map<std::string, std::string> meaning = {
@@ -84,7 +88,8 @@ bool SpatialLibrary::coordinates_fit(const PlanarLibrary::Element& e, const std:
       {"prismatic", "its slide"},
       {"cylindrical", "the slide along the axis, then the angle about it"},
       {"universal", "the angle about the first axis, then the angle about the second"},
-      {"spherical", "three angles of an Euler sequence, e.g. `coordinate a, b, c euler zyx`"}};
+      {"spherical", "three angles of an Euler sequence, e.g. `coordinate a, b, c euler zyx`, or four of a quaternion, "
+                    "`coordinate e0, e1, e2, e3 quaternion`"}};
   if (given != want) {
     const SourcePos& at = given > want ? e.coordinate_positions[static_cast<std::size_t>(want)] : e.coordinate_pos;
     diags_.error(at, fmt::format("{}: a spatial {} joint takes {} {} ({}), not {}", what, e.kind, want,
@@ -93,7 +98,8 @@ bool SpatialLibrary::coordinates_fit(const PlanarLibrary::Element& e, const std:
   }
   if (e.kind == "spherical" && e.sequence.empty()) {
     diags_.error(e.coordinate_pos, fmt::format("{}: a spherical joint's three angles turn about the axes of an Euler "
-                                               "sequence; name it after the coordinates, e.g. `coordinate a, b, c euler zyx`",
+                                               "sequence; name it after the coordinates, e.g. `coordinate a, b, c euler zyx` "
+                                               "(or give four quaternion coordinates: `coordinate e0, e1, e2, e3 quaternion`)",
                                                what));
     return false;
   }
@@ -185,6 +191,9 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
   Rigid3dData& data = m_.nodes[static_cast<std::size_t>(child)].rigid3d;
   data.joint_turns.clear();
   data.slide_axis.clear();
+  data.joint_quaternion.clear();
+  data.joint_quaternion_speeds.clear();
+  data.joint_quaternion_coords.clear();
   if (e.kind == "revolute" || e.kind == "prismatic" || e.kind == "cylindrical") {
     if (!same_direction(e, what, d, c, parent, child)) return Placed::Failed;
     const Vec n = unit(d);
@@ -209,6 +218,12 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
     }
     data.joint_turns.push_back({unit(d), coordinate(0), speed(0)});
     data.joint_turns.push_back({unit(c), coordinate(1), speed(1)});
+  } else if (e.sequence == "quaternion") {  // spherical: Q is the quaternion's matrix, no turns
+    for (std::size_t k = 0; k < 4; ++k) {
+      data.joint_quaternion.push_back(coordinate(k));
+      data.joint_quaternion_coords.push_back(e.coordinates[k]);
+    }
+    for (std::size_t k = 0; k < 3; ++k) data.joint_quaternion_speeds.push_back(speed(k));
   } else {  // spherical: the Euler sequence's axes, intrinsic (each in the frame the turns before leave)
     for (std::size_t k = 0; k < 3; ++k) {
       Vec axis{0, 0, 0};
@@ -221,12 +236,16 @@ SpatialLibrary::Placed SpatialLibrary::place(int owner, const PlanarLibrary::Ele
   data.rotation = parent == PlanarLibrary::kGround
                       ? turn
                       : rigid3d::mat_mat(m_.nodes[static_cast<std::size_t>(parent)].rigid3d.rotation, turn);
-  if (names_rotation(parent, data.joint_turns.size())) name_rotation(child);
+  if (names_rotation(parent, turn_count(data))) name_rotation(child);
   return Placed::Done;
 }
 
 int SpatialLibrary::turn_count(const std::string& kind) {
-  return kind == "prismatic" ? 0 : kind == "cylindrical" ? 1 : coordinate_count(kind);
+  return kind == "prismatic" ? 0 : kind == "cylindrical" ? 1 : kind == "spherical" ? 3 : coordinate_count(kind);
+}
+
+std::size_t SpatialLibrary::turn_count(const Rigid3dData& data) {
+  return data.joint_quaternion.empty() ? data.joint_turns.size() : 3;  // a quaternion turns about all three axes
 }
 
 bool SpatialLibrary::names_rotation(int parent, std::size_t turns) const {
@@ -243,7 +262,7 @@ bool SpatialLibrary::names_rotation(int parent, std::size_t turns) const {
   std::size_t depth = turns;
   int p = parent;
   while (p != PlanarLibrary::kGround && m_.nodes[static_cast<std::size_t>(p)].rigid3d.placed()) {
-    depth += m_.nodes[static_cast<std::size_t>(p)].rigid3d.joint_turns.size();
+    depth += turn_count(m_.nodes[static_cast<std::size_t>(p)].rigid3d);
     p = m_.nodes[static_cast<std::size_t>(p)].rigid3d.joint_parent;
   }
   return p != PlanarLibrary::kGround || depth > static_cast<std::size_t>(kGroundJointsWritten);

@@ -83,6 +83,8 @@ class SpatialLibrary {
   static constexpr int kGroundJointsWritten = 4;
   /// How many turns a joint kind with coordinates makes (revolute 1, spherical 3, ...).
   static int turn_count(const std::string& kind);
+  /// How many turns a placed body's joint makes (a quaternion counts three).
+  static std::size_t turn_count(const Rigid3dData& data);
   /// How many turns the joints with coordinates of the whole model make (set before the
   /// first `place`): above kGroundJointsWritten every placed body is named, so that each
   /// body's rows read its parent's speeds alone (what the tree recursion needs).

@@ -683,9 +683,10 @@ class Parser {
     push(out, std::move(st));
   }
 
-  // ['coordinate' IDENT {',' IDENT} ['speed' IDENT {',' IDENT}] ['euler' SEQ]]: the joint's
-  // relative coordinates and their rates (a spherical joint's three angles name their
-  // Euler sequence), before or after the actuator option.
+  // ['coordinate' IDENT {',' IDENT} ['speed' IDENT {',' IDENT}] ['euler' SEQ | 'quaternion']]:
+  // the joint's relative coordinates and their rates (a spherical joint's three angles
+  // name their Euler sequence; its four quaternion entries say `quaternion`), before or
+  // after the actuator option.
   void parse_joint_coordinate(Statement& st, const std::string& what) {
     if (!at_keyword("coordinate")) return;
     const Token word = take();
@@ -705,6 +706,9 @@ class Parser {
       take();
       const Token seq = expect_name("Euler sequence after 'euler' (three axes of x, y, z, e.g. zyx)");
       st.joint_sequence = ast::Path{seq.text, seq.pos};
+    } else if (peek().kind == TK::Ident && peek().text == "quaternion") {
+      const Token word = take();
+      st.joint_sequence = ast::Path{word.text, word.pos};
     }
   }
 

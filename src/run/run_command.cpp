@@ -159,6 +159,8 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   if (init.assembly.near_singular)
     err << "mbsc: warning: the initial state is " << init.assembly.message
         << "; the run may leave the intended branch (give more coordinates with --init)\n";
+  for (const auto& q : init.normalized)
+    err << "mbsc: note: the quaternion " << q << " starts off unit norm; it was divided by its norm\n";
 
   // ---- columns ----
   std::vector<std::string> available = {"t"};

@@ -3,6 +3,7 @@
 #include "mbsc/run/run_setup.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <fmt/format.h>
@@ -16,6 +17,7 @@
 #include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/model/expr_convert.hpp"
 #include "mbsc/model/option_expression.hpp"
+#include "mbsc/model/rigid3d.hpp"
 
 namespace mbsc::run {
 
@@ -112,6 +114,48 @@ bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, 
   return true;
 }
 
+namespace {
+
+/// Every unit quaternion of the state divided by its norm (its direction is the rotation;
+/// a norm off 1 would scale the body). One that nothing gives a value starts at the
+/// identity (1, 0, 0, 0), as other coordinates start at 0; all zero when given is no
+/// rotation at all, an error.
+bool unit_quaternions(const model::Model& m, const runtime::ModelTable& t, InitialState& out, std::string& error) {
+  for (const auto& names : model::rigid3d::unit_quaternion_names(m)) {
+    std::array<std::size_t, 4> at{};
+    bool found = true;
+    for (std::size_t k = 0; k < 4 && found; ++k) {
+      const int i = runtime::ModelTable::find(t.state_names, t.nx, names[k].c_str());
+      found = i >= 0;
+      if (found) at[k] = static_cast<std::size_t>(i);
+    }
+    if (!found) continue;
+    double norm2 = 0;
+    for (std::size_t i : at) norm2 += out.x[i] * out.x[i];
+    const bool given = std::any_of(names.begin(), names.end(), [&](const std::string& n) {
+      return std::find(out.given.begin(), out.given.end(), n) != out.given.end();
+    });
+    if (norm2 == 0.0 && !given) {
+      out.x[at[0]] = 1.0;
+      continue;
+    }
+    const std::string list = fmt::format("{}, {}, {}, {}", names[0], names[1], names[2], names[3]);
+    if (!(norm2 > 0) || !std::isfinite(norm2)) {
+      error = fmt::format("the quaternion ({}) is {} at the start: give it a unit value, e.g. `initial {} = 1` in the "
+                          "model or --init {}=1 (the frames' coinciding attitude)",
+                          list, norm2 > 0 ? "not finite" : "all zero", names[0], names[0]);
+      return false;
+    }
+    const double norm = std::sqrt(norm2);
+    if (std::fabs(norm - 1.0) <= 1e-14) continue;
+    for (std::size_t i : at) out.x[i] /= norm;
+    out.normalized.push_back(fmt::format("{} (norm {:.6g})", list, norm));
+  }
+  return true;
+}
+
+}  // namespace
+
 bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
                    const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
                    InitialState& out, std::string& error) {
@@ -166,6 +210,7 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
       else if (!(!is_q && init_u)) set(iv.name, v);
     }
   for (const auto& [name, v] : inits) set(name, v);
+  if (!unit_quaternions(m, t, out, error)) return false;
   // Assembly: the given entries stay, the others follow from the constraints.
   runtime::AssemblyModel am{t.nq,
                             t.nu,

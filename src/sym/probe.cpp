@@ -28,8 +28,30 @@ Probe::Probe(const model::Model& model, const std::map<std::string, double>& par
   for (const auto& in : model.inputs) values_[in.sym] = next(-1.0, 1.0);
   // A friction force is given like an input until the generated code closes its law.
   for (const auto& f : model.frictions) values_[f.force] = next(-1.0, 1.0);
+  unit_quaternions(model);
   bind_parameters(model, param_values);
   bind_kinematic_names(model);
+}
+
+void Probe::unit_quaternions(const model::Model& model) {
+  // A spherical joint's quaternion scales its child's rotation by |e|^2, and a chain of
+  // such joints multiplies those factors: unnormalized draws would scale the k-th body
+  // of a chain by a k-fold product (the 32-link chain's last joint row looked redundant).
+  // So each joint quaternion is drawn on |e| = 1. A body's own quaternion keeps its
+  // draw: its homogeneous matrix is exact at any norm and scales that body alone, and
+  // the independent sets chosen at this point for such models stay as they were.
+  for (const auto& node : model.nodes) {
+    const auto& e = node.rigid3d.joint_quaternion_coords;
+    if (e.size() != 4) continue;
+    std::vector<double> v;
+    double n2 = 0.0;
+    for (int c : e) {
+      v.push_back(GiNaC::ex_to<GiNaC::numeric>(values_[model.coords[static_cast<std::size_t>(c)].sym]).to_double());
+      n2 += v.back() * v.back();
+    }
+    if (!(n2 > 0.0)) continue;
+    for (std::size_t k = 0; k < 4; ++k) values_[model.coords[static_cast<std::size_t>(e[k])].sym] = v[k] / std::sqrt(n2);
+  }
 }
 
 Probe Probe::reference(const model::Model& model, const std::map<std::string, double>& param_values) {

@@ -234,6 +234,39 @@ TEST_CASE("mbsc run: bad input is exit 1 with nothing written", "[cli][run]") {
   fs::remove_all(dir);
 }
 
+TEST_CASE("mbsc run: a quaternion starts at unit norm or at the identity, never at zero", "[cli][run]") {
+  // A quaternion's scale is no rotation: --init b.e0=2 (with the model's e1 = e2 = e3 = 0)
+  // starts the body level, e = (1, 0, 0, 0), and says so; all four given as zero is no
+  // attitude; none given is the identity.
+  const fs::path dir = fresh_dir("run_quaternion");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/free_body_quaternion.mbs");
+  const std::string csv = quote((dir / "q.csv").string());
+  auto r = run(run_in(dir, "run " + model + " --t-end 0.1 -o " + csv + " --init b.e0=2"));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("b.e0, b.e1, b.e2, b.e3 (norm 2) starts off unit norm") != std::string::npos);
+  const Csv c = read_csv(dir / "q.csv");
+  REQUIRE(c.col("b.e0") >= 0);
+  REQUIRE_FALSE(c.rows.empty());
+  CHECK(c.rows[0][static_cast<std::size_t>(c.col("b.e0"))] == 1.0);
+  r = run(run_in(dir, "run " + model + " -o " + quote((dir / "z.csv").string()) + " --init b.e0=0"));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("the quaternion (b.e0, b.e1, b.e2, b.e3) is all zero at the start") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "z.csv"));
+  // A quaternion that nothing gives starts at the identity.
+  write(dir / "spin.mbs", "model spin\nbody b : rigid3d {\n  mass 1\n  inertia (1, 2, 3)\n}\ninitial b.wx = 1\n");
+  r = run(run_in(dir, "run " + quote((dir / "spin.mbs").string()) + " --t-end 0.1 -o " + quote((dir / "s.csv").string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Csv spin = read_csv(dir / "s.csv");
+  REQUIRE(spin.col("b.e0") >= 0);
+  REQUIRE_FALSE(spin.rows.empty());
+  CHECK(spin.rows[0][static_cast<std::size_t>(spin.col("b.e0"))] == 1.0);
+  CHECK(spin.rows[0][static_cast<std::size_t>(spin.col("b.e1"))] == 0.0);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("mbsc run: a numerical failure is exit 2 and keeps the rows before it", "[cli][run]") {
   const fs::path dir = fresh_dir("run_fail");
   // A force that blows up at t = 0.5.

@@ -24,6 +24,7 @@
 
 #include "mbsc/runtime/assemble.hpp"
 #include "mixed_absolute/mixed_absolute.hpp"
+#include "mixed_absolute_support.hpp"
 #include "mixed_joint/mixed_joint.hpp"
 #include "spatial_support.hpp"
 #include "test_support.hpp"
@@ -37,23 +38,12 @@ namespace {
 using State = std::vector<double>;
 using Mat = mbsc_test::Mat3;
 using mbsc_test::product;
+using mbsc_test::quaternion;
+using mbsc_test::turn;
 using mbsc_test::total_energy;
 
 std::size_t at_j(const std::string& n) { return static_cast<std::size_t>(index_of(J::kStateNames, J::kNx, n)); }
 std::size_t at_a(const std::string& n) { return static_cast<std::size_t>(index_of(A::kStateNames, A::kNx, n)); }
-
-/// Rotation by angle q about coordinate axis i (0 = x, 1 = y, 2 = z).
-Mat turn(int i, double q) {
-  const double c = std::cos(q), s = std::sin(q);
-  Mat R{};
-  const int j = (i + 1) % 3, k = (i + 2) % 3;
-  R[i][i] = 1;
-  R[j][j] = c;
-  R[k][k] = c;
-  R[k][j] = s;
-  R[j][k] = -s;
-  return R;
-}
 
 /// The four links' rotations at the joint coordinates of state x.
 std::array<Mat, 4> rotations(const State& x) {
@@ -61,26 +51,6 @@ std::array<Mat, 4> rotations(const State& x) {
   const Mat R2 = product(R1, turn(2, x[at_j("r")]));
   const Mat R3 = product(R2, product(turn(2, x[at_j("a")]), product(turn(1, x[at_j("b")]), turn(0, x[at_j("c")]))));
   return {R1, R2, R3, R3};
-}
-
-/// The unit quaternion (scalar first) of a rotation matrix (the largest pivot first).
-std::array<double, 4> quaternion(const Mat& R) {
-  const double tr = R[0][0] + R[1][1] + R[2][2];
-  std::array<double, 4> e{};
-  if (tr > 0) {
-    const double s = 2 * std::sqrt(1 + tr);
-    e = {s / 4, (R[2][1] - R[1][2]) / s, (R[0][2] - R[2][0]) / s, (R[1][0] - R[0][1]) / s};
-  } else if (R[0][0] > R[1][1] && R[0][0] > R[2][2]) {
-    const double s = 2 * std::sqrt(1 + R[0][0] - R[1][1] - R[2][2]);
-    e = {(R[2][1] - R[1][2]) / s, s / 4, (R[0][1] + R[1][0]) / s, (R[0][2] + R[2][0]) / s};
-  } else if (R[1][1] > R[2][2]) {
-    const double s = 2 * std::sqrt(1 + R[1][1] - R[0][0] - R[2][2]);
-    e = {(R[0][2] - R[2][0]) / s, (R[0][1] + R[1][0]) / s, s / 4, (R[1][2] + R[2][1]) / s};
-  } else {
-    const double s = 2 * std::sqrt(1 + R[2][2] - R[0][0] - R[1][1]);
-    e = {(R[1][0] - R[0][1]) / s, (R[0][2] + R[2][0]) / s, (R[1][2] + R[2][1]) / s, s / 4};
-  }
-  return e;
 }
 
 const char* const kJointCoordinates[] = {"q1", "q2", "s", "r", "a", "b", "c", "p"};
@@ -135,17 +105,7 @@ TEST_CASE("spatial joint kinds: the mixed chain's accelerations equal those in a
     for (double& r : v) r = rate(rng);
     const State xj = joint_state(q, v);
     const State xa = absolute_state(xj);
-    std::vector<double> g(static_cast<std::size_t>(A::kNposc)), c(static_cast<std::size_t>(A::kNc));
-    REQUIRE(A::position_constraints(0.0, xa.data(), inputs, A::kParamDefaults, g.data()) == 0);
-    REQUIRE(A::velocity_constraints(0.0, xa.data(), inputs, A::kParamDefaults, c.data()) == 0);
-    for (std::size_t r = 0; r < g.size(); ++r) {
-      INFO("position row " << r << " at trial " << trial);
-      CHECK(std::fabs(g[r]) < 1e-12);
-    }
-    for (std::size_t r = 0; r < c.size(); ++r) {
-      INFO("velocity row " << r << " at trial " << trial);
-      CHECK(std::fabs(c[r]) < 1e-12);
-    }
+    mbsc_test::check_on_mixed_absolute_rows(xa, inputs, trial);
     CHECK(total_energy(J::energy, xj, J::kParamDefaults) ==
           Approx(total_energy(A::energy, xa, A::kParamDefaults)).epsilon(1e-12));
     State dj(xj.size()), da(xa.size());

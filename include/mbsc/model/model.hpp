@@ -68,6 +68,12 @@ struct Rigid3dData {
     GiNaC::ex angle, rate;  // the coordinate and its speed
   };
   std::vector<JointTurn> joint_turns;
+  /// A spherical joint written with a quaternion (`coordinate e0, e1, e2, e3 quaternion`)
+  /// has no turns: Q is the matrix of its quaternion e (scalar part first), and the
+  /// child's angular velocity relative to its parent, in the child's frame, is the
+  /// joint's three speeds; e' = 1/2 e o (0, w_rel). Empty for every other joint.
+  std::vector<GiNaC::ex> joint_quaternion, joint_quaternion_speeds;
+  std::vector<int> joint_quaternion_coords;  // e's indices in Model::coords
   std::vector<GiNaC::ex> slide_axis;  // empty: no slide
   GiNaC::ex slide, slide_rate;
   std::string joint_name;  // the placing joint, for messages

@@ -42,8 +42,9 @@ GiNaC::ex dot(const Vec& a, const Vec& b);
 /// The node's attitude and angular speed symbols.
 Vec attitude_coordinates(const Model& m, const Node& node);
 Vec angular_speeds(const Model& m, const Node& node);
-/// The coordinate names (e0, e1, e2, e3) of every rigid3d body with a quaternion attitude,
-/// in model order: the unit quaternions a simulation keeps at |e| = 1.
+/// The coordinate names (e0, e1, e2, e3) of every rigid3d body with a quaternion attitude
+/// and of every spherical joint written with a quaternion, in model order: the unit
+/// quaternions a simulation keeps at |e| = 1.
 std::vector<std::vector<std::string>> unit_quaternion_names(const Model& m);
 /// The angular velocity in space components.
 Vec angular_velocity_in_space(const Model& m, const Node& node);
@@ -75,12 +76,14 @@ Vec rotation_about(const Vec& n, const GiNaC::ex& q);
 Vec mat_mat(const Vec& A, const Vec& B);
 /// A placed body's joint turns (Rigid3dData::joint_turns), Q = Q_1 Q_2 ...:
 /// joint_turn gives Q v (the last turn first), joint_turn_back Q^T v (the first turn
-/// first), joint_rotation the matrix Q, each in sin q_i and cos q_i.
+/// first), joint_rotation the matrix Q, each in sin q_i and cos q_i; for a spherical
+/// joint with a quaternion (Rigid3dData::joint_quaternion) Q is the quaternion's matrix.
 Vec joint_turn(const Rigid3dData& data, const Vec& v);
 Vec joint_turn_back(const Rigid3dData& data, const Vec& v);
 Vec joint_rotation(const Rigid3dData& data);
 /// The child's angular velocity relative to its parent, in the child's frame:
-/// sum over turns i of (Q_{i+1} ... Q_k)^T n_i q_i' (Q^T Q' = [that]x).
+/// sum over turns i of (Q_{i+1} ... Q_k)^T n_i q_i' (Q^T Q' = [that]x); a quaternion
+/// joint's own three speeds.
 Vec joint_relative_angular_velocity(const Rigid3dData& data);
 /// The angular velocity of a placed body's parent in the parent's body frame (0 for the
 /// ground): what the joint's velocity rows turn into the child's frame.

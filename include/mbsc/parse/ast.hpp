@@ -121,7 +121,7 @@ struct Statement {
   Path option2;                    // Joint: the second option word (text empty when absent)
   std::vector<Path> joint_coordinates;  // Joint: 'coordinate Q, ...', the joint's own (relative) coordinates, or none
   std::vector<Path> joint_speeds;       // Joint: 'speed S, ...', the names of their rates (none: Q_dot, ...)
-  Path joint_sequence;                  // Joint: 'euler SEQ' after the coordinates (spherical), or empty
+  Path joint_sequence;                  // Joint: 'euler SEQ' after the coordinates (spherical), 'quaternion', or empty
   std::vector<Path> paths;         // Independent list; Joint / Spring / Damper ends
   std::vector<StatementPtr> body;  // Component / Subsystem body (has_body tells whether braces were given)
   bool has_body = false;

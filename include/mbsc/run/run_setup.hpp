@@ -45,12 +45,18 @@ struct InitialState {
   std::vector<double> x;            // consistent full state
   runtime::AssemblyResult assembly;  // how assembly went (near_singular is a warning)
   std::vector<std::string> given;   // the names fixed by `initial` statements and --init
+  /// The unit quaternions that started off |e| = 1 and were divided by their norm before
+  /// assembly (a quaternion's scale is no rotation): "e0, e1, e2, e3 (norm 0.5)".
+  std::vector<std::string> normalized;
 };
 
 /// The initial state at t0 (of a full-state model): `initial` values of the model (evaluated with p), --init
 /// values over them, every other coordinate guessed 0 and every other speed solved from
-/// the velocity constraints (minimum norm). False with `error` for an unknown name or a
-/// state the constraints do not allow (naming the constraint).
+/// the velocity constraints (minimum norm). Each unit quaternion (a body's attitude, a
+/// spherical joint's) starts at its values divided by their norm, or at the identity when
+/// none of its entries is given. False with `error` for an unknown name, a given
+/// quaternion that is all zero, or a state the constraints do not allow (naming the
+/// constraint).
 bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
                    const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
                    InitialState& out, std::string& error);

@@ -35,6 +35,8 @@ class Probe {
   Probe() = default;
   void bind_parameters(const model::Model& model, const std::map<std::string, double>& param_values);
   void bind_kinematic_names(const model::Model& model);
+  /// Every spherical joint's quaternion divided by its norm (see the definition).
+  void unit_quaternions(const model::Model& model);
   GiNaC::exmap values_;
 };
 

@@ -237,8 +237,13 @@ std::string random_tree(int n, std::mt19937& rng, bool coordinates = false) {
 // masses, inertia tensors with products, mass centres and joint points; rotational springs
 // and dampers on some joints so that the forces are not only gravity and gyroscopic.
 // `mixed`: each joint's kind is drawn from revolute, prismatic, cylindrical, universal
-// (the second axis perpendicular to the first) and spherical (three angles of a random
-// Euler sequence).
+// (the second axis perpendicular to the first) and spherical (a quaternion on even-numbered
+// bodies, three angles of an Euler sequence on odd-numbered ones).
+std::string spherical_coordinates(const std::string& j, const std::string& sequence) {
+  if (sequence == "quaternion") return "e0_" + j + ", e1_" + j + ", e2_" + j + ", e3_" + j + " quaternion";
+  return "al" + j + ", be" + j + ", ga" + j + " euler " + sequence;
+}
+
 std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng, bool mixed = false) {
   std::uniform_real_distribution<double> mass(0.5, 2.0), len(0.2, 0.8), off(-0.15, 0.15), small(-0.004, 0.004);
   auto num = [](double v) { return std::to_string(v); };
@@ -289,8 +294,7 @@ std::string random_spatial_tree(int n, bool free_base, std::mt19937& rng, bool m
     const std::string end1 = p == 0 ? (kind[K] == "spherical" ? std::string("ground.origin") : ground_axes[axis[K]])
                                     : "b" + std::to_string(p) + ".c" + j;
     const std::string coordinates = kind[K] == "revolute" || kind[K] == "prismatic" ? "q" + j
-                                    : kind[K] == "spherical" ? "al" + j + ", be" + j + ", ga" + j + " euler " +
-                                                                   sequences[static_cast<std::size_t>(k) % sequences.size()]
+                                    : kind[K] == "spherical" ? spherical_coordinates(j, k % 2 == 0 ? "quaternion" : sequences[static_cast<std::size_t>(k / 2) % sequences.size()])
                                                              : "q" + j + ", r" + j;
     s += "joint j" + j + " : " + kind[K] + " " + end1 + " " + b + ".top coordinate " + coordinates + "\n";
     const bool hinged = kind[K] == "revolute" || kind[K] == "cylindrical";
@@ -737,11 +741,16 @@ TEST_CASE("the tree recursion agrees with the dense rhs on random spatial trees 
   const std::vector<Case> cases = mbsc_test::small_scale() ? std::vector<Case>{{2, false}, {6, true}, {10, false}}
                                                            : std::vector<Case>{{1, false}, {2, false}, {3, true}, {6, true},
                                                                                {9, false}, {12, true}};
-  for (const auto& c : cases)
-    check_tree_against_dense(random_spatial_tree(c.n, c.free_base, rng, /*mixed=*/true), path,
+  int quaternion_joints = 0;
+  for (const auto& c : cases) {
+    const std::string text = random_spatial_tree(c.n, c.free_base, rng, /*mixed=*/true);
+    for (auto at = text.find(" quaternion\n"); at != std::string::npos; at = text.find(" quaternion\n", at + 1)) ++quaternion_joints;
+    check_tree_against_dense(text, path,
                              c.n >= 9 ? std::vector<Variant>{Variant{false, false}}
-                                       : std::vector<Variant>{Variant{false, false}, Variant{false, true}},
+                                      : std::vector<Variant>{Variant{false, false}, Variant{false, true}},
                              c.n > 4 || c.free_base, "n = " + std::to_string(c.n) + (c.free_base ? " (free base)" : ""));
+  }
+  CHECK(quaternion_joints > 0);  // spherical joints with a quaternion were drawn
   std::remove(path.c_str());
 }
 
