@@ -7,11 +7,11 @@
 // count_calls=<calls>. The states need not satisfy the constraints: a complement rhs
 // solves its systems at any state, and the count is of the code path, not the motion.
 //   g++ -O2 -I GEN -DMODEL=four_bar -DHEADER='"four_bar/four_bar.hpp"' bench/rhs_count_driver.cpp GEN/four_bar/four_bar.cpp
-#include <cmath>
 #include <cstdio>
 #include <random>
 #include <vector>
 
+#include "unit_quaternion_states.hpp"
 #include HEADER
 
 namespace gen = mbsc_gen::MODEL;
@@ -35,13 +35,7 @@ int main() {
   for (int s = 0; s < kStates; ++s) {
     std::vector<double> x(static_cast<std::size_t>(gen::kNx));
     for (double& v : x) v = dist(rng);
-    // On |e| = 1: a chain of quaternion joints scales its k-th body by the product of
-    // k norms otherwise, far from any state the model is run at.
-    for (int q = 0; q < gen::kNquaternions; ++q) {
-      double n2 = 0.0;
-      for (int k = 0; k < 4; ++k) n2 += x[static_cast<std::size_t>(gen::kQuaternionIndices[4 * q + k])] * x[static_cast<std::size_t>(gen::kQuaternionIndices[4 * q + k])];
-      for (int k = 0; k < 4; ++k) x[static_cast<std::size_t>(gen::kQuaternionIndices[4 * q + k])] /= std::sqrt(n2);
-    }
+    normalize_unit_quaternions(x, gen::kQuaternionIndices, gen::kNquaternions);
     failed += count_calls(x.data(), u.data(), p.data(), out.data()) != 0;
     sink += out[0];
     ++calls;

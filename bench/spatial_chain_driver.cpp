@@ -9,6 +9,7 @@
 #include <random>
 #include <vector>
 
+#include "unit_quaternion_states.hpp"
 #include HEADER_A
 #include HEADER_B
 
@@ -25,11 +26,7 @@ int main() {
   int failed = 0;
   for (int s = 0; s < 100; ++s) {
     for (double& v : x) v = dist(rng);
-    for (int q = 0; q < a::kNquaternions; ++q) {
-      double n2 = 0.0;
-      for (int k = 0; k < 4; ++k) n2 += x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])] * x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])];
-      for (int k = 0; k < 4; ++k) x[static_cast<std::size_t>(a::kQuaternionIndices[4 * q + k])] /= std::sqrt(n2);
-    }
+    normalize_unit_quaternions(x, a::kQuaternionIndices, a::kNquaternions);
     failed += a::rhs(0.0, x.data(), nullptr, p.data(), xa.data()) != 0;
     failed += b::rhs(0.0, x.data(), nullptr, p.data(), xb.data()) != 0;
     double scale = 1.0, diff = 0.0;

@@ -271,7 +271,7 @@ ir::FunctionSpec inverse_dynamics_spec(const model::Model& m, const sym::Eom& eo
   GiNaC::exmap inlined;
   bool affine = inline_input_steps(m, f.steps, inlined);
   for (int i = 0; i < nd && affine; ++i) {
-    const GiNaC::ex h = inlined.empty() ? fin(eom.h(i, 0)) : fin(fin(eom.h(i, 0)).subs(inlined, GiNaC::subs_options::no_pattern));
+    const GiNaC::ex h = fin(inlined.empty() ? eom.h(i, 0) : eom.h(i, 0).subs(inlined, GiNaC::subs_options::no_pattern));
     h0[static_cast<std::size_t>(i)] = h.subs(zero_inputs);
     for (int k = 0; k < nin; ++k) {
       const GiNaC::ex d = fin(h.diff(m.inputs[static_cast<std::size_t>(k)].sym));

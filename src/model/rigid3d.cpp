@@ -253,15 +253,15 @@ Vec point_in_space(const Model& m, const Node& node, const Vec& local) {
 }
 
 ex length_scale(const Model& m, const Node& node) {
+  auto square_norm = [](const Vec& e) { return e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3]; };
   if (node.rigid3d.placed()) {
     const Vec& e = node.rigid3d.joint_quaternion;
-    const ex own = e.empty() ? ex(1) : e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+    const ex own = e.empty() ? ex(1) : square_norm(e);
     const int p = node.rigid3d.joint_parent;
     return p < 0 ? own : own * length_scale(m, m.nodes[static_cast<std::size_t>(p)]);
   }
   if (node.rigid3d.sequence != "quaternion") return 1;
-  const Vec e = attitude_coordinates(m, node);
-  return e[0] * e[0] + e[1] * e[1] + e[2] * e[2] + e[3] * e[3];
+  return square_norm(attitude_coordinates(m, node));
 }
 
 Vec direction_in_space(const Model& m, const Node& node, const Vec& local) {

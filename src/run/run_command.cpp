@@ -5,7 +5,6 @@
 
 #include <unistd.h>
 
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -20,7 +19,6 @@
 #include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/driver/work_monitor.hpp"
-#include "mbsc/model/rigid3d.hpp"
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
@@ -235,16 +233,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   const bool projecting = sim.projection != Projection::Off && T.nposc + T.nc > 0 && T.full_state_layout();
   // Unit quaternions of rigid3d bodies: kept at |e| = 1 after each step (both forms)
   // unless --projection off.
-  if (a.projection != "off")
-    for (const auto& names : model::rigid3d::unit_quaternion_names(*m)) {
-      std::array<int, 4> q{};
-      bool found = true;
-      for (std::size_t k = 0; k < 4 && found; ++k) {
-        q[k] = runtime::ModelTable::find(T.state_names, T.nx, names[k].c_str());
-        found = q[k] >= 0;
-      }
-      if (found) sim.unit_quaternions.push_back(q);
-    }
+  if (a.projection != "off") sim.unit_quaternions = unit_quaternion_indices(*m, T);
   RunProgress progress(a.t_end, a.work.quiet);
   std::vector<double> row(columns.size()), all(available.size());
   std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());

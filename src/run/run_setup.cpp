@@ -114,6 +114,20 @@ bool parameter_values(const runtime::ModelTable& t, const std::map<std::string, 
   return true;
 }
 
+std::vector<std::array<int, 4>> unit_quaternion_indices(const model::Model& m, const runtime::ModelTable& t) {
+  std::vector<std::array<int, 4>> out;
+  for (const auto& names : model::rigid3d::unit_quaternion_names(m)) {
+    std::array<int, 4> q{};
+    bool found = true;
+    for (std::size_t k = 0; k < 4 && found; ++k) {
+      q[k] = runtime::ModelTable::find(t.state_names, t.nx, names[k].c_str());
+      found = q[k] >= 0;
+    }
+    if (found) out.push_back(q);
+  }
+  return out;
+}
+
 namespace {
 
 /// Every unit quaternion of the state divided by its norm (its direction is the rotation;
@@ -121,15 +135,13 @@ namespace {
 /// identity (1, 0, 0, 0), as other coordinates start at 0; all zero when given is no
 /// rotation at all, an error.
 bool unit_quaternions(const model::Model& m, const runtime::ModelTable& t, InitialState& out, std::string& error) {
-  for (const auto& names : model::rigid3d::unit_quaternion_names(m)) {
+  for (const auto& q : unit_quaternion_indices(m, t)) {
     std::array<std::size_t, 4> at{};
-    bool found = true;
-    for (std::size_t k = 0; k < 4 && found; ++k) {
-      const int i = runtime::ModelTable::find(t.state_names, t.nx, names[k].c_str());
-      found = i >= 0;
-      if (found) at[k] = static_cast<std::size_t>(i);
+    std::array<std::string, 4> names;
+    for (std::size_t k = 0; k < 4; ++k) {
+      at[k] = static_cast<std::size_t>(q[k]);
+      names[k] = t.state_names[q[k]];
     }
-    if (!found) continue;
     double norm2 = 0;
     for (std::size_t i : at) norm2 += out.x[i] * out.x[i];
     const bool given = std::any_of(names.begin(), names.end(), [&](const std::string& n) {

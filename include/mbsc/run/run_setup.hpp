@@ -3,6 +3,7 @@
 /// What `mbsc run`, `mbsc inverse` and `mbsc bench` share before integrating: the
 /// parameter vector (defaults, then --set) and a consistent initial state (the model's
 /// `initial` statements, then --init, the rest completed by assembly).
+#include <array>
 #include <iosfwd>
 #include <map>
 #include <optional>
@@ -49,6 +50,10 @@ struct InitialState {
   /// assembly (a quaternion's scale is no rotation): "e0, e1, e2, e3 (norm 0.5)".
   std::vector<std::string> normalized;
 };
+
+/// The state indices of every unit quaternion (model::rigid3d::unit_quaternion_names)
+/// that the state `t` carries, e0 first: what `mbsc run` keeps at |e| = 1.
+std::vector<std::array<int, 4>> unit_quaternion_indices(const model::Model& m, const runtime::ModelTable& t);
 
 /// The initial state at t0 (of a full-state model): `initial` values of the model (evaluated with p), --init
 /// values over them, every other coordinate guessed 0 and every other speed solved from
