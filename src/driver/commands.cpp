@@ -163,6 +163,19 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   out << fmt::format("\n  parameters ({}), inputs ({}), constraints ({}), outputs ({})\n", m->params.size(), m->inputs.size(),
                      m->constraints.size(), m->outputs.size() + (m->output_energy ? 1 : 0));
   out << fmt::format("  independent speeds: {}\n", speed_names(*m, eom->independent));
+  if (!m->constraints.empty())
+    out << fmt::format("  ranks: at a generic configuration and {}\n",
+                       eom->initial_assembled ? "at the initial state (assembled at generation time) and two configurations near it"
+                                              : "not on the mechanism (the initial state does not assemble)");
+  if (!eom->redundant_on_manifold.empty()) {
+    std::vector<std::string> rows;
+    for (int c : eom->redundant_on_manifold) rows.push_back(m->constraints[static_cast<std::size_t>(c)].name);
+    out << fmt::format("  redundant on the mechanism: {} (independent at a generic configuration, dependent wherever the "
+                       "constraints hold); {} degree(s) of freedom; the dependent speeds are solved in the least-squares "
+                       "sense, and the multipliers formulation reports the minimum-norm reactions (those of redundant rows "
+                       "are not unique)\n",
+                       fmt::join(rows, ", "), eom->ndof());
+  }
   if (!eom->massless.empty())
     out << fmt::format("  massless bodies: {}; the reduced mass matrix is {}\n", fmt::join(eom->massless, ", "),
                        where_positive_definite(*eom));
@@ -182,9 +195,11 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
       out << fmt::format("; independent: {}; complement: {}", speed_names(*m, r.independent),
                          r.symbolic_complement ? "symbolic"
                          : r.numeric_core < static_cast<int>(r.dependent.size())
-                             ? fmt::format("{} rates by state-free pivots, the other {} by LU in generated code",
-                                           r.dependent.size() - static_cast<std::size_t>(r.numeric_core), r.numeric_core)
-                             : std::string("numeric (LU in generated code)"));
+                             ? fmt::format("{} rates by state-free pivots, the other {} by {} in generated code",
+                                           r.dependent.size() - static_cast<std::size_t>(r.numeric_core), r.numeric_core,
+                                           r.redundant.empty() ? "LU" : "least squares")
+                             : std::string(r.redundant.empty() ? "numeric (LU in generated code)"
+                                                               : "numeric (least squares in generated code)"));
     if (r.from_component_cache) out << "; reused from the first instance of its component";
     out << "\n";
   }

@@ -59,6 +59,14 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       const GiNaC::ex e = fin(form.My(i, j));
       diagonal = i == j ? !e.is_zero() && sym::is_state_free(e, m) && at_defaults.eval(e) != 0.0 : e.is_zero();
     }
+  if (!eom.redundant_on_manifold.empty() && !(diagonal && nc > 0)) {
+    diags.error(m.name_pos, fmt::format("--formulation multipliers: model '{}' has constraint rows that are redundant on the "
+                                        "mechanism ('{}' first), which leave the whole system [My -A^T; A 0] singular; the "
+                                        "minimum-norm multipliers are taken from the Schur complement A My^-1 A^T, which needs "
+                                        "a constant diagonal My (bodies in absolute coordinates); use the complement formulation",
+                                        m.name, m.constraints[static_cast<std::size_t>(eom.redundant_on_manifold.front())].name));
+    return {};
+  }
   std::optional<std::vector<ir::Step>> dense_built;  // built once: auto may count it, then keep it
   auto dense_steps = [&]() -> std::vector<ir::Step> {
     if (dense_built) return *dense_built;
@@ -69,6 +77,11 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
       s.n = static_cast<int>(nc);
       s.k = 1;
       s.spd = true;
+      // Rows redundant on the mechanism leave it semidefinite: the minimum-norm multipliers.
+      if (!eom.redundant_on_manifold.empty()) {
+        s.rank = static_cast<int>(nc) - static_cast<int>(eom.redundant_on_manifold.size());
+        s.label += ", semidefinite (rank " + std::to_string(s.rank) + "): minimum-norm multipliers";
+      }
       for (unsigned r = 0; r < nc; ++r) {
         for (unsigned c = 0; c < nc; ++c) {
           GiNaC::ex e = 0;
@@ -102,7 +115,8 @@ std::vector<ir::FunctionSpec> multiplier_specs(const model::Model& m, const sym:
   for (const auto& s : m.speed_dots) rhs_outputs.push_back(s);
   // The tree recursion or the sparse elimination of the same system (O(N), docs/formulation.md).
   std::optional<sym::KktElimination> sparse;
-  if (opt.solver != Solver::Dense && nu > 0) {
+  if (!redundancy_allows_sparse(m, eom, opt, diags)) return {};
+  if (opt.solver != Solver::Dense && nu > 0 && eom.redundant_on_manifold.empty()) {
     std::vector<GiNaC::ex> c;
     for (unsigned r = 0; r < nc; ++r)
       c.push_back(-(sys.b[r] + 2 * gains.alpha * sys.velocity[r] + gains.beta * gains.beta * sys.g[r]));

@@ -21,6 +21,7 @@ ir::FunctionSpec conditioning_spec(const ir::FunctionSpec& rhs, const std::strin
     c.n = s->n;
     c.A = s->A;
     c.spd = s->spd;
+    c.rank = s->rank;
     c.condition = true;
     // The gain columns: a block that is regular but small next to them amplifies the
     // independent rates into huge dependent ones (a 1x1 block's plain rcond is always 1).

@@ -488,7 +488,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
     // Or the same accelerations from the system over all speeds, A q1' = -b, eliminated
     // in a tree order (O(N); the two agree to rounding, tests/numeric/sparse_rhs_test.cpp).
     std::optional<ir::FunctionSpec> chosen;
-    if (opt.solver != Solver::Dense && nd > 0) {
+    if (!redundancy_allows_sparse(m, eom, opt, diags)) return {};
+    if (opt.solver != Solver::Dense && nd > 0 && eom.redundant_on_manifold.empty()) {
       const sym::KktSystem sys = sym::kkt_system(m);
       std::vector<GiNaC::ex> c;
       std::vector<GiNaC::symbol> lambda;

@@ -65,6 +65,14 @@ long run_time_cost(const ir::OpCount& ops) { return ops.total() + (kSolveFlopWei
 
 }  // namespace
 
+bool redundancy_allows_sparse(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt, Diagnostics& diags) {
+  if (eom.redundant_on_manifold.empty() || opt.solver != Solver::Sparse) return true;
+  diags.error(m.name_pos, fmt::format("--solver sparse: model '{}' has constraint rows that are redundant on the mechanism "
+                                      "('{}' first), which leave a tree order's pivots singular; use --solver dense or auto",
+                                      m.name, m.constraints[static_cast<std::size_t>(eom.redundant_on_manifold.front())].name));
+  return false;
+}
+
 bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym::KktElimination& sparse,
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
                    const std::vector<ir::Binding>& binds) {

@@ -320,7 +320,8 @@ void check_model(const GeneratedModel& m) {
   check_name("model name", m.name);
   // A namespace called std would hide ::std inside the generated code.
   if (m.name == "std") throw std::runtime_error("cannot emit a model named 'std'");
-  std::set<std::string> names = {"lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2"};  // the solvers the source defines there
+  std::set<std::string> names = {"lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2",
+                                 "psd_factor", "psd_min_norm_solve", "psd_rcond"};  // the solvers the source defines there
   auto claim = [&](const std::string& what, const std::string& n) {
     check_name(what, n);
     if (!names.insert(n).second) throw std::runtime_error("cannot emit: the name '" + n + "' is used twice");
@@ -341,7 +342,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
   bool need_limits = false;
   const std::string consts = constants(m, need_limits);
   bool uses_solve = false, uses_chol = false, uses_finite = false, uses_rcond = false, uses_solve1 = false,
-       uses_chol1 = false, uses_lu2 = false;
+       uses_chol1 = false, uses_lu2 = false, uses_psd = false;
   for (const auto& f : m.functions) {
     uses_rcond = uses_rcond || f.body.find("rcond_1norm<") != std::string::npos;
     uses_solve1 = uses_solve1 || f.body.find("solve_1x1(") != std::string::npos;
@@ -350,6 +351,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
     uses_solve = uses_solve || uses_rcond || f.body.find("lu_solve<") != std::string::npos;
     uses_chol = uses_chol || f.body.find("chol_solve<") != std::string::npos;
     uses_finite = uses_finite || f.body.find("all_finite(") != std::string::npos;
+    uses_psd = uses_psd || f.body.find("psd_min_norm_solve<") != std::string::npos || f.body.find("psd_rcond<") != std::string::npos;
   }
 
   // Header.
@@ -368,7 +370,7 @@ GeneratedFiles emit(const GeneratedModel& m) {
   s["support"] = (uses_finite ? all_finite_code() + "\n" : "") + (uses_solve ? lu_solve_code() + "\n" : "") + (uses_rcond ? rcond_code() + "\n" : "") +
                  (uses_solve1 ? solve_1x1_code() + "\n" : "") + (uses_chol1 ? chol_1x1_code() + "\n" : "") +
                  (uses_lu2 ? lu_solve_2x2_code() + "\n" : "") +
-                 (uses_chol ? chol_solve_code() + "\n" : "");
+                 (uses_chol ? chol_solve_code() + "\n" : "") + (uses_psd ? psd_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
   s["c_definitions"] = c_definitions(m);
 

@@ -79,6 +79,138 @@ int chol_solve(double* A, double* B) {
   return code;
 }
 
+// Pivoted Cholesky of a positive semidefinite matrix of known rank, and the minimum-norm
+// solve built on it (the multipliers of constraints redundant on the mechanism).
+const std::string& psd_solve_code() {
+  static const std::string code = R"cpp(namespace {
+
+// Pivoted Cholesky of a symmetric positive semidefinite A (n x n, row-major, both
+// triangles) of rank r < n: r pivots, the largest remaining diagonal entry first, rows
+// and columns swapped as they are taken (perm[i]: the original index of pivot i). A's
+// lower triangle then holds L (n x r) with P^T A P = L L^T. Returns the r-th pivot over
+// the first: 0 when a pivot is not positive (the rank fell below r).
+template <int n, int r>
+double psd_factor(double* A, int* perm) {
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  double first = 0.0;
+  for (int j = 0; j < r; ++j) {
+    int best = j;
+    for (int i = j + 1; i < n; ++i)
+      if (A[i * n + i] > A[best * n + best]) best = i;
+    const double d = A[best * n + best];
+    if (!(d > 0.0)) return 0.0;
+    if (best != j) {
+      for (int c = 0; c < n; ++c) {
+        const double v = A[j * n + c];
+        A[j * n + c] = A[best * n + c];
+        A[best * n + c] = v;
+      }
+      for (int c = 0; c < n; ++c) {
+        const double v = A[c * n + j];
+        A[c * n + j] = A[c * n + best];
+        A[c * n + best] = v;
+      }
+      const int pj = perm[j];
+      perm[j] = perm[best];
+      perm[best] = pj;
+    }
+    if (j == 0) first = d;
+    const double ljj = std::sqrt(d);
+    A[j * n + j] = ljj;
+    for (int i = j + 1; i < n; ++i) A[i * n + j] /= ljj;
+    for (int i = j + 1; i < n; ++i)
+      for (int l = j + 1; l <= i; ++l) {
+        A[i * n + l] -= A[i * n + j] * A[l * n + j];
+        A[l * n + i] = A[i * n + l];
+      }
+  }
+  const double last = A[(r - 1) * n + (r - 1)];
+  return first > 0.0 ? last * last / first : 0.0;
+}
+
+// The minimum-norm solution of A X = B for A as psd_factor takes it (consistent B: on
+// the mechanism). The basic solution (zero on the n - r pivots not taken) minus its part
+// in the null space Z = P [-L1^-T L2^T; I] of A. B: n x k, replaced by X. Returns 1 when
+// the rank fell below r (the r-th pivot below 1e-13 times the first), else 0.
+template <int n, int k, int r>
+int psd_min_norm_solve(double* A, double* B) {
+  constexpr int d = n - r;
+  int perm[n];
+  if (!(psd_factor<n, r>(A, perm) > 1e-13)) return 1;
+  // W = L1^-T L2^T (r x d): column c from L1^T w = (row r + c of L)^T.
+  double W[r * d];
+  for (int c = 0; c < d; ++c)
+    for (int i = r - 1; i >= 0; --i) {
+      double s = A[(r + c) * n + i];
+      for (int m = i + 1; m < r; ++m) s -= A[m * n + i] * W[m * d + c];
+      W[i * d + c] = s / A[i * n + i];
+    }
+  // G = Z^T Z = I + W^T W (d x d), factored by Cholesky in place.
+  double G[d * d];
+  for (int a = 0; a < d; ++a)
+    for (int b = 0; b < d; ++b) {
+      double s = a == b ? 1.0 : 0.0;
+      for (int i = 0; i < r; ++i) s += W[i * d + a] * W[i * d + b];
+      G[a * d + b] = s;
+    }
+  for (int j = 0; j < d; ++j) {
+    double s = G[j * d + j];
+    for (int m = 0; m < j; ++m) s -= G[j * d + m] * G[j * d + m];
+    G[j * d + j] = std::sqrt(s);
+    for (int i = j + 1; i < d; ++i) {
+      double t = G[i * d + j];
+      for (int m = 0; m < j; ++m) t -= G[i * d + m] * G[j * d + m];
+      G[i * d + j] = t / G[j * d + j];
+    }
+  }
+  for (int c = 0; c < k; ++c) {
+    double y[n];
+    for (int i = 0; i < r; ++i) {  // L1 L1^T y1 = (P^T B)_1, y2 = 0
+      double s = B[perm[i] * k + c];
+      for (int m = 0; m < i; ++m) s -= A[i * n + m] * y[m];
+      y[i] = s / A[i * n + i];
+    }
+    for (int i = r - 1; i >= 0; --i) {
+      double s = y[i];
+      for (int m = i + 1; m < r; ++m) s -= A[m * n + i] * y[m];
+      y[i] = s / A[i * n + i];
+    }
+    // s = G^-1 Z^T y with Z^T y = -W^T y1; then y -= Z s: y1 += W s, y2 = -s.
+    double t[d];
+    for (int a = 0; a < d; ++a) {
+      double v = 0.0;
+      for (int i = 0; i < r; ++i) v -= W[i * d + a] * y[i];
+      t[a] = v;
+    }
+    for (int a = 0; a < d; ++a) {
+      for (int m = 0; m < a; ++m) t[a] -= G[a * d + m] * t[m];
+      t[a] /= G[a * d + a];
+    }
+    for (int a = d - 1; a >= 0; --a) {
+      for (int m = a + 1; m < d; ++m) t[a] -= G[m * d + a] * t[m];
+      t[a] /= G[a * d + a];
+    }
+    for (int i = 0; i < r; ++i)
+      for (int a = 0; a < d; ++a) y[i] += W[i * d + a] * t[a];
+    for (int a = 0; a < d; ++a) y[r + a] = -t[a];
+    for (int i = 0; i < n; ++i) B[perm[i] * k + c] = y[i];
+  }
+  return 0;
+}
+
+// What `conditioning` reports for such a solve: the r-th pivot over the first (0 where
+// the rank fell below r). A is destroyed.
+template <int n, int r>
+double psd_rcond(double* A) {
+  int perm[n];
+  return psd_factor<n, r>(A, perm);
+}
+
+}  // namespace
+)cpp";
+  return code;
+}
+
 // In-place LU factorisation with partial pivoting (Doolittle, row swaps applied to B too),
 // then forward elimination on B during the factorisation and back substitution.
 const std::string& lu_solve_code() {

@@ -12,6 +12,8 @@ const std::string& lu_solve_code();
 /// The anonymous-namespace `int chol_solve(int n, int k, double* A, double* B)` for
 /// symmetric positive definite systems (reduced mass matrices).
 const std::string& chol_solve_code();
+/// psd_factor, psd_min_norm_solve, psd_rcond: a semidefinite matrix of known rank.
+const std::string& psd_solve_code();
 
 /// The anonymous-namespace `bool all_finite(const double* v, int n)` every function's
 /// status check uses (one branch for the whole output, not one per entry).

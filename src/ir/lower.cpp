@@ -76,6 +76,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
       block.k = s.k;
       block.label = s.label;
       block.spd = s.spd;
+      block.rank = s.rank;
       block.condition = s.condition;
       block.A = std::move(solve_a[static_cast<std::size_t>(j)]);
       block.B = std::move(solve_b[static_cast<std::size_t>(j)]);
@@ -90,7 +91,7 @@ LoweredFunction lower(const FunctionSpec& spec, const std::vector<Binding>& bind
 
   // Names a Define's temporary must avoid: the parameters, the loop index, std, lu_solve,
   // and every identifier the bindings' texts use.
-  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2"};
+  std::vector<std::string> reserved = {"t", "x", "u", "p", "OUT", "i", "std", "lu_solve", "chol_solve", "rcond_1norm", "solve_1x1", "chol_1x1", "lu_solve_2x2", "psd_factor", "psd_min_norm_solve", "psd_rcond"};
   if (spec.congruence)
     for (const char* n : {"factor_", "c_row_ptr_", "c_col_", "c_value_", "my_row_", "my_col_", "my_value_"}) reserved.push_back(n);
   for (const Binding& b : bindings) add_identifiers(b.cpp, reserved);

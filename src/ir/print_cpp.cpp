@@ -140,6 +140,11 @@ class Printer {
       array("A_", s.A, s.n);
       if (s.k > 0) array("G_", s.B, s.k);
       lines.push_back("  double B_" + id + "[" + std::to_string(s.n * s.n + 1) + "];");
+      if (s.spd && s.rank > 0) {  // semidefinite: the pivots' ratio
+        lines.push_back("  B_" + id + "[0] = psd_rcond<" + std::to_string(s.n) + ", " + std::to_string(s.rank) + ">(A_" + id + ");");
+        ops_.solve_flops += chol_solve_flops(s.n, 0);
+        return;
+      }
       lines.push_back("  B_" + id + "[0] = rcond_1norm<" + std::to_string(s.n) + ", " + std::to_string(s.k) + ", " +
                       (s.spd ? "true" : "false") + ">(A_" + id + ", " + (s.k > 0 ? "G_" + id : std::string("nullptr")) +
                       ", B_" + id + " + 1);");
@@ -149,7 +154,9 @@ class Printer {
     array("A_", s.A, s.n);
     array("B_", s.B, s.k);
     // The smallest systems go to the loop-free solvers (same arithmetic).
-    const std::string call = s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k) + ", "
+    const std::string call = s.spd && s.rank > 0 ? "psd_min_norm_solve<" + std::to_string(s.n) + ", " + std::to_string(s.k) +
+                                                       ", " + std::to_string(s.rank) + ">("
+                             : s.n == 1 ? std::string(s.spd ? "chol_1x1(" : "solve_1x1(") + std::to_string(s.k) + ", "
                              : s.n == 2 && !s.spd ? "lu_solve_2x2<" + std::to_string(s.k) + ">("
                                                   : std::string(s.spd ? "chol_solve<" : "lu_solve<") + std::to_string(s.n) +
                                                         ", " + std::to_string(s.k) + ">(";

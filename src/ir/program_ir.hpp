@@ -19,6 +19,7 @@ struct SolveBlock {
   int k = 0;
   std::string label;
   bool spd = false;       // Cholesky instead of LU
+  int rank = 0;           // with spd: semidefinite of this rank, minimum-norm solve (0: definite)
   bool condition = false;  // rcond of A into B_<number>[0] instead of a solve
   std::vector<NodeId> A;  // n x n, row-major
   std::vector<NodeId> B;  // n x k, row-major

@@ -233,7 +233,8 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
                             t.velocity_constraints,
                             t.constraint_jacobian,
                             t.position_constraint_names,
-                            t.constraint_names};
+                            t.constraint_names,
+                            t.state_names};
   std::vector<bool> given_q(given.begin(), given.begin() + t.nq), given_u(given.begin() + t.nq, given.end());
   out.assembly = runtime::assemble(am, t0, out.x, given_q, given_u, u0.empty() ? nullptr : u0.data(), p.data());
   if (!out.assembly.ok()) {

@@ -20,6 +20,17 @@ int numeric_rank(const Eigen::MatrixXd& A) {
   return static_cast<int>(lu.rank());
 }
 
+/// Rank of A with singular values below 1e-9 times `scale` counted as zero: a block of
+/// columns judged against the whole matrix (a 1x1 block cos(pi/2) = 6e-17 is singular,
+/// which a threshold relative to the block itself cannot see).
+int numeric_rank_against(const Eigen::MatrixXd& A, double scale) {
+  if (A.rows() == 0 || A.cols() == 0) return 0;
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(A).singularValues();
+  int rank = 0;
+  while (rank < s.size() && s(rank) > 1e-9 * scale) ++rank;
+  return rank;
+}
+
 std::string names(const model::Model& m, const std::vector<int>& speeds) {
   std::string out;
   for (int s : speeds) out += (out.empty() ? "" : ", ") + m.speeds[s].name;
@@ -114,22 +125,53 @@ bool subtree_holds(const model::Model& m, int n, const Probe& at) {
   return true;
 }
 
-/// B at the model's reference configuration, when that is a configuration of this node:
-/// every position constraint of its subtree holds there (B reads the children's
-/// dependent rates) and B evaluates to finite numbers (a row that reads a child's numeric
-/// solve does not evaluate there). Else nothing.
-std::optional<Eigen::MatrixXd> at_reference(const ComplementInput& in) {
-  if (!in.reference) return std::nullopt;
+/// B at a configuration of this node: every position constraint of its subtree holds
+/// there (B reads the children's dependent rates) and B evaluates to finite numbers (a
+/// row that reads a child's numeric solve does not evaluate there). Else nothing.
+std::optional<Eigen::MatrixXd> at_point(const ComplementInput& in, const Probe* at) {
+  if (!at) return std::nullopt;
   const auto& B = *in.B;
   const auto& m = *in.model;
-  if (!subtree_holds(m, in.node, *in.reference)) return std::nullopt;
+  if (!subtree_holds(m, in.node, *at)) return std::nullopt;
   Eigen::MatrixXd Br(B.rows(), B.cols());
   for (unsigned i = 0; i < B.rows(); ++i)
     for (unsigned j = 0; j < B.cols(); ++j) {
-      Br(i, j) = B(i, j).is_zero() ? 0.0 : in.reference->eval(B(i, j));
+      Br(i, j) = B(i, j).is_zero() ? 0.0 : at->eval(B(i, j));
       if (!std::isfinite(Br(i, j))) return std::nullopt;
     }
   return Br;
+}
+
+std::optional<Eigen::MatrixXd> at_reference(const ComplementInput& in) { return at_point(in, in.reference); }
+
+/// The rows that do not raise the rank of A, in row order.
+std::vector<int> dependent_rows(const Eigen::MatrixXd& A) {
+  std::vector<int> out;
+  int rank = 0;
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    const int r = numeric_rank(A.topRows(i + 1));
+    if (r == rank) out.push_back(static_cast<int>(i));
+    rank = r;
+  }
+  return out;
+}
+
+/// The rank of B on the manifold, when B loses rank at the reference and at every point
+/// near it on the manifold (a redundancy of the mechanism, not a singular start): that
+/// rank and B at the nearby point that has it. Else nothing (full rank on the manifold,
+/// or no point to tell).
+std::optional<std::pair<int, Eigen::MatrixXd>> manifold_rank(const ComplementInput& in, const std::optional<Eigen::MatrixXd>& Br) {
+  const int nr = static_cast<int>(in.B->rows());
+  if (!Br || !in.nearby || in.nearby->empty() || numeric_rank(*Br) == nr) return std::nullopt;
+  std::optional<std::pair<int, Eigen::MatrixXd>> best;
+  for (const Probe& p : *in.nearby) {
+    auto Bp = at_point(in, &p);
+    if (!Bp) return std::nullopt;
+    const int r = numeric_rank(*Bp);
+    if (r == nr) return std::nullopt;  // regular nearby: the start is a singular pose
+    if (!best || r > best->first) best = std::make_pair(r, std::move(*Bp));
+  }
+  return best;
 }
 
 /// Warns when the dependent block of the chosen set is singular at the reference
@@ -138,17 +180,16 @@ void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::Matri
                                    const Partition& p, Diagnostics& diags) {
   Eigen::MatrixXd Bs(Br.rows(), static_cast<Eigen::Index>(dep_cols.size()));
   for (std::size_t k = 0; k < dep_cols.size(); ++k) Bs.col(static_cast<Eigen::Index>(k)) = Br.col(dep_cols[k]);
-  if (numeric_rank(Bs) == Br.rows()) return;
+  if (numeric_rank_against(Bs, Br.cwiseAbs().maxCoeff()) == p.rank) return;
   const auto& m = *in.model;
   const bool given = !in.requested.empty();
-  const bool any_works = numeric_rank(Br) == Br.rows();
+  const bool any_works = numeric_rank(Br) == p.rank;
   // The top node's own position is the start of the file: name the model statement instead.
   const SourcePos& node_pos = in.node == m.root() ? m.name_pos : m.nodes[static_cast<std::size_t>(in.node)].pos;
   diags.warning(given ? in.requested_pos : node_pos,
-                fmt::format("the {}independent speeds ({}) of subsystem '{}' are singular at the reference configuration "
-                            "(parameter defaults, coordinates and t at 0): the constraints cannot be solved for {} there, "
+                fmt::format("the {}independent speeds ({}) of subsystem '{}' are singular at {}: the constraints cannot be solved for {} there, "
                             "so the generated rhs fails at that state; {}",
-                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), names(m, p.dependent),
+                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), in.reference_name, names(m, p.dependent),
                             any_works ? "name a set that works there with `independent` (or add an `alternative`)"
                                       : "no set works there (the constraints themselves are singular there)"));
 }
@@ -196,13 +237,25 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     }
     rank = r;
   }
-  const int ndof = ny - nr;
   // B at the reference configuration: for a given set (the warning) and for the automatic
-  // choice unless its pivots are numbers or parameters (regular everywhere).
-  std::optional<Eigen::MatrixXd> Br;
+  // choice unless its pivots are numbers or parameters (regular everywhere). Where B
+  // loses rank there and near it on the manifold, its rank there is the rank of the
+  // mechanism (Bm: B at a nearby point with that rank).
+  std::optional<Eigen::MatrixXd> Br, Bm;
   Partition p;
+  p.rank = nr;
+  auto measure_on_manifold = [&]() {
+    Br = at_reference(in);
+    if (auto found = manifold_rank(in, Br)) {
+      p.rank = found->first;
+      Bm = std::move(found->second);
+      p.redundant_rows = dependent_rows(*Bm);
+    }
+  };
   std::vector<int> dep_cols;
   if (!in.requested.empty()) {
+    measure_on_manifold();
+    const int ndof = ny - p.rank;
     // User's independent set: each must be a column here, the count must be the DOF,
     // and the remaining block must be regular.
     std::set<int> indep_cols;
@@ -226,34 +279,36 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
     }
     for (int j = 0; j < ny; ++j)
       if (!indep_cols.count(j)) dep_cols.push_back(j);
+    const Eigen::MatrixXd& Bt = Bm ? *Bm : Bn;  // where the block must be regular
     Eigen::MatrixXd Bs(nr, dep_cols.size());
-    for (size_t k = 0; k < dep_cols.size(); ++k) Bs.col(k) = Bn.col(dep_cols[k]);
-    if (numeric_rank(Bs) < nr) {
+    for (size_t k = 0; k < dep_cols.size(); ++k) Bs.col(k) = Bt.col(dep_cols[k]);
+    if (numeric_rank(Bs) < p.rank) {
       std::vector<int> dep;
       for (int j : dep_cols) dep.push_back(in.y[j]);
       diags.error(in.requested_pos, fmt::format("the independent speeds ({}) do not work for subsystem '{}': the constraints "
-                                                "cannot be solved for the remaining speeds ({}) at a generic configuration",
-                                                names(m, in.requested), m.label(in.node), names(m, dep)));
+                                                "cannot be solved for the remaining speeds ({}) at {}",
+                                                names(m, in.requested), m.label(in.node), names(m, dep),
+                                                Bm ? "a configuration of the mechanism" : "a generic configuration"));
       return std::nullopt;
     }
     for (int s : in.requested) p.independent.push_back(s);
-    Br = at_reference(in);
   } else {
-    // Automatic: a triangular choice with state-free pivots if one exists, else the
-    // pivot columns of a column-pivoted QR of B (below).
+    // Automatic: a triangular choice with state-free pivots if one exists (regular
+    // everywhere, so never redundant), else the pivot columns of a column-pivoted QR of B.
     std::vector<int> all(ny);
     for (int j = 0; j < ny; ++j) all[j] = j;
     auto picks = singleton_elimination(in, Bn, all, true);
     if (static_cast<int>(picks.size()) == nr) {
       for (auto [row, c] : picks) dep_cols.push_back(c);
     } else {
-      Br = at_reference(in);
+      measure_on_manifold();
       // The best conditioned columns (greedy, by column-pivoted QR) at the reference
       // configuration when B has full rank there, else at the generic probe point. A
       // skate (-sin th u + cos th v = 0) starts at th = 0 and must not solve for u.
+      // With redundant rows, at the nearby point of the mechanism's rank.
       const bool reference_regular = Br && numeric_rank(*Br) == nr;
-      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(reference_regular ? *Br : Bn);
-      for (int k = 0; k < nr; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
+      Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Bm ? *Bm : reference_regular ? *Br : Bn);
+      for (int k = 0; k < p.rank; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
     }
     std::sort(dep_cols.begin(), dep_cols.end());
     for (int j = 0; j < ny; ++j)
@@ -262,7 +317,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   std::sort(dep_cols.begin(), dep_cols.end());
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
   if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, diags);
-  classify(in, Bn, dep_cols, p);
+  if (p.rank == nr) classify(in, Bn, dep_cols, p);
   return p;
 }
 

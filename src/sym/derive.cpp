@@ -23,6 +23,7 @@
 #include "mbsc/sym/own_force.hpp"
 #include "mbsc/sym/probe.hpp"
 #include "mbsc/sym/linear_gradient.hpp"
+#include "mbsc/sym/manifold_points.hpp"
 #include "mbsc/sym/symbol_set.hpp"
 #include "mbsc/sym/tidy.hpp"
 
@@ -34,7 +35,12 @@ using model::LeafKind;
 class Deriver {
  public:
   Deriver(const model::Model& m, const Options& o, Diagnostics& d)
-      : m_(m), diags_(d), probe_(m, param_values(m, o)), reference_(Probe::reference(m, param_values(m, o))) {
+      : m_(m),
+        diags_(d),
+        probe_(m, param_values(m, o)),
+        manifold_(manifold_points(m, param_values(m, o))),
+        reference_(manifold_.start ? *manifold_.start : Probe::reference(m, param_values(m, o))) {
+    eom_.initial_assembled = manifold_.start.has_value();
     eom_.model = &m;
     eom_.options = o;
     eom_.param_values = param_values(m, o);
@@ -223,10 +229,13 @@ class Deriver {
       }
       r.b(i, 0) = rows[i].subs(zero, GiNaC::subs_options::no_pattern);
     }
-    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
+    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_, &manifold_.nearby};
+    if (manifold_.start && initial_coordinates_given()) in.reference_name = "the initial state (the model's `initial` values, assembled)";
     auto choice = choose_partition(in, diags_);
     if (!choice) return false;
-    r.rank = nr;
+    r.rank = choice->rank;
+    for (int i : choice->redundant_rows) r.redundant.push_back(r.rows[static_cast<std::size_t>(i)]);
+    for (int c : r.redundant) eom_.redundant_on_manifold.push_back(c);
     r.independent = choice->independent;
     r.dependent = choice->dependent;
     // Solve the dependent rates: symbolically when cheap, else as a numeric solve.
@@ -605,6 +614,16 @@ class Deriver {
   }
 
   /// Numeric values of a solve's X at the probe point (for the parents' rank decisions).
+  /// Whether the model's `initial` statements place some coordinate (else its start is
+  /// the reference configuration, coordinates at 0, assembled).
+  bool initial_coordinates_given() const {
+    for (const auto* list : {&m_.initial_values, &m_.initial_guesses})
+      for (const auto& iv : *list)
+        for (const auto& q : m_.coords)
+          if (q.name == iv.name) return true;
+    return false;
+  }
+
   void bind_probe(const ir::Solve& s) {
     Eigen::MatrixXd An(s.n, s.n), Bn(s.n, s.k);
     for (int i = 0; i < s.n; ++i) {
@@ -673,9 +692,11 @@ class Deriver {
   std::map<int, GiNaC::ex> solve_numeric(NodeResult& r, const std::map<int, int>& col, int n) {
     const int nd = static_cast<int>(r.dependent.size());
     const int ni = static_cast<int>(r.independent.size());
-    // Row i: sum_j c_ij y*_j + rest_i = 0, rest_i = sum_l B(i, #l) y#_l + b_i.
-    std::vector<LinearRow> rows(static_cast<std::size_t>(nd));
-    for (int i = 0; i < nd; ++i) {
+    // Row i: sum_j c_ij y*_j + rest_i = 0, rest_i = sum_l B(i, #l) y#_l + b_i. Every row
+    // of B: with rows redundant on the mechanism there are more rows than unknowns.
+    const int nr = static_cast<int>(r.B.rows());
+    std::vector<LinearRow> rows(static_cast<std::size_t>(nr));
+    for (int i = 0; i < nr; ++i) {
       auto& row = rows[static_cast<std::size_t>(i)];
       for (int k = 0; k < nd; ++k) row.c.push_back(r.B(i, col.at(r.dependent[k])));
       row.rest = r.b(i, 0);
@@ -710,6 +731,13 @@ class Deriver {
           for (int j : block.vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
           for (int l = 0; l < ni; ++l) solve.B.push_back(row.rest.diff(m_.speed_dots[r.independent[l]]));
           solve.B.push_back(row.rest.subs(zero_indep, GiNaC::subs_options::no_pattern));
+        }
+        if (block.rows.size() > block.vars.size()) {
+          // Rows redundant on the mechanism: least squares. The normal equations' condition
+          // number is the square of the block's, so the conditioning reports its root.
+          to_normal_equations(solve.A, solve.B, static_cast<int>(block.rows.size()), nb, ni + 1);
+          solve.label += ", least squares (normal equations) over " + std::to_string(block.rows.size()) + " rows";
+          solve.report_power = GiNaC::numeric(1, 2);
         }
         for (int k = 0; k < nb; ++k, ++index) {
           GiNaC::ex acc = 0;
@@ -838,7 +866,8 @@ class Deriver {
   const model::Model& m_;
   Diagnostics& diags_;
   Probe probe_;
-  Probe reference_;  // the model's reference configuration (the automatic independent set's)
+  ManifoldPoints manifold_;  // the assembled initial state and points near it (ranks on the mechanism)
+  Probe reference_;  // the assembled initial state, else coordinates at 0 (the automatic independent set's)
   Eom eom_;
   GiNaC::exmap frozen_;
   std::vector<int> eliminated_at_;

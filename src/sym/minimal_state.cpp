@@ -249,6 +249,10 @@ class MinimalStateBuilder {
           for (int j : blocks[b].vars) solve.A.push_back(row.c[static_cast<std::size_t>(j)]);
           solve.B.push_back(-row.rest);
         }
+        if (blocks[b].rows.size() > blocks[b].vars.size()) {  // rows redundant on the mechanism
+          to_normal_equations(solve.A, solve.B, static_cast<int>(blocks[b].rows.size()), solve.n, 1);
+          solve.label += ", least squares";
+        }
         for (int j : blocks[b].vars) solve.X.push_back(speed_of(j));
         steps.push_back(solve);
       }

@@ -122,6 +122,29 @@ std::vector<CoreBlock> core_blocks(const Elimination& e) {
   return blocks;
 }
 
+void to_normal_equations(std::vector<GiNaC::ex>& A, std::vector<GiNaC::ex>& B, int rows, int n, int k) {
+  auto at = [](const std::vector<GiNaC::ex>& M, int cols, int i, int j) -> const GiNaC::ex& {
+    return M[static_cast<std::size_t>(i * cols + j)];
+  };
+  std::vector<GiNaC::ex> N(static_cast<std::size_t>(n * n)), R(static_cast<std::size_t>(n * k));
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) {
+      GiNaC::ex acc = 0;
+      for (int i = 0; i < rows; ++i)
+        if (!at(A, n, i, a).is_zero() && !at(A, n, i, b).is_zero()) acc += at(A, n, i, a) * at(A, n, i, b);
+      N[static_cast<std::size_t>(a * n + b)] = acc;
+    }
+    for (int l = 0; l < k; ++l) {
+      GiNaC::ex acc = 0;
+      for (int i = 0; i < rows; ++i)
+        if (!at(A, n, i, a).is_zero() && !at(B, k, i, l).is_zero()) acc += at(A, n, i, a) * at(B, k, i, l);
+      R[static_cast<std::size_t>(a * k + l)] = acc;
+    }
+  }
+  A = std::move(N);
+  B = std::move(R);
+}
+
 GiNaC::ex pivot_value(const Elimination::Pivot& p, const std::map<int, GiNaC::ex>& value) {
   GiNaC::ex acc = p.row.rest;
   for (std::size_t l = 0; l < p.row.c.size(); ++l)

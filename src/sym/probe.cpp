@@ -66,6 +66,15 @@ Probe Probe::reference(const model::Model& model, const std::map<std::string, do
   return p;
 }
 
+Probe Probe::configuration(const model::Model& model, const std::map<std::string, double>& param_values,
+                           const std::vector<double>& q, const std::vector<double>& u) {
+  Probe p = reference(model, param_values);
+  for (std::size_t i = 0; i < model.coords.size() && i < q.size(); ++i) p.values_[model.coords[i].sym] = q[i];
+  for (std::size_t i = 0; i < model.speeds.size() && i < u.size(); ++i) p.values_[model.speeds[i].sym] = u[i];
+  p.bind_kinematic_names(model);
+  return p;
+}
+
 void Probe::bind_kinematic_names(const model::Model& model) {
   // In definition order: each value reads only bound symbols and earlier names.
   for (const auto& k : model.kinematic_names) {

@@ -8,6 +8,7 @@
 
 #include "five_bar/five_bar.hpp"
 #include "four_bar/four_bar.hpp"
+#include "heavy_top/heavy_top.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "test_support.hpp"
 
@@ -84,6 +85,37 @@ TEST_CASE("assembly: data that cannot be completed name the constraint", "[numer
   const AssemblyResult s = mbsc::runtime::assemble(model, 0.0, y, gq, gu, nullptr, F::kParamDefaults);
   CHECK(s.status == AssemblyResult::Status::VelocityNotSolved);
   CHECK(s.message.find("velocity constraint '") != std::string::npos);
+  // With the state names, the message says which free coordinates the row could not place.
+  mbsc::runtime::AssemblyModel named = model;
+  named.state_names = F::kStateNames;
+  std::vector<double> z(F::kNx, 0.0);
+  const AssemblyResult n = mbsc::runtime::assemble(named, 0.0, z, given_q, given_u, nullptr, F::kParamDefaults);
+  INFO(n.message);
+  CHECK(n.status == AssemblyResult::Status::PositionNotSolved);
+  CHECK(n.message.find("the coordinates it could not place: ") != std::string::npos);
+  const std::string placed = n.message.substr(n.message.find("could not place: "));
+  CHECK(placed.find("rocker.x") != std::string::npos);       // free, read by the row Q_x
+  CHECK(placed.find("rocker.theta") == std::string::npos);   // given: not among them
+}
+
+TEST_CASE("assembly: a quaternion with no guess starts at the identity", "[numeric][assembly]") {
+  namespace H = mbsc_gen::heavy_top;
+  mbsc::runtime::AssemblyModel model = MBSC_TEST_ASSEMBLY_MODEL(H);
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(H::kStateNames, H::kNx, n)); };
+  std::vector<bool> given_q(H::kNq, false), given_u(H::kNu, false);
+  // Without the quaternion's indices, all four entries at 0 are kept (no rotation: the
+  // tip's row has no solution); with them, the identity and the top upright.
+  for (const bool with_indices : {false, true}) {
+    model.quaternion_indices = with_indices ? H::kQuaternionIndices : nullptr;
+    model.nquaternions = with_indices ? H::kNquaternions : 0;
+    std::vector<double> x(H::kNx, 0.0);
+    const AssemblyResult r = mbsc::runtime::assemble(model, 0.0, x, given_q, given_u, nullptr, H::kParamDefaults);
+    INFO(r.message);
+    if (!with_indices) continue;
+    REQUIRE(r.ok());
+    CHECK(x[ix("top.e0")] == Approx(1.0));
+    CHECK(std::fabs(x[ix("top.e1")]) + std::fabs(x[ix("top.e2")]) + std::fabs(x[ix("top.e3")]) < 1e-12);
+  }
 }
 
 TEST_CASE("assembly: five-bar with motors from the two base angles and rates", "[numeric][assembly]") {

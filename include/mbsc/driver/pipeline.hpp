@@ -125,6 +125,11 @@ bool prefer_sparse(const model::Model& m, const GenerateOptions& opt, const sym:
                    const ir::FunctionSpec& sparse_rhs, const std::function<ir::FunctionSpec()>& dense,
                    const std::vector<ir::Binding>& binds);
 
+/// Rows redundant on the mechanism (sym::Eom::redundant_on_manifold) leave the tree
+/// orders' pivots singular wherever the model moves: such a model takes the dense
+/// solves (least squares, minimum norm). False, with an error, for --solver sparse.
+bool redundancy_allows_sparse(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt, Diagnostics& diags);
+
 /// Parses and builds a model file (includes resolved). nullopt on error.
 /// `overrides` (the --freeze values) also set the parameters `for` loops and indices use,
 /// and stand in for the defaults where values are checked. The model's name must be

@@ -46,6 +46,11 @@ struct Solve {
   /// Cholesky factorisation (n^3/6 instead of n^3/3) and returns status 1 when A is not
   /// positive definite to working precision.
   bool spd = false;
+  /// With `spd`: A is only positive semidefinite, of this rank (0: full). The generated
+  /// code takes the minimum-norm solution (psd_min_norm_solve): the multipliers of
+  /// constraint rows redundant on the mechanism, and returns status 1 where the rank
+  /// falls below it.
+  int rank = 0;
   /// Not a solve: X[0] := the reciprocal 1-norm condition number of A,
   /// 1 / (|A|_1 |A^-1|_1), divided by max(1, |A^-1 B|_1) when B is given (n x k: the
   /// coefficients of the independent rates, so that a 1x1 block that is small next to

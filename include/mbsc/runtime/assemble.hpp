@@ -35,6 +35,12 @@ struct AssemblyModel {
   Fn constraint_jacobian;                // kNc x kNu
   const char* const* position_names;     // kNposc names
   const char* const* constraint_names;   // kNc names
+  /// Optional: kStateNames (for the names of the coordinates a failed assembly could not
+  /// place) and kQuaternionIndices / kNquaternions (a quaternion with no guess, all four
+  /// entries 0 and none given, starts at the identity).
+  const char* const* state_names = nullptr;
+  const int* quaternion_indices = nullptr;
+  int nquaternions = 0;
 };
 
 struct AssemblyOptions {
@@ -86,6 +92,13 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
       if (!(std::fabs(r[i]) <= w)) w = std::fabs(r[i]), at = static_cast<int>(i);
     return w;
   };
+  // A quaternion with no guess starts at the identity (at zero it is no rotation at all).
+  for (int k = 0; m.quaternion_indices && k < m.nquaternions; ++k) {
+    const int* e = m.quaternion_indices + 4 * k;
+    bool unset = true;
+    for (int c = 0; c < 4; ++c) unset = unset && x[static_cast<std::size_t>(e[c])] == 0.0 && !given_q[static_cast<std::size_t>(e[c])];
+    if (unset) x[static_cast<std::size_t>(e[0])] = 1.0;
+  }
   // ---- positions ----
   std::vector<int> free_q;
   for (int i = 0; i < m.nq; ++i)
@@ -105,6 +118,20 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
         const std::string name = res.worst_constraint >= 0 ? m.position_names[res.worst_constraint] : "?";
         res.message = "position constraint '" + name + "' cannot be satisfied from the given data (residual " +
                       std::to_string(res.position_residual) + " after " + std::to_string(res.iterations) + " Newton steps)";
+        // Which coordinates it could move: the free ones its row reads.
+        if (m.state_names && res.worst_constraint >= 0 && !free_q.empty() &&
+            m.position_jacobian(t, x.data(), u, p, J.data()) == 0) {
+          std::string reads;
+          for (int c : free_q)
+            if (J[static_cast<std::size_t>(res.worst_constraint) * static_cast<std::size_t>(m.nq) + static_cast<std::size_t>(c)] != 0.0)
+              reads += (reads.empty() ? "" : ", ") + std::string(m.state_names[c]);
+          res.message += reads.empty() ? "; it reads no coordinate that assembly may move: give one of its coordinates a guess "
+                                         "instead of a fixed value"
+                                       : "; the coordinates it could not place: " + reads +
+                                             " (a guess nearer the mechanism for them, `initial guess` or --init, may help)";
+        } else if (free_q.empty()) {
+          res.message += "; every coordinate is given, so nothing can move: give guesses instead of fixed values";
+        }
         return res;
       }
       if (m.position_jacobian(t, x.data(), u, p, J.data()) != 0) {

@@ -5,6 +5,7 @@
 #include <ginac/ginac.h>
 
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -27,6 +28,11 @@ struct ComplementInput {
   /// configuration of this node (its position constraints hold there), the automatic
   /// set is the best conditioned one there, and a set singular there is warned about.
   const Probe* reference = nullptr;
+  /// Points on the manifold near the reference (sym/manifold_points.hpp): a rank deficit
+  /// of B at the reference that they share is a redundancy of the mechanism.
+  const std::vector<Probe>* nearby = nullptr;
+  /// What the reference is, for messages.
+  std::string reference_name = "the reference configuration (parameter defaults, coordinates and t at 0)";
 };
 
 /// The partition: # (independent) and ⋆ (dependent) speeds. `symbolic` when the
@@ -38,6 +44,12 @@ struct Partition {
   std::vector<int> dependent;
   bool symbolic = false;
   std::vector<std::pair<int, int>> triangular_order;
+  /// Rank of B on the constraint manifold: the number of rows unless some are redundant
+  /// where the constraints hold (independent at a generic point, dependent at every
+  /// assembled one). Then the dependent block has more rows than speeds and is solved in
+  /// the least-squares sense (exact on the manifold, thesis Section 4.5).
+  int rank = 0;
+  std::vector<int> redundant_rows;  // rows of B (indices) that do not raise that rank
 };
 
 /// Checks that the rows of B are independent (else names the redundant constraint)

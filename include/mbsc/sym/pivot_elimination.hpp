@@ -46,6 +46,13 @@ struct CoreBlock {
 };
 std::vector<CoreBlock> core_blocks(const Elimination& e);
 
+/// A block A X = B (A: rows x n, B: rows x k, row-major) with more rows than unknowns,
+/// as rows redundant on the mechanism leave it: replaced by its normal equations
+/// A^T A X = A^T B (n x n, n x k), whose solution is exact where the rows are consistent,
+/// on the manifold (thesis Section 4.5: the least-squares complement). Products of zero
+/// entries are not formed.
+void to_normal_equations(std::vector<GiNaC::ex>& A, std::vector<GiNaC::ex>& B, int rows, int n, int k);
+
 /// A pivot's unknown from the values of the unknowns its row reads:
 /// x_var = -(rest + sum_{l != var} c_l x_l) / c_var.
 GiNaC::ex pivot_value(const Elimination::Pivot& p, const std::map<int, GiNaC::ex>& value);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "mbsc/model/model.hpp"
 
@@ -21,6 +22,10 @@ class Probe {
   /// speed, input and t at 0. Opaque symbols are not bound, so what reads a numeric
   /// solve does not evaluate there (NaN).
   static Probe reference(const model::Model& model, const std::map<std::string, double>& param_values);
+  /// A given configuration: coordinates q (model order) and speeds u, t and inputs at 0,
+  /// parameters at their values (the assembled initial state, sym/manifold_points.hpp).
+  static Probe configuration(const model::Model& model, const std::map<std::string, double>& param_values,
+                             const std::vector<double>& q, const std::vector<double>& u);
   /// Binds an opaque symbol (result of a numeric solve) to its value at the probe point.
   /// A value that is not finite (an overflow at the probe) leaves it unbound: what reads
   /// it does not evaluate (NaN), as GiNaC has no number for a NaN (CLN throws).
