@@ -301,7 +301,10 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   if (accuracy.constrained)
     err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g} (at step ends {:.3g}, {:.3g}){}\n",
                        accuracy.position_residual, accuracy.velocity_residual, r.max_position_residual,
-                       r.max_velocity_residual, projecting ? fmt::format("; projected {} times", r.projections) : "");
+                       r.max_velocity_residual,
+                       run.stats.projections > 0 ? fmt::format("; projected by the method (CVODE) {} times", run.stats.projections)
+                       : projecting              ? fmt::format("; projected {} times", r.projections)
+                                                 : "");
   if (has_energy) {
     err << fmt::format("mbsc: energy change: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
                        a.inputs.empty() ? "" : ", the inputs do work");

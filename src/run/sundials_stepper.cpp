@@ -8,6 +8,7 @@
 #include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
+#include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_config.h>
 #include <sundials/sundials_context.h>
@@ -63,6 +64,7 @@ class SundialsStepper final : public Stepper {
     x_ = x;
     t_ = t_begin_ = t;
     stepped_ = false;
+    tiny_steps_ = 0;
     message_.clear();
     std::copy(x.begin(), x.end(), NV_DATA_S(y_));
     int flag = mem_ ? reinit(t) : create(t);
@@ -85,9 +87,15 @@ class SundialsStepper final : public Stepper {
     if (flag < 0) return fail(classify(flag), describe(flag));
     // A step below h_min, or one that no longer moves t (below 1e-14 |t|), is a failure
     // (unless it only closes the gap to t_stop). Adams' fixed-point iteration, for one,
-    // treats a failing rhs as recoverable and creeps towards the failing time.
+    // treats a failing rhs as recoverable and creeps towards the failing time. Near t = 0
+    // a step below 1e-14 is only a failure with a failing rhs behind it or when 50 come in
+    // a row: BDF's first steps on a stiff model at tight tolerances are that small and
+    // then grow (the stiff flyball at rtol 1e-12 started with 5e-15 and was stopped).
     const double h = std::fabs(last_step());
-    if (flag != stop_time_return() && (h < options_.h_min || h <= 1e-14 * std::max(1.0, std::fabs(t_reached)))) {
+    const bool tiny = h <= 1e-14 * std::max(1.0, std::fabs(t_reached));
+    tiny_steps_ = tiny ? tiny_steps_ + 1 : 0;
+    const bool stuck = h <= 1e-14 * std::fabs(t_reached) || (tiny && (rhs_status_ != 0 || tiny_steps_ >= 50));
+    if (flag != stop_time_return() && (h < options_.h_min || stuck)) {
       if (rhs_status_ != 0) return fail(Status::RhsFailed, rhs_detail_ + " at t = " + format_number(rhs_t_));
       return fail(Status::StepTooSmall, "the step size fell to " + format_number(h) + " at t = " + format_number(t_reached));
     }
@@ -133,6 +141,13 @@ class SundialsStepper final : public Stepper {
   static int jacobian_callback(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* self, N_Vector, N_Vector,
                                N_Vector) {
     return static_cast<SundialsStepper*>(self)->call_jacobian(t, NV_DATA_S(y), NV_DATA_S(fy), SM_DATA_D(J));
+  }
+
+  // A projection that fails is recoverable: CVODE retries the step with a smaller one.
+  static int projection_callback(realtype t, N_Vector y, N_Vector correction, realtype, N_Vector, void* self) {
+    auto* s = static_cast<SundialsStepper*>(self);
+    ++s->projections_;
+    return s->extra_.projection(t, NV_DATA_S(y), NV_DATA_S(correction)) == 0 ? 0 : 1;
   }
 
   static void error_callback(int, const char* module, const char* function, char* msg, void* self) {
@@ -199,6 +214,12 @@ class SundialsStepper final : public Stepper {
           flag = CVodeSetLinearSolver(mem_, ls_, A_);
           if (flag >= 0 && extra_.jacobian_source != JacobianSource::Sundials)
             flag = CVodeSetJacFn(mem_, jacobian_callback);
+          if (flag >= 0 && extra_.projection) {
+            flag = CVodeSetProjFn(mem_, projection_callback);
+            // The error estimate is not projected (it would need the tangent space's
+            // projector): CVODE's test then sees the unprojected local error.
+            if (flag >= 0) flag = CVodeSetProjErrEst(mem_, SUNFALSE);
+          }
         }
         return flag;
       case Method::ArkDirk:
@@ -316,6 +337,7 @@ class SundialsStepper final : public Stepper {
     stats_.jacobian_evals += nje;
     stats_.newton_iterations += nni;
     stats_.rhs_evals = rhs;
+    stats_.projections = projections_;  // counted by projection_callback across restarts
   }
 
   Status classify(int flag) const {
@@ -408,6 +430,8 @@ class SundialsStepper final : public Stepper {
   std::string message_, solver_errors_, rhs_detail_;
   int rhs_status_ = 0;
   double rhs_t_ = 0.0;
+  long projections_ = 0;
+  int tiny_steps_ = 0;  // steps in a row below 1e-14 max(1, |t|)
 };
 
 }  // namespace

@@ -33,9 +33,17 @@ enum class JacobianSource {
 /// J = dxdot/dx at (t, x), column-major n x n; xdot = f(t, x) is given. Returns 0 or a status.
 using JacobianFn = std::function<int(double t, const double* x, const double* xdot, double* J)>;
 
+/// The correction that puts x on the constraint manifold (x + correction on it), at t.
+/// Returns 0, or a status where it cannot.
+using ProjectionFn = std::function<int(double t, const double* x, double* correction)>;
+
 struct SundialsOptions {
   JacobianSource jacobian_source = JacobianSource::Sundials;
   JacobianFn jacobian;  // for JacobianSource::User
+  /// bdf only: CVODE's own projection (CVodeSetProjFn), after every step's corrector,
+  /// inside the method: the history stays, unlike a projection between steps, which
+  /// restarts a multistep method at order 1.
+  ProjectionFn projection;
 };
 
 /// The names make_sundials_stepper knows, in the order `--integrator` lists them (empty

@@ -427,3 +427,49 @@ TEST_CASE("mbsc run keeps a rigid3d body's quaternion at unit norm, unless --pro
   CHECK(end_drift[0] < 1e-6);
   CHECK(end_drift[1] > 10.0 * end_drift[0]);
 }
+
+TEST_CASE("mbsc run --integrator bdf: a stiff constrained model to its tolerance, on its manifold", "[cli][run]") {
+  // tests/data/stiff/stiff_pendulums.mbs: two pendulums in absolute coordinates tied by a
+  // spring of 8e5 N/m and a damper of 4e4 N s/m. BDF projects inside CVODE (issue 26,
+  // item 3): its final error follows rtol, and rtol 1e-12 no longer collapses the step.
+  const fs::path dir = fresh_dir("stiff_bdf");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/tests/data/stiff/stiff_pendulums.mbs");
+  auto r = run(run_in(dir, "run " + model + " --t-end 2 --integrator dop853 --rtol 1e-12 --atol 1e-14 -o " +
+                               quote((dir / "ref.csv").string())));
+  REQUIRE(r.exit_code == 0);
+  const Csv ref = read_csv(dir / "ref.csv");
+  const std::vector<std::string> state = {"bar1.x", "bar1.y", "bar1.theta", "bar2.x", "bar2.y", "bar2.theta",
+                                          "bar1.u", "bar1.v", "bar1.w", "bar2.u", "bar2.v", "bar2.w"};
+  auto final_error = [&](const Csv& c) {
+    double e = 0.0;
+    for (const auto& name : state) {
+      REQUIRE(c.col(name) >= 0);
+      e = std::max(e, std::fabs(c.rows.back()[static_cast<std::size_t>(c.col(name))] -
+                                ref.rows.back()[static_cast<std::size_t>(ref.col(name))]));
+    }
+    return e;
+  };
+  r = run(run_in(dir, "run " + model + " --integrator bdf --rtol 1e-6 -o " + quote((dir / "probe.csv").string())));
+  if (r.exit_code != 0 && r.output.find("bdf") != std::string::npos && r.output.find("integrator") != std::string::npos) {
+    WARN("built without SUNDIALS: " << r.output);
+    return;
+  }
+  std::vector<double> errors;
+  const std::vector<std::pair<std::string, std::string>> tolerances = {
+      {"1e-6", "1e-8"}, {"1e-8", "1e-10"}, {"1e-10", "1e-12"}, {"1e-12", "1e-14"}};
+  for (const auto& [tol, atol] : tolerances) {
+    r = run(run_in(dir, "run " + model + " --t-end 2 --integrator bdf --rtol " + tol + " --atol " + atol + " -o " +
+                            quote((dir / "bdf.csv").string())));
+    INFO("rtol " << tol << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.output.find("projected by the method (CVODE)") != std::string::npos);
+    const Csv c = read_csv(dir / "bdf.csv");
+    REQUIRE(c.rows.back()[0] == Approx(2.0));
+    errors.push_back(final_error(c));
+    WARN("bdf, rtol " << tol << ": final error " << errors.back());
+  }
+  CHECK(errors[1] < 100 * 1e-8);         // without the projection: 4.7e-6
+  CHECK(errors[0] > 100 * errors[2]);    // the error follows the tolerance
+  CHECK(errors[3] < 1e-9);
+  fs::remove_all(dir);
+}
