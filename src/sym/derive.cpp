@@ -568,6 +568,12 @@ class Deriver {
     r.independent = speeds(src.independent);
     r.dependent = speeds(src.dependent);
     r.rank = src.rank;
+    // Rows redundant on the mechanism, by position among the node's constraints.
+    for (int c : src.redundant) {
+      const auto at = std::find(src.rows.begin(), src.rows.end(), c) - src.rows.begin();
+      r.redundant.push_back(r.rows[static_cast<std::size_t>(at)]);
+      eom_.redundant_on_manifold.push_back(r.redundant.back());
+    }
     r.symbolic_complement = src.symbolic_complement;
     r.numeric_core = src.numeric_core;
     r.from_component_cache = true;
@@ -613,7 +619,6 @@ class Deriver {
     eom_.nodes[k] = r;
   }
 
-  /// Numeric values of a solve's X at the probe point (for the parents' rank decisions).
   /// Whether the model's `initial` statements place some coordinate (else its start is
   /// the reference configuration, coordinates at 0, assembled).
   bool initial_coordinates_given() const {
@@ -623,6 +628,8 @@ class Deriver {
           if (q.name == iv.name) return true;
     return false;
   }
+
+  /// Numeric values of a solve's X at the probe point (for the parents' rank decisions).
 
   void bind_probe(const ir::Solve& s) {
     Eigen::MatrixXd An(s.n, s.n), Bn(s.n, s.k);

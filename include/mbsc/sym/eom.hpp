@@ -73,7 +73,7 @@ struct NodeResult {
   int node = 0;
   std::vector<int> y;            // speeds whose rates form y (own speeds, then children's independent ones)
   std::vector<int> rows;         // constraint indices, order-2 rows of B
-  std::vector<int> redundant;    // constraints dropped as redundant (warning issued)
+  std::vector<int> redundant;    // constraints redundant on the mechanism (kept: least squares)
   GiNaC::matrix B;               // rows x ny (may contain opaque symbols of children's solves)
   GiNaC::matrix b;               // rows x 1
   std::vector<int> independent;  // speeds chosen as # (subset of y), size ndof
