@@ -179,11 +179,16 @@ std::optional<std::pair<int, Eigen::MatrixXd>> manifold_rank(const ComplementInp
 
 /// Warns when the dependent block of the chosen set is singular at the reference
 /// configuration: the generated rhs cannot solve for the dependent speeds there.
+/// Whether the columns dep_cols of Bx lose the rank `rank` (judged against all of Bx).
+bool singular_block(const Eigen::MatrixXd& Bx, const std::vector<int>& dep_cols, int rank) {
+  Eigen::MatrixXd Bs(Bx.rows(), static_cast<Eigen::Index>(dep_cols.size()));
+  for (std::size_t k = 0; k < dep_cols.size(); ++k) Bs.col(static_cast<Eigen::Index>(k)) = Bx.col(dep_cols[k]);
+  return numeric_rank_against(Bs, Bx.cwiseAbs().maxCoeff()) < rank;
+}
+
 void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
-                                   const Partition& p, Diagnostics& diags) {
-  Eigen::MatrixXd Bs(Br.rows(), static_cast<Eigen::Index>(dep_cols.size()));
-  for (std::size_t k = 0; k < dep_cols.size(); ++k) Bs.col(static_cast<Eigen::Index>(k)) = Br.col(dep_cols[k]);
-  if (numeric_rank_against(Bs, Br.cwiseAbs().maxCoeff()) == p.rank) return;
+                                   const Partition& p, const std::string& where, Diagnostics& diags) {
+  if (!singular_block(Br, dep_cols, p.rank)) return;
   const auto& m = *in.model;
   const bool given = !in.requested.empty();
   const bool any_works = numeric_rank(Br) == p.rank;
@@ -192,7 +197,7 @@ void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::Matri
   diags.warning(given ? in.requested_pos : node_pos,
                 fmt::format("the {}independent speeds ({}) of subsystem '{}' are singular at {}: the constraints cannot be solved for {} there, "
                             "so the generated rhs fails at that state; {}",
-                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), in.reference_name, names(m, p.dependent),
+                            given ? "" : "automatic ", names(m, p.independent), m.label(in.node), where, names(m, p.dependent),
                             any_works ? "name a set that works there with `independent` (or add an `alternative`)"
                                       : "no set works there (the constraints themselves are singular there)"));
 }
@@ -244,12 +249,13 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   // choice unless its pivots are numbers or parameters (regular everywhere). Where B
   // loses rank there and near it on the manifold, its rank there is the rank of the
   // mechanism (Bm: B at a nearby point with that rank).
-  std::optional<Eigen::MatrixXd> Br, Bm;
+  std::optional<Eigen::MatrixXd> Br, Bs0, Bm;  // B at the reference, at the start, near the start
   Partition p;
   p.rank = nr;
   auto measure_on_manifold = [&]() {
     Br = at_reference(in);
-    if (auto found = manifold_rank(in, Br)) {
+    Bs0 = at_point(in, in.start);
+    if (auto found = manifold_rank(in, Bs0)) {
       p.rank = found->first;
       Bm = std::move(found->second);
       p.redundant_rows = dependent_rows(*Bm);
@@ -312,6 +318,13 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
       const bool reference_regular = Br && numeric_rank(*Br) == nr;
       Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Bm ? *Bm : reference_regular ? *Br : Bn);
       for (int k = 0; k < p.rank; ++k) dep_cols.push_back(qr.colsPermutation().indices()(k));
+      // Checked where the model starts: a set singular there, where B is not, is chosen
+      // there instead (a skate started across, theta = pi/2, must not solve for v).
+      if (!Bm && Bs0 && numeric_rank(*Bs0) == nr && singular_block(*Bs0, dep_cols, nr)) {
+        Eigen::ColPivHouseholderQR<Eigen::MatrixXd> at_start(*Bs0);
+        dep_cols.clear();
+        for (int k = 0; k < nr; ++k) dep_cols.push_back(at_start.colsPermutation().indices()(k));
+      }
     }
     std::sort(dep_cols.begin(), dep_cols.end());
     for (int j = 0; j < ny; ++j)
@@ -319,7 +332,10 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   }
   std::sort(dep_cols.begin(), dep_cols.end());
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
-  if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, diags);
+  // Warned where the model starts when that is known, else at the reference.
+  if (Bs0) warn_if_singular_at_reference(in, *Bs0, dep_cols, p, in.start_name, diags);
+  else if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p,
+                                             "the reference configuration (parameter defaults, coordinates and t at 0)", diags);
   if (p.rank == nr) classify(in, Bn, dep_cols, p);
   return p;
 }

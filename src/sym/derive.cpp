@@ -39,7 +39,7 @@ class Deriver {
         diags_(d),
         probe_(m, param_values(m, o)),
         manifold_(manifold_points(m, param_values(m, o))),
-        reference_(manifold_.start ? *manifold_.start : Probe::reference(m, param_values(m, o))) {
+        reference_(Probe::reference(m, param_values(m, o))) {
     eom_.initial_assembled = manifold_.start.has_value();
     eom_.model = &m;
     eom_.options = o;
@@ -229,8 +229,12 @@ class Deriver {
       }
       r.b(i, 0) = rows[i].subs(zero, GiNaC::subs_options::no_pattern);
     }
-    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_, &manifold_.nearby};
-    if (manifold_.start && initial_coordinates_given()) in.reference_name = "the initial state (the model's `initial` values, assembled)";
+    ComplementInput in{&m_, &probe_, n, r.y, r.rows, &r.B, requested(node), requested_pos(node), &reference_};
+    if (manifold_.start) {
+      in.start = &*manifold_.start;
+      in.nearby = &manifold_.nearby;
+      if (initial_coordinates_given()) in.start_name = "the initial state (the model's `initial` values, assembled)";
+    }
     auto choice = choose_partition(in, diags_);
     if (!choice) return false;
     r.rank = choice->rank;
@@ -874,7 +878,7 @@ class Deriver {
   Diagnostics& diags_;
   Probe probe_;
   ManifoldPoints manifold_;  // the assembled initial state and points near it (ranks on the mechanism)
-  Probe reference_;  // the assembled initial state, else coordinates at 0 (the automatic independent set's)
+  Probe reference_;  // coordinates at 0: where the automatic independent set is chosen (then checked at the start)
   Eom eom_;
   GiNaC::exmap frozen_;
   std::vector<int> eliminated_at_;

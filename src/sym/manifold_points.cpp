@@ -18,23 +18,28 @@ namespace {
 /// The position residuals g(q) and their nonzero partial derivatives, kinematic names
 /// written out (a derivative must see through them, as the generated position_jacobian does).
 struct PositionRows {
+  bool differences = false;  // the Jacobian by central differences (dg holds only the extra rows')
   std::vector<GiNaC::ex> g;
   std::vector<std::vector<std::pair<int, GiNaC::ex>>> dg;  // per row: (coordinate, dg/dq)
 };
 
 PositionRows position_rows(const model::Model& m) {
   PositionRows out;
-  const GiNaC::exmap names = model::kinematic_name_values(m);
+  // With kinematic names (named body rotations) the rows stay as written and the
+  // Jacobian is taken by differences (differences_): written out, a chain of 16
+  // quaternion joints multiplies 16 rotations into every row, which takes minutes.
+  out.differences = !m.kinematic_names.empty();
   for (const auto& c : m.constraints) {
     if (c.level != model::Constraint::Level::Position) continue;
-    const GiNaC::ex g = names.empty() ? c.residual : c.residual.subs(names, GiNaC::subs_options::no_pattern);
-    const SymbolSet in_g(g);
     std::vector<std::pair<int, GiNaC::ex>> row;
-    for (std::size_t i = 0; i < m.coords.size(); ++i) {
-      const GiNaC::ex d = in_g.diff(g, m.coords[i].sym);
-      if (!d.is_zero()) row.emplace_back(static_cast<int>(i), d);
+    if (!out.differences) {
+      const SymbolSet in_g(c.residual);
+      for (std::size_t i = 0; i < m.coords.size(); ++i) {
+        const GiNaC::ex d = in_g.diff(c.residual, m.coords[i].sym);
+        if (!d.is_zero()) row.emplace_back(static_cast<int>(i), d);
+      }
     }
-    out.g.push_back(g);
+    out.g.push_back(c.residual);
     out.dg.push_back(std::move(row));
   }
   return out;
@@ -70,20 +75,44 @@ class Assembler {
 
   Probe at(const std::vector<double>& q) const { return Probe::configuration(m_, params_, q, u_); }
 
-  /// Residuals and Jacobian at q; false when something does not evaluate.
-  bool evaluate(const std::vector<double>& q, Eigen::VectorXd& g, Eigen::MatrixXd& J) const {
+  /// The residuals at q; false when one does not evaluate.
+  bool residuals(const std::vector<double>& q, Eigen::VectorXd& g) const {
     const Probe p = at(q);
-    const auto nr = static_cast<Eigen::Index>(rows_.g.size());
-    g.resize(nr);
-    J = Eigen::MatrixXd::Zero(nr, static_cast<Eigen::Index>(q.size()));
-    for (Eigen::Index i = 0; i < nr; ++i) {
+    g.resize(static_cast<Eigen::Index>(rows_.g.size()));
+    for (Eigen::Index i = 0; i < g.size(); ++i) {
       g(i) = p.eval(rows_.g[static_cast<std::size_t>(i)]);
       if (!std::isfinite(g(i))) return false;
+    }
+    return true;
+  }
+
+  /// Residuals and Jacobian at q; false when something does not evaluate.
+  bool evaluate(const std::vector<double>& q, Eigen::VectorXd& g, Eigen::MatrixXd& J) const {
+    if (!residuals(q, g)) return false;
+    const auto nr = static_cast<Eigen::Index>(rows_.g.size());
+    J = Eigen::MatrixXd::Zero(nr, static_cast<Eigen::Index>(q.size()));
+    if (rows_.differences) {
+      // Central differences, column by column (rounding ~1e-10 relative: Newton still
+      // converges to rounding, and ranks are judged on the constraint matrix B instead).
+      std::vector<double> shifted = q;
+      Eigen::VectorXd gp, gm;
+      for (std::size_t j = 0; j < q.size(); ++j) {
+        const double h = 1e-6 * std::max(1.0, std::fabs(q[j]));
+        shifted[j] = q[j] + h;
+        if (!residuals(shifted, gp)) return false;
+        shifted[j] = q[j] - h;
+        if (!residuals(shifted, gm)) return false;
+        shifted[j] = q[j];
+        J.col(static_cast<Eigen::Index>(j)) = (gp - gm) / (2 * h);
+      }
+      return true;
+    }
+    const Probe p = at(q);
+    for (Eigen::Index i = 0; i < nr; ++i)
       for (const auto& [j, d] : rows_.dg[static_cast<std::size_t>(i)]) {
         J(i, j) = p.eval(d);
         if (!std::isfinite(J(i, j))) return false;
       }
-    }
     return true;
   }
 
@@ -172,6 +201,19 @@ ManifoldPoints manifold_points(const model::Model& m, const std::map<std::string
       for (std::size_t i = 0; i < m.speeds.size(); ++i)
         if (m.speeds[i].name == iv.name) u[i] = v;
     }
+  // Where every position row places a coordinate of its own (a tree in joint
+  // coordinates: no loop), nothing is to assemble and no row can be redundant: the start
+  // is left to the reference, and the rows are not evaluated (a 16-joint quaternion chain
+  // spent minutes here).
+  bool loop = false;
+  for (const auto& c : m.constraints)
+    loop = loop || (c.level == model::Constraint::Level::Position && c.explicit_coordinate < 0);
+  bool any_position = false;
+  for (const auto& c : m.constraints) any_position = any_position || c.level == model::Constraint::Level::Position;
+  if (any_position && !loop) {
+    out.why_not = "every position row places a coordinate of its own (no loop)";
+    return out;
+  }
   Assembler assembler(m, param_values, u);
   for (const auto& group : assembler.quaternions()) {
     bool given = false;

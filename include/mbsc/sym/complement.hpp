@@ -28,11 +28,14 @@ struct ComplementInput {
   /// configuration of this node (its position constraints hold there), the automatic
   /// set is the best conditioned one there, and a set singular there is warned about.
   const Probe* reference = nullptr;
-  /// Points on the manifold near the reference (sym/manifold_points.hpp): a rank deficit
-  /// of B at the reference that they share is a redundancy of the mechanism.
+  /// The model's start, assembled at generation time (sym/manifold_points.hpp), or null.
+  /// The automatic set is checked there (and chosen there when the reference's choice is
+  /// singular there), warnings speak of it, and a rank deficit of B there that the
+  /// `nearby` points share is a redundancy of the mechanism.
+  const Probe* start = nullptr;
   const std::vector<Probe>* nearby = nullptr;
-  /// What the reference is, for messages.
-  std::string reference_name = "the reference configuration (parameter defaults, coordinates and t at 0)";
+  /// What the start is, for messages.
+  std::string start_name = "the reference configuration (parameter defaults, coordinates and t at 0)";
 };
 
 /// The partition: # (independent) and ⋆ (dependent) speeds. `symbolic` when the
