@@ -80,7 +80,7 @@ class Assembler {
     const Probe p = at(q);
     g.resize(static_cast<Eigen::Index>(rows_.g.size()));
     for (Eigen::Index i = 0; i < g.size(); ++i) {
-      g(i) = p.eval(rows_.g[static_cast<std::size_t>(i)]);
+      g(i) = p.eval_double(rows_.g[static_cast<std::size_t>(i)]);
       if (!std::isfinite(g(i))) return false;
     }
     return true;
@@ -110,7 +110,7 @@ class Assembler {
     const Probe p = at(q);
     for (Eigen::Index i = 0; i < nr; ++i)
       for (const auto& [j, d] : rows_.dg[static_cast<std::size_t>(i)]) {
-        J(i, j) = p.eval(d);
+        J(i, j) = p.eval_double(d);
         if (!std::isfinite(J(i, j))) return false;
       }
     return true;

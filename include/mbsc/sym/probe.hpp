@@ -35,6 +35,11 @@ class Probe {
   }
   /// Value of e at the probe point; NaN when it does not evaluate to a real number.
   double eval(const GiNaC::ex& e) const;
+  /// The same in double precision only, without GiNaC's evaluation for what the double
+  /// walk does not know (NaN there): for points that may be anywhere, such as Newton's
+  /// iterates, where GiNaC can meet a division by zero inside its constructors, throw and
+  /// leak the half-built object.
+  double eval_double(const GiNaC::ex& e) const;
 
  private:
   Probe() = default;
