@@ -165,8 +165,9 @@ int run_check(const CheckArgs& a, std::ostream& out, std::ostream& err) {
   out << fmt::format("  independent speeds: {}\n", speed_names(*m, eom->independent));
   if (!m->constraints.empty())
     out << fmt::format("  ranks: at a generic configuration and {}\n",
-                       eom->initial_assembled ? "at the initial state (assembled at generation time) and two configurations near it"
-                                              : "not on the mechanism (the initial state does not assemble)");
+                       eom->start_missing.empty()
+                           ? "at the initial state (assembled at generation time) and two configurations near it"
+                           : "not on the mechanism (" + eom->start_missing + ")");
   if (!eom->redundant_on_manifold.empty()) {
     std::vector<std::string> rows;
     for (int c : eom->redundant_on_manifold) rows.push_back(m->constraints[static_cast<std::size_t>(c)].name);

@@ -90,7 +90,8 @@ class SundialsStepper final : public Stepper {
     // treats a failing rhs as recoverable and creeps towards the failing time. Near t = 0
     // a step below 1e-14 is only a failure with a failing rhs behind it or when 50 come in
     // a row: BDF's first steps on a stiff model at tight tolerances are that small and
-    // then grow (the stiff flyball at rtol 1e-12 started with 5e-15 and was stopped).
+    // then grow (tests/data/stiff/stiff_pendulums.mbs at rtol 1e-12 started with 5e-15 and
+    // was stopped).
     const double h = std::fabs(last_step());
     const bool tiny = h <= 1e-14 * std::max(1.0, std::fabs(t_reached));
     tiny_steps_ = tiny ? tiny_steps_ + 1 : 0;

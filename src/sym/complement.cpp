@@ -159,13 +159,13 @@ std::vector<int> dependent_rows(const Eigen::MatrixXd& A) {
   return out;
 }
 
-/// The rank of B on the manifold, when B loses rank at the reference and at every point
-/// near it on the manifold (a redundancy of the mechanism, not a singular start): that
-/// rank and B at the nearby point that has it. Else nothing (full rank on the manifold,
-/// or no point to tell).
-std::optional<std::pair<int, Eigen::MatrixXd>> manifold_rank(const ComplementInput& in, const std::optional<Eigen::MatrixXd>& Br) {
+/// The rank of B on the manifold, when B (Bs0, at the start) loses rank there and at every
+/// point near it on the manifold (a redundancy of the mechanism, not a singular start):
+/// that rank and B at the nearby point that has it. Else nothing (full rank on the
+/// manifold, or no point to tell).
+std::optional<std::pair<int, Eigen::MatrixXd>> manifold_rank(const ComplementInput& in, const std::optional<Eigen::MatrixXd>& Bs0) {
   const int nr = static_cast<int>(in.B->rows());
-  if (!Br || !in.nearby || in.nearby->empty() || numeric_rank(*Br) == nr) return std::nullopt;
+  if (!Bs0 || !in.nearby || in.nearby->empty() || numeric_rank(*Bs0) == nr) return std::nullopt;
   std::optional<std::pair<int, Eigen::MatrixXd>> best;
   for (const Probe& p : *in.nearby) {
     auto Bp = at_point(in, &p);
@@ -177,8 +177,6 @@ std::optional<std::pair<int, Eigen::MatrixXd>> manifold_rank(const ComplementInp
   return best;
 }
 
-/// Warns when the dependent block of the chosen set is singular at the reference
-/// configuration: the generated rhs cannot solve for the dependent speeds there.
 /// Whether the columns dep_cols of Bx lose the rank `rank` (judged against all of Bx).
 bool singular_block(const Eigen::MatrixXd& Bx, const std::vector<int>& dep_cols, int rank) {
   Eigen::MatrixXd Bs(Bx.rows(), static_cast<Eigen::Index>(dep_cols.size()));
@@ -186,6 +184,8 @@ bool singular_block(const Eigen::MatrixXd& Bx, const std::vector<int>& dep_cols,
   return numeric_rank_against(Bs, Bx.cwiseAbs().maxCoeff()) < rank;
 }
 
+/// Warns when the dependent block of the chosen set is singular at `where` (Br: B there):
+/// the generated rhs cannot solve for the dependent speeds there.
 void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
                                    const Partition& p, const std::string& where, Diagnostics& diags) {
   if (!singular_block(Br, dep_cols, p.rank)) return;
@@ -334,8 +334,7 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
   // Warned where the model starts when that is known, else at the reference.
   if (Bs0) warn_if_singular_at_reference(in, *Bs0, dep_cols, p, in.start_name, diags);
-  else if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p,
-                                             "the reference configuration (parameter defaults, coordinates and t at 0)", diags);
+  else if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, kReferenceName, diags);
   if (p.rank == nr) classify(in, Bn, dep_cols, p);
   return p;
 }

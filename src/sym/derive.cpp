@@ -40,7 +40,8 @@ class Deriver {
         probe_(m, param_values(m, o)),
         manifold_(manifold_points(m, param_values(m, o))),
         reference_(Probe::reference(m, param_values(m, o))) {
-    eom_.initial_assembled = manifold_.start.has_value();
+    eom_.start_missing = manifold_.why_not;
+    if (manifold_.start && initial_coordinates_given()) start_name_ = "the initial state (the model's `initial` values, assembled)";
     eom_.model = &m;
     eom_.options = o;
     eom_.param_values = param_values(m, o);
@@ -233,7 +234,7 @@ class Deriver {
     if (manifold_.start) {
       in.start = &*manifold_.start;
       in.nearby = &manifold_.nearby;
-      if (initial_coordinates_given()) in.start_name = "the initial state (the model's `initial` values, assembled)";
+      in.start_name = start_name_;
     }
     auto choice = choose_partition(in, diags_);
     if (!choice) return false;
@@ -634,7 +635,6 @@ class Deriver {
   }
 
   /// Numeric values of a solve's X at the probe point (for the parents' rank decisions).
-
   void bind_probe(const ir::Solve& s) {
     Eigen::MatrixXd An(s.n, s.n), Bn(s.n, s.k);
     for (int i = 0; i < s.n; ++i) {
@@ -879,6 +879,7 @@ class Deriver {
   Probe probe_;
   ManifoldPoints manifold_;  // the assembled initial state and points near it (ranks on the mechanism)
   Probe reference_;  // coordinates at 0: where the automatic independent set is chosen (then checked at the start)
+  std::string start_name_ = kReferenceName;  // what messages call the start
   Eom eom_;
   GiNaC::exmap frozen_;
   std::vector<int> eliminated_at_;

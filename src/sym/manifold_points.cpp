@@ -223,17 +223,15 @@ ManifoldPoints manifold_points(const model::Model& m, const std::map<std::string
   assembler.unit_quaternions(q);
   if (!assembler.has_rows()) {
     out.start = assembler.at(q);
-    out.q_start = q;
     return out;
   }
-  out.residual = assembler.newton(q, free);
-  if (!(out.residual <= 1e-10 * Assembler::scale(q))) {
-    out.why_not = "the initial state does not assemble (largest position residual " + std::to_string(out.residual) + ")";
+  const double residual = assembler.newton(q, free);
+  if (!(residual <= 1e-10 * Assembler::scale(q))) {
+    out.why_not = "the initial state does not assemble: largest position residual " + std::to_string(residual);
     return out;
   }
   assembler.unit_quaternions(q);
   out.start = assembler.at(q);
-  out.q_start = q;
   // Two nearby points: a deterministic step along the null space of the position
   // Jacobian (the mechanism's motion, to first order), pulled back with every coordinate free.
   Eigen::VectorXd g;

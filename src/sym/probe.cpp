@@ -55,20 +55,12 @@ void Probe::unit_quaternions(const model::Model& model) {
 }
 
 Probe Probe::reference(const model::Model& model, const std::map<std::string, double>& param_values) {
-  Probe p;
-  p.values_[model.time] = 0.0;
-  for (const auto& q : model.coords) p.values_[q.sym] = 0.0;
-  for (const auto& u : model.speeds) p.values_[u.sym] = 0.0;
-  for (const auto& in : model.inputs) p.values_[in.sym] = 0.0;
-  for (const auto& f : model.frictions) p.values_[f.force] = 0.0;
-  p.bind_parameters(model, param_values);
-  p.bind_kinematic_names(model);
-  return p;
+  return configuration(model, param_values, {}, {});
 }
 
 Probe Probe::configuration(const model::Model& model, const std::map<std::string, double>& param_values,
                            const std::vector<double>& q, const std::vector<double>& u) {
-  Probe p;
+  Probe p;  // what q and u leave out is 0, as are t and the inputs
   p.values_[model.time] = 0.0;
   for (std::size_t i = 0; i < model.coords.size(); ++i) p.values_[model.coords[i].sym] = i < q.size() ? q[i] : 0.0;
   for (std::size_t i = 0; i < model.speeds.size(); ++i) p.values_[model.speeds[i].sym] = i < u.size() ? u[i] : 0.0;

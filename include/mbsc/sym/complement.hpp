@@ -15,6 +15,9 @@
 
 namespace mbsc::sym {
 
+/// What messages call the reference configuration.
+inline const char* const kReferenceName = "the reference configuration (parameter defaults, coordinates and t at 0)";
+
 struct ComplementInput {
   const model::Model* model;
   const Probe* probe;
@@ -35,7 +38,7 @@ struct ComplementInput {
   const Probe* start = nullptr;
   const std::vector<Probe>* nearby = nullptr;
   /// What the start is, for messages.
-  std::string start_name = "the reference configuration (parameter defaults, coordinates and t at 0)";
+  std::string start_name = kReferenceName;
 };
 
 /// The partition: # (independent) and ⋆ (dependent) speeds. `symbolic` when the

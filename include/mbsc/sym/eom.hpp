@@ -137,9 +137,10 @@ struct Eom {
   std::vector<std::string> massless;  // bodies with mass or inertia 0 ("rod (mass 0, inertia 0)"), for `check`
   MassAtReference mass_at_reference = MassAtReference::NotChecked;
   std::map<std::string, double> param_values;  // defaults, with frozen values
-  /// Whether the initial state assembled at generation time (sym/manifold_points.hpp):
-  /// then ranks and the automatic independent sets are measured there.
-  bool initial_assembled = false;
+  /// Why the initial state was not assembled at generation time (sym/manifold_points.hpp);
+  /// empty when it was: then ranks are measured there and the automatic independent
+  /// sets checked there.
+  std::string start_missing;
   /// Constraints whose rows are redundant on the mechanism (independent at a generic
   /// point, dependent wherever the constraints hold): each node solves its dependent
   /// block in the least-squares sense, the multipliers form for minimum-norm multipliers.

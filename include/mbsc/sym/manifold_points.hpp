@@ -24,11 +24,9 @@
 namespace mbsc::sym {
 
 struct ManifoldPoints {
-  std::optional<Probe> start;   // the assembled initial state; empty when assembly failed
-  std::vector<Probe> nearby;    // points on the manifold near the start (fewer when not found)
-  std::vector<double> q_start;  // the start's coordinates (model order)
-  double residual = 0.0;        // largest |position residual| at the start
-  std::string why_not;          // when there is no start: what failed
+  std::optional<Probe> start;  // the assembled initial state; empty when there is none
+  std::vector<Probe> nearby;   // points on the manifold near the start (fewer when not found)
+  std::string why_not;         // when there is no start: why (for `check`)
 };
 
 ManifoldPoints manifold_points(const model::Model& m, const std::map<std::string, double>& param_values);

@@ -22,8 +22,9 @@ class Probe {
   /// speed, input and t at 0. Opaque symbols are not bound, so what reads a numeric
   /// solve does not evaluate there (NaN).
   static Probe reference(const model::Model& model, const std::map<std::string, double>& param_values);
-  /// A given configuration: coordinates q (model order) and speeds u, t and inputs at 0,
-  /// parameters at their values (the assembled initial state, sym/manifold_points.hpp).
+  /// A given configuration: coordinates q (model order) and speeds u (entries they leave
+  /// out at 0), t and inputs at 0, parameters at their values (the assembled initial
+  /// state, sym/manifold_points.hpp; `reference` is this with q and u empty).
   static Probe configuration(const model::Model& model, const std::map<std::string, double>& param_values,
                              const std::vector<double>& q, const std::vector<double>& u);
   /// Binds an opaque symbol (result of a numeric solve) to its value at the probe point.
