@@ -16,8 +16,34 @@
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_setup.hpp"
+#include "mbsc/sym/probe.hpp"
 
 namespace mbsc::run {
+
+namespace {
+
+/// Each `friction` joint of the model with its slide rate evaluated at a full state of
+/// the table (coordinates and speeds matched by name; parameters from p, by name).
+std::vector<InverseCommandOptions::FrictionJoint> friction_joints(const model::Model& m, const runtime::ModelTable& T) {
+  std::vector<int> q_at, u_at;  // each model coordinate's and speed's index in the state
+  for (const auto& c : m.coords) q_at.push_back(runtime::ModelTable::find(T.state_names, T.nx, c.name.c_str()));
+  for (const auto& u : m.speeds) u_at.push_back(runtime::ModelTable::find(T.state_names, T.nx, u.name.c_str()));
+  std::vector<InverseCommandOptions::FrictionJoint> out;
+  for (const auto& f : m.frictions)
+    out.push_back({f.joint, [&m, &T, q_at, u_at, v = f.slide_velocity](const std::vector<double>& x, const std::vector<double>& p) {
+                     auto pick = [&x](const std::vector<int>& at) {
+                       std::vector<double> values;
+                       for (int k : at) values.push_back(k >= 0 ? x[static_cast<std::size_t>(k)] : 0.0);
+                       return values;
+                     };
+                     std::map<std::string, double> params;
+                     for (int k = 0; k < T.np; ++k) params[T.param_names[k]] = p[static_cast<std::size_t>(k)];
+                     return sym::Probe::configuration(m, params, pick(q_at), pick(u_at)).eval_double(v);
+                   }});
+  return out;
+}
+
+}  // namespace
 
 int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
   // The budgets cover the whole command: past them its watcher ends the process.
@@ -68,6 +94,8 @@ int run_inverse(const InverseArgs& a, std::ostream& out, std::ostream& err) {
   opt.dt_out = dt_out;
   opt.output_csv = to_stdout ? "" : csv_path;
   opt.seconds_left = [&a] { return a.work.budget.seconds_left(); };
+  opt.friction_joints = friction_joints(*m, T);
+  for (const auto& e : unit_quaternion_indices(*m, T)) opt.quaternion_indices.insert(opt.quaternion_indices.end(), e.begin(), e.end());
   // The branch: where the model's own initial state (and --init) assembles, when it does;
   // else the raw values given.
   std::vector<double> p;

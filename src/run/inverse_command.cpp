@@ -45,6 +45,35 @@ struct SampledMotion {
 
 std::string number_text(double v) { return fmt::format("{:.17g}", v); }
 
+/// The first friction joint that the solved sample holds at rest: slide rate v = 0 and
+/// its rate v' = 0, v' by a central difference along the state's rates (the motion).
+/// Rest is judged against the sample's speeds and rates (1e-9 and 1e-6 of them); a joint
+/// that only reverses (v = 0, v' != 0) is sliding either side, and the rhs's law, with
+/// sign(0) = 0, gives its force there.
+std::string held_at_rest(const std::vector<InverseCommandOptions::FrictionJoint>& joints, const runtime::InverseSample& s,
+                         const std::vector<double>& p, int nq) {
+  if (joints.empty()) return "";
+  double speeds = 1.0, rates = 1.0;
+  for (std::size_t i = static_cast<std::size_t>(nq); i < s.x.size(); ++i) {
+    speeds = std::max(speeds, std::fabs(s.x[i]));
+    rates = std::max(rates, std::fabs(s.xdot[i]));
+  }
+  double motion = 1.0;
+  for (double r : s.xdot) motion = std::max(motion, std::fabs(r));
+  const double eps = 1e-5 / motion;
+  std::vector<double> ahead = s.x, behind = s.x;
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    ahead[i] += eps * s.xdot[i];
+    behind[i] -= eps * s.xdot[i];
+  }
+  for (const auto& j : joints) {
+    const double v = j.slide_rate(s.x, p);
+    const double a = (j.slide_rate(ahead, p) - j.slide_rate(behind, p)) / (2 * eps);
+    if (std::fabs(v) <= 1e-9 * speeds && std::fabs(a) <= 1e-6 * rates) return j.name;
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string inverse_csv(const InverseTable& table) {
@@ -66,15 +95,16 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     return out;
   };
   if (!m.full_state_layout()) return bad("mbsc inverse: error: the model must be generated with the full state (--state full)");
-  // The solve below reads the inputs off rhs, which it takes for affine in them. A model
-  // whose own inverse_dynamics is not defined (status 4 without computing: Coulomb
-  // friction closed inside rhs, or a forcing not affine in the inputs) breaks that.
-  if (m.inverse_dynamics != nullptr && m.nin > 0 && m.ndof > 0) {
+  // The solve below reads the inputs off rhs: affine in them, or made not affine by the
+  // Coulomb friction the rhs closes (then solved by Newton steps). A model whose own
+  // inverse_dynamics is not defined (status 4 without computing) for another reason has
+  // a forcing not affine in its inputs: refused.
+  if (m.inverse_dynamics != nullptr && m.nin > 0 && m.ndof > 0 && opt.friction_joints.empty()) {
     std::vector<double> x0(static_cast<std::size_t>(m.nx), 0.0), zdot(static_cast<std::size_t>(m.ndof), 0.0),
         u0(static_cast<std::size_t>(m.nin), 0.0);
     if (m.inverse_dynamics(0.0, x0.data(), zdot.data(), m.param_defaults, u0.data()) == 4)
-      return bad(fmt::format("mbsc inverse: error: model {} is not affine in its inputs (Coulomb friction closed in its "
-                             "rhs, or a forcing not affine in them): its inverse dynamics is not defined",
+      return bad(fmt::format("mbsc inverse: error: the forcing of model {} is not affine in its inputs: its inverse "
+                             "dynamics is not defined (several inputs, or none, may give the same motion)",
                              model_label));
   }
   if (!(opt.dt_out > 0.0) || !std::isfinite(opt.dt_out)) return bad("--dt-out: error: must be a positive number");
@@ -161,7 +191,9 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     x[static_cast<std::size_t>(k)] = value;
   }
 
-  runtime::InverseDynamics inv(m, prescribed, unknowns, p, fixed);
+  runtime::InverseOptions solver;
+  solver.quaternion_indices = opt.quaternion_indices;
+  runtime::InverseDynamics inv(m, prescribed, unknowns, p, fixed, solver);
   if (!inv.setup_error().empty()) return bad("mbsc inverse: error: " + inv.setup_error());
 
   // The table's columns.
@@ -184,6 +216,16 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     if (!inv.solve(t, x, s)) {
       out.exit_code = 2;
       out.message = fmt::format("mbsc inverse: error: at t = {}: {}", t, s.message);
+      break;
+    }
+    const std::string stuck = held_at_rest(opt.friction_joints, s, p, m.nq);
+    if (!stuck.empty()) {
+      out.exit_code = 2;
+      out.message = fmt::format("mbsc inverse: error: at t = {}: the prescribed motion holds joint '{}' at rest (its slide "
+                                "rate and that rate's rate are 0): its Coulomb friction may then be any force up to mu |N| "
+                                "(stiction), so the inputs are not determined; prescribe a motion that slides it there, or "
+                                "start the table where it slides (--t-start)",
+                                t, stuck);
       break;
     }
     std::vector<double> row = {t};

@@ -10,6 +10,7 @@
 #include "four_bar/four_bar.hpp"
 #include "heavy_top/heavy_top.hpp"
 #include "mbsc/runtime/assemble.hpp"
+#include "slider_crank_3d/slider_crank_3d.hpp"
 #include "test_support.hpp"
 
 using mbsc::runtime::AssemblyModel;
@@ -115,6 +116,44 @@ TEST_CASE("assembly: a quaternion with no guess starts at the identity", "[numer
     REQUIRE(r.ok());
     CHECK(x[ix("top.e0")] == Approx(1.0));
     CHECK(std::fabs(x[ix("top.e1")]) + std::fabs(x[ix("top.e2")]) + std::fabs(x[ix("top.e3")]) < 1e-12);
+  }
+}
+
+TEST_CASE("assembly: a quaternion that assembly moves stays of unit length", "[numeric][assembly]") {
+  // The 3-D slider-crank (thesis Ex 4.5) with its slide given: the crank's attitude, a
+  // quaternion held to the x axis by its hinge, must turn from the guess. A Newton step on
+  // the position rows alone also scales the quaternion (the hinge's rows read its
+  // entries); with the quaternions' indices the row |e|^2 = 1 is solved with them.
+  namespace S = mbsc_gen::slider_crank_3d;
+  mbsc::runtime::AssemblyModel model = MBSC_TEST_ASSEMBLY_MODEL(S);
+  model.state_names = S::kStateNames;
+  auto ix = [](const char* n) { return static_cast<std::size_t>(index_of(S::kStateNames, S::kNx, n)); };
+  auto par = [](const char* n) { return S::kParamDefaults[index_of(S::kParamNames, S::kNp, n)]; };
+  const double l1 = par("l1"), l2 = par("l2"), slide = 1.3;
+  for (const bool with_indices : {false, true}) {
+    model.quaternion_indices = with_indices ? S::kQuaternionIndices : nullptr;
+    model.nquaternions = with_indices ? S::kNquaternions : 0;
+    std::vector<double> x(S::kNx, 0.0);
+    // The guesses of `mbsc inverse ... --init crank.e0=0.95 --init crank.e1=0.3`, unit.
+    x[ix("crank.e0")] = 0.95 / std::hypot(0.95, 0.3), x[ix("crank.e1")] = 0.3 / std::hypot(0.95, 0.3);
+    x[ix("rod.x")] = par("gamma2") * l2, x[ix("rod.y")] = -l1;
+    x[ix("slider.e0")] = 1.0, x[ix("slider.x")] = slide, x[ix("slider.y")] = -l1;
+    std::vector<bool> given_q(S::kNq, false), given_u(S::kNu, false);
+    given_q[ix("slider.x")] = true;
+    const AssemblyResult r = mbsc::runtime::assemble(model, 0.0, x, given_q, given_u, nullptr, S::kParamDefaults);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    const double e0 = x[ix("crank.e0")], e1 = x[ix("crank.e1")], e2 = x[ix("crank.e2")], e3 = x[ix("crank.e3")];
+    const double norm2 = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    if (!with_indices) {
+      CHECK(std::fabs(norm2 - 1.0) > 1e-3);  // the failure the unit rows mend
+      continue;
+    }
+    CHECK(norm2 == Approx(1.0).margin(1e-12));
+    // The crank's angle chi about x closes the loop: x2^2 = l2^2 - 2 l1^2 (1 - cos chi)
+    // (thesis invariants (d)), with chi = 2 atan2(e1, e0).
+    const double chi = 2 * std::atan2(e1, e0);
+    CHECK(slide * slide == Approx(l2 * l2 - 2 * l1 * l1 * (1 - std::cos(chi))).epsilon(1e-12));
   }
 }
 

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "mbsc/runtime/dop853.hpp"
+#include "mbsc/runtime/inverse_dynamics.hpp"
 #include "mbsc/runtime/model_table.hpp"
 #include "slider_crank_3d/slider_crank_3d.hpp"
 #include "slider_crank_3d_input/slider_crank_3d_input.hpp"
@@ -276,6 +277,70 @@ TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the pres
   INFO("u1 at the reversal: " << before.u1 << " -> " << after.u1 << ", Ff " << before.Ff << " -> " << after.Ff);
   CHECK(before.Ff * after.Ff < 0);
   CHECK(std::fabs(before.u1 - after.u1) > 1e-3);
+}
+
+TEST_CASE("slider-crank 3-D: the runtime's inverse dynamics solves the torque with the friction law in rhs",
+          "[numeric][slider_crank_3d][inverse]") {
+  // The shipped model closes the friction in its rhs, which is then not affine in u1:
+  // InverseDynamics (prescribed slide, thesis eq (k)) must give the torque the outside
+  // closure above gives, in both formulations, and drive its rhs to the prescribed motion.
+  const double pi = std::acos(-1.0), A = (1 - g2) * l2 / 10;
+  auto slide = [&](double t, double& q, double& qd, double& qdd) {
+    const double s2 = std::sin(2 * pi * t), c2 = std::cos(2 * pi * t);
+    q = l2 - A * (1 + 8 * s2 * s2);
+    qd = -A * 32 * pi * s2 * c2;
+    qdd = -A * 64 * pi * pi * (c2 * c2 - s2 * s2);
+  };
+  // The outside closure's torque and crank angle at t (as in the test above).
+  auto reference = [&](double t, double& chi) {
+    double x2 = 0, ds = 0, dds = 0;
+    slide(t, x2, ds, dds);
+    const double cchi = 1 - (l2 * l2 - x2 * x2) / (2 * l1 * l1), schi = std::sin(chi = std::acos(cchi));
+    const double w = -x2 * ds / (l1 * l1 * schi);
+    const double dw = -(ds * ds + x2 * dds + l1 * l1 * cchi * w * w) / (l1 * l1 * schi);
+    const auto x = state(chi, w, 0.0);
+    auto accel = [&](double u1, double Ff) {
+      std::vector<double> xd(x.size());
+      const double in[2] = {u1, Ff};
+      REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, xd.data()) == 0);
+      return xd[ix("crank.wx")];
+    };
+    const double a0 = accel(0, 0), au = accel(1, 0) - a0, aF = accel(0, 1) - a0;
+    const double u10 = (dw - a0) / au, du1 = -aF / au;
+    const auto Na = normal_force(x, u10, 0), Nb = normal_force(x, u10 + du1, 1);
+    return u10 + du1 * coulomb(ds, Na, {Nb[0] - Na[0], Nb[1] - Na[1]});
+  };
+  for (const auto& m : {MBSC_MODEL_TABLE(C), MBSC_MODEL_TABLE_MULTIPLIERS(CM)}) {
+    INFO((m.multipliers ? "multipliers" : "complement"));
+    const std::vector<double> p(m.param_defaults, m.param_defaults + m.np);  // (with the Baumgarte gains)
+    mbsc::runtime::InverseOptions opt;  // the crank's and the slider's quaternions kept unit
+    opt.quaternion_indices.assign(C::kQuaternionIndices, C::kQuaternionIndices + 4 * C::kNquaternions);
+    mbsc::runtime::InverseDynamics inv(m, {{static_cast<int>(ix("slider.x")), slide}}, {0}, p, {}, opt);
+    REQUIRE(inv.setup_error().empty());
+    double chi0 = 0;
+    reference(0.003, chi0);
+    std::vector<double> x = state(chi0, 0.0, 0.0);  // the branch chi > 0
+    double worst = 0, largest = 0, friction_share = 0;
+    for (int k = 0; k < 40; ++k) {
+      const double t = 0.003 + 0.0125 * k;  // never at a reversal (t = 0, 1/4, 1/2)
+      mbsc::runtime::InverseSample smp;
+      REQUIRE(inv.solve(t, x, smp));
+      double chi = 0;
+      const double u1 = reference(t, chi);
+      INFO("t = " << t << ": u1 " << smp.inputs[0] << " against " << u1);
+      CHECK(std::fabs(smp.inputs[0] - u1) < 1e-8 * std::max(1.0, std::fabs(u1)));
+      CHECK(smp.acceleration_residual < 1e-10);
+      worst = std::max(worst, std::fabs(smp.inputs[0] - u1));
+      largest = std::max(largest, std::fabs(u1));
+      // The friction is not negligible here: its share of the torque.
+      std::vector<double> xd(x.size());
+      const double no_friction[2] = {smp.inputs[0], 0.0};
+      REQUIRE(R::rhs(0.0, smp.x.data(), no_friction, R::kParamDefaults, xd.data()) == 0);
+      friction_share = std::max(friction_share, std::fabs(xd[ix("crank.wx")] - smp.xdot[ix("crank.wx")]));
+    }
+    INFO("largest torque " << largest << ", worst difference " << worst);
+    CHECK(friction_share > 1.0);  // rad/s^2 that the friction takes off the crank
+  }
 }
 
 // ---- The friction closed by the generated code (the joint's `friction mu`) ----

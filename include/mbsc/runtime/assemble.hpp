@@ -36,8 +36,10 @@ struct AssemblyModel {
   const char* const* position_names;     // kNposc names
   const char* const* constraint_names;   // kNc names
   /// Optional: kStateNames (for the names of the coordinates a failed assembly could not
-  /// place) and kQuaternionIndices / kNquaternions (a quaternion with no guess, all four
-  /// entries 0 and none given, starts at the identity).
+  /// place) and kQuaternionIndices / kNquaternions: a quaternion with no guess, all four
+  /// entries 0 and none given, starts at the identity, and one that assembly moves stays
+  /// of unit length (|e|^2 = 1 joins the position rows: a quaternion off the unit sphere
+  /// would scale its body).
   const char* const* state_names = nullptr;
   const int* quaternion_indices = nullptr;
   int nquaternions = 0;
@@ -103,19 +105,45 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
   std::vector<int> free_q;
   for (int i = 0; i < m.nq; ++i)
     if (!given_q[static_cast<std::size_t>(i)]) free_q.push_back(i);
+  // The unit quaternions assembly may move: each adds the row |e|^2 - 1 after the model's.
+  std::vector<const int*> moved_quaternions;
+  for (int k = 0; m.quaternion_indices && k < m.nquaternions; ++k) {
+    const int* e = m.quaternion_indices + 4 * k;
+    bool free = false;
+    for (int c = 0; c < 4; ++c) free = free || !given_q[static_cast<std::size_t>(e[c])];
+    if (free) moved_quaternions.push_back(e);
+  }
+  const int nrows = m.nposc + static_cast<int>(moved_quaternions.size());
+  // g and J with the unit rows below the model's (residual and gradient 2 e).
+  auto unit_rows = [&](std::vector<double>& g, std::vector<double>* J) {
+    for (std::size_t k = 0; k < moved_quaternions.size(); ++k) {
+      const std::size_t row = static_cast<std::size_t>(m.nposc) + k;
+      double norm2 = 0.0;
+      for (int c = 0; c < 4; ++c) {
+        const std::size_t at = static_cast<std::size_t>(moved_quaternions[k][c]);
+        norm2 += x[at] * x[at];
+        if (J) (*J)[row * static_cast<std::size_t>(m.nq) + at] = 2.0 * x[at];
+      }
+      g[row] = norm2 - 1.0;
+    }
+  };
   if (m.nposc > 0) {
-    std::vector<double> g(static_cast<std::size_t>(m.nposc)), J(static_cast<std::size_t>(m.nposc) * static_cast<std::size_t>(m.nq));
+    std::vector<double> g(static_cast<std::size_t>(nrows)), J(static_cast<std::size_t>(nrows) * static_cast<std::size_t>(m.nq), 0.0);
     for (;;) {
       if (m.position_constraints(t, x.data(), u, p, g.data()) != 0) {
         res.status = AssemblyResult::Status::EvaluationFailed;
         res.message = "the position constraints could not be evaluated (non-finite value) at the current guess";
         return res;
       }
+      unit_rows(g, nullptr);
       res.position_residual = worst(g, res.worst_constraint);
       if (res.position_residual <= opt.tolerance * scale()) break;
       if (res.iterations == opt.max_iterations || free_q.empty()) {
         res.status = AssemblyResult::Status::PositionNotSolved;
-        const std::string name = res.worst_constraint >= 0 ? m.position_names[res.worst_constraint] : "?";
+        const std::string name = res.worst_constraint < 0           ? "?"
+                                 : res.worst_constraint < m.nposc ? m.position_names[res.worst_constraint]
+                                 : m.state_names ? std::string("|") + m.state_names[moved_quaternions[static_cast<std::size_t>(res.worst_constraint - m.nposc)][0]] + "...| = 1"
+                                                 : "a unit quaternion";
         res.message = "position constraint '" + name + "' cannot be satisfied from the given data (residual " +
                       std::to_string(res.position_residual) + " after " + std::to_string(res.iterations) + " Newton steps)";
         // Which coordinates it could move: the free ones its row reads.
@@ -139,22 +167,25 @@ inline AssemblyResult assemble(const AssemblyModel& m, double t, std::vector<dou
         res.message = "the position Jacobian could not be evaluated (non-finite value)";
         return res;
       }
-      std::vector<double> rhs(static_cast<std::size_t>(m.nposc));
-      for (int i = 0; i < m.nposc; ++i) rhs[static_cast<std::size_t>(i)] = -g[static_cast<std::size_t>(i)];
+      unit_rows(g, &J);
+      std::vector<double> rhs(static_cast<std::size_t>(nrows));
+      for (int i = 0; i < nrows; ++i) rhs[static_cast<std::size_t>(i)] = -g[static_cast<std::size_t>(i)];
       const LeastSquares step =
-          solve_least_squares(select_columns(J, m.nposc, m.nq, free_q), rhs, m.nposc, static_cast<int>(free_q.size()));
+          solve_least_squares(select_columns(J, nrows, m.nq, free_q), rhs, nrows, static_cast<int>(free_q.size()));
       for (std::size_t k = 0; k < free_q.size(); ++k) x[static_cast<std::size_t>(free_q[k])] += step.x[k];
       res.pivot_ratio = step.smallest_pivot > 0 ? step.largest_pivot / step.smallest_pivot : INFINITY;
       ++res.iterations;
     }
     // Conditioning where we ended (also when the guess was already consistent).
+    // (The unit rows count: they fix each moved quaternion's length.)
     if (!free_q.empty() && m.position_jacobian(t, x.data(), u, p, J.data()) == 0) {
-      const LeastSquares at_end = solve_least_squares(select_columns(J, m.nposc, m.nq, free_q),
-                                                      std::vector<double>(static_cast<std::size_t>(m.nposc), 0.0), m.nposc,
+      unit_rows(g, &J);
+      const LeastSquares at_end = solve_least_squares(select_columns(J, nrows, m.nq, free_q),
+                                                      std::vector<double>(static_cast<std::size_t>(nrows), 0.0), nrows,
                                                       static_cast<int>(free_q.size()));
       res.pivot_ratio = at_end.smallest_pivot > 0 ? at_end.largest_pivot / at_end.smallest_pivot : INFINITY;
       res.position_rank = at_end.rank;
-      res.position_full_rank = std::min(m.nposc, static_cast<int>(free_q.size()));
+      res.position_full_rank = std::min(nrows, static_cast<int>(free_q.size()));
     }
   }
   // ---- speeds: A v + b = 0 for the free ones ----

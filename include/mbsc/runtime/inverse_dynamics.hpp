@@ -7,12 +7,17 @@
 ///      others starting from the previous solution (so the run stays on its branch);
 ///   2. the speeds: the velocity constraints A v + b = 0 together with the prescribed
 ///      rates, one least-squares solve that must be of full column rank;
-///   3. the inputs: the generated rhs is affine in the inputs, so the speed rates are
+///   3. the inputs: where the generated rhs is affine in the inputs, the speed rates are
 ///      v'(u) = a + B u exactly (up to rounding), with a = rhs at the base inputs and the
 ///      columns of B from one more rhs call per unknown input; the unknowns are the u that
 ///      make the prescribed coordinates' rates equal their prescribed accelerations. The
 ///      constraints at acceleration level are the rhs's own business, so no new generated
 ///      code is needed, and the prescribed coordinates need not be the independent set.
+///      Where the rhs closes Coulomb friction itself (a joint's `friction mu`), the
+///      friction force reads the normal reaction, which the inputs move: v'(u) is then
+///      smooth but not affine at a given state (the friction's direction is fixed by the
+///      state's slide rates), and Newton steps from that first solve, with columns by
+///      differences, solve the inputs and the friction law together.
 ///   4. the multipliers form's reaction forces (A^T lambda along each speed) at that state.
 /// A prescribed coordinate's rate must be one speed (q' = v, as for the planar library's
 /// absolute coordinates and for particles); the constructor checks it.
@@ -58,6 +63,12 @@ struct InverseOptions {
   AssemblyOptions assembly;
   double rank_tolerance = 1e-10;  // relative pivot below which a least-squares solve is rank deficient
   double residual_tolerance = 1e-8;  // on the prescribed accelerations / rates, relative to their size
+  /// Newton steps on the inputs after the affine solve, taken while the accelerations
+  /// miss by more than rounding (an rhs that closes Coulomb friction is not affine in them).
+  int input_iterations = 20;
+  /// The model's unit quaternions, four state indices each (kQuaternionIndices): kept of
+  /// unit length by the assembly of the positions.
+  std::vector<int> quaternion_indices;
 };
 
 class InverseDynamics {
@@ -98,12 +109,13 @@ class InverseDynamics {
     // 1. Positions (the velocity part of assembly is ours: nc = 0 there).
     const AssemblyModel positions{m_.nq, m_.nu, m_.nposc, 0, m_.position_constraints, m_.position_jacobian,
                                   m_.velocity_constraints, m_.constraint_jacobian, m_.position_constraint_names,
-                                  m_.constraint_names};
+                                  m_.constraint_names, m_.state_names, opt_.quaternion_indices.data(),
+                                  static_cast<int>(opt_.quaternion_indices.size() / 4)};
     std::vector<bool> given_q(nq, false), given_u(nu, true);
     for (const auto& pr : pres_) given_q[static_cast<std::size_t>(pr.coord)] = true;
     const AssemblyResult a = assemble(positions, t, x, given_q, given_u, base_u_.data(), p_.data(), opt_.assembly);
     if (!a.ok()) return fail(s, a.message + " at t = " + num(t));
-    if (m_.nposc >= free_coordinates() && a.position_rank >= 0 && a.position_rank < free_coordinates())
+    if (a.position_full_rank >= free_coordinates() && a.position_rank >= 0 && a.position_rank < free_coordinates())
       return fail(s, "the prescribed coordinates do not determine the configuration at t = " + num(t) + " (position Jacobian rank " +
                          std::to_string(a.position_rank) + " over " + std::to_string(free_coordinates()) +
                          " free coordinates): a singular pose, or coordinates that are not independent");
@@ -268,10 +280,35 @@ class InverseDynamics {
     }
     if (rhs(t, x, s.inputs, s.xdot, s.partition) != 0) return fail(s, "the rhs failed at t = " + num(t) + " with the solved inputs");
     double scale = 1.0;
-    for (std::size_t k = 0; k < np; ++k) {
-      const double got = s.xdot[nq + static_cast<std::size_t>(speed_of_[k])];
-      s.acceleration_residual = std::max(s.acceleration_residual, std::fabs(got - qdd[k]));
-      scale = std::max(scale, std::fabs(qdd[k]));
+    for (std::size_t k = 0; k < np; ++k) scale = std::max(scale, std::fabs(qdd[k]));
+    s.acceleration_residual = miss(s.xdot, qdd, r);
+    // Newton on the inputs while the miss is above rounding: nothing to do for an rhs
+    // affine in them; a few steps where the rhs closes friction on reactions they move.
+    for (int it = 0; it < opt_.input_iterations && nk > 0 && s.acceleration_residual > 1e-13 * scale; ++it) {
+      for (std::size_t c = 0; c < nk; ++c) {
+        std::vector<double> u = s.inputs;
+        const double h = 1e-7 * std::max(1.0, std::fabs(u[static_cast<std::size_t>(unknowns_[c])]));
+        u[static_cast<std::size_t>(unknowns_[c])] += h;
+        int pc = 0;
+        if (rhs(t, x, u, col, pc) != 0) break;  // the step below is then not taken
+        for (std::size_t k = 0; k < np; ++k) {
+          const std::size_t row = nq + static_cast<std::size_t>(speed_of_[k]);
+          B[k * nk + c] = (col[row] - s.xdot[row]) / h;
+        }
+      }
+      for (double& e : r) e = -e;
+      const LeastSquares step = solve_least_squares(B, r, static_cast<int>(np), static_cast<int>(nk), opt_.rank_tolerance);
+      if (step.rank < static_cast<int>(nk)) break;
+      std::vector<double> u = s.inputs, xdot;
+      for (std::size_t c = 0; c < nk; ++c) u[static_cast<std::size_t>(unknowns_[c])] += step.x[c];
+      int pc = 0;
+      if (rhs(t, x, u, xdot, pc) != 0) break;
+      const double next = miss(xdot, qdd, r);
+      if (!(next < 0.5 * s.acceleration_residual)) break;  // rounding reached, or a least-squares fit
+      s.inputs = u;
+      s.xdot = xdot;
+      s.partition = pc;
+      s.acceleration_residual = next;
     }
     if (!(s.acceleration_residual <= opt_.residual_tolerance * scale)) {
       std::string names;
@@ -280,6 +317,16 @@ class InverseDynamics {
                          num(s.acceleration_residual) + "): fewer unknowns than prescribed coordinates, or inputs that do not act on them");
     }
     return true;
+  }
+
+  /// The largest |v'_p - q''_p| of the rates xdot; r gets v'_p - q''_p.
+  double miss(const std::vector<double>& xdot, const std::vector<double>& qdd, std::vector<double>& r) const {
+    double worst = 0.0;
+    for (std::size_t k = 0; k < pres_.size(); ++k) {
+      r[k] = xdot[static_cast<std::size_t>(m_.nq) + static_cast<std::size_t>(speed_of_[k])] - qdd[k];
+      worst = std::max(worst, std::fabs(r[k]));
+    }
+    return worst;
   }
 
   ModelTable m_;
