@@ -17,6 +17,8 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
   runtime::ModelDynamics dynamics(model.table(), p,
                                   [&model, &p](double t, double* u) { return model.inputs(t, p.data(), u); });
   if (continuation) dynamics.continue_through_rank_loss();
+  sim.crossing.rtol = options.rtol;  // the extrapolation across a pose of rank loss meets the run's tolerances
+  sim.crossing.atol = options.atol;
   const runtime::ModelTable& table = model.table();
   const bool constrained = table.full_state_layout() && (table.nposc > 0 || table.nc > 0);
   // BDF keeps a constrained model on its manifold by CVODE's own projection, inside the

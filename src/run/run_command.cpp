@@ -314,6 +314,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     accuracy.energy_scale = std::max({std::fabs(e0[0]), std::fabs(e0[1]), std::fabs(e0[2])});
     if (!(accuracy.energy_scale > 0)) accuracy.energy_scale = 1;
   }
+  if (a.continuation)
+    err << fmt::format("mbsc: continuation: crossed {} pose(s) where the constraints lose rank, by extrapolation{}; "
+                       "{} rhs evaluation(s) at a projected state, {} bridged\n",
+                       r.crossings,
+                       r.crossings > 0 ? fmt::format(" (largest error estimate {:.2g} of the tolerances)", r.crossing_error) : "",
+                       r.projected_evaluations, r.bridged_evaluations);
   if (!r.switches.empty()) {
     std::string list;
     for (const auto& s : r.switches)

@@ -14,7 +14,9 @@
 //     and falls like the distance in the complement form (square_law) but like its square
 //     in the multipliers form, as the dense forms' do.
 #include <catch2/catch.hpp>
+#include <array>
 #include <cmath>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,7 @@
 #include "mbsc/runtime/branch_continuation.hpp"
 #include "mbsc/runtime/model_table.hpp"
 #include "mbsc/runtime/rk4.hpp"
+#include "mbsc/runtime/simulate.hpp"
 #include "test_support.hpp"
 
 using mbsc::runtime::ModelTable;
@@ -34,9 +37,10 @@ namespace {
 
 /// The parallelogram branch in closed form for an N-window chain: every crank at theta
 /// turning at w, the couplers level and translating.
-std::vector<double> parallelogram(const ModelTable& m, int N, double theta, double w) {
-  const double L = m.param_defaults[index_of(m.param_names, m.np, "L")];
-  const double a = m.param_defaults[index_of(m.param_names, m.np, "a")];
+std::vector<double> parallelogram(const ModelTable& m, int N, double theta, double w, const double* p = nullptr) {
+  if (p == nullptr) p = m.param_defaults;
+  const double L = p[index_of(m.param_names, m.np, "L")];
+  const double a = p[index_of(m.param_names, m.np, "a")];
   std::vector<double> x(static_cast<std::size_t>(m.nx), 0.0);
   auto set = [&](const std::string& name, double v) { x[static_cast<std::size_t>(index_of(m.state_names, m.nx, name))] = v; };
   const double c = std::cos(theta), s = std::sin(theta);
@@ -183,6 +187,97 @@ TEST_CASE("rank loss: the 40-window chain through its flat poses", "[.][chain40]
   CHECK(r.energy_drift < 1e-4);
   CHECK(r.crank_spread < 1e-8);
   CHECK(r.residual < 1e-8);
+}
+
+#ifndef A02_SECONDS
+#define A02_SECONDS 4.0
+#endif
+
+TEST_CASE("rank loss: IFToMM A02, the 40-window chain at DOP853 1e-10, crosses its flat poses by extrapolation",
+          "[numeric][rank_loss][a02]") {
+  // Benchmark A02: 81 bars of 1 m and 1 kg, cranks vertical, the first crank's tip at
+  // 1 m/s. On its branch the chain is one pendulum, J theta'' = -K cos theta, with
+  // J = (N + 1) m a^2 / 3 + N m a^2 (cranks about their pivots, couplers translating) and
+  // K = g ((N + 1) m a / 2 + N m a): the reference, by RK4 at 1e-4 s. Before the crossings
+  // by extrapolation (singular_crossing.hpp) this run crawled at the first flat pose.
+  const ModelTable m = MBSC_MODEL_TABLE(mbsc_gen::chain40);
+  const int N = 40;
+  std::vector<double> p(m.param_defaults, m.param_defaults + m.np);
+  for (const char* n : {"L", "a", "m_crank", "m_coupler"}) p[static_cast<std::size_t>(index_of(m.param_names, m.np, n))] = 1.0;
+  const double g = p[static_cast<std::size_t>(index_of(m.param_names, m.np, "g"))], pi = std::acos(-1.0);
+  const double J = (N + 1) / 3.0 + N, K = g * ((N + 1) / 2.0 + N);
+  mbsc::runtime::ModelDynamics dyn(m, p);
+  dyn.continue_through_rank_loss();
+  auto stepper = mbsc::runtime::make_stepper("dop853", dyn.rhs(), m.nx, {1e-10, 1e-10});
+  REQUIRE(stepper);
+  mbsc::runtime::SimulationOptions o;
+  o.t_end = A02_SECONDS;  // 4 s, four flat poses; 1 s, the first, in the sanitizer build
+  o.dt_out = 0.01;
+  o.projection_threshold = 2e-10;  // as `mbsc run` sets it: rtol + atol
+  o.crossing.rtol = o.crossing.atol = 1e-10;
+  const std::clock_t cpu0 = std::clock();
+  o.stop_requested = [&](double) { return std::clock() - cpu0 > 120 * CLOCKS_PER_SEC; };  // a crawl fails, not hangs
+  // The reference alongside the samples, and the flat poses it passes.
+  std::array<double, 2> ref = {pi / 2, 1.0};
+  double t_ref = 0.0, worst = 0.0, spread = 0.0;
+  int flat = 0;
+  const int th0 = index_of(m.state_names, m.nx, "crank_0.theta");
+  auto observe = [&](double t, const std::vector<double>& x) {
+    const double h = 1e-4;
+    auto f = [&](const std::array<double, 2>& y) { return std::array<double, 2>{y[1], -K / J * std::cos(y[0])}; };
+    while (t_ref < t - 1e-12) {
+      const double hh = std::min(h, t - t_ref);
+      const auto k1 = f(ref), k2 = f({ref[0] + hh / 2 * k1[0], ref[1] + hh / 2 * k1[1]});
+      const auto k3 = f({ref[0] + hh / 2 * k2[0], ref[1] + hh / 2 * k2[1]}), k4 = f({ref[0] + hh * k3[0], ref[1] + hh * k3[1]});
+      const double before = std::sin(ref[0]);
+      for (std::size_t i = 0; i < 2; ++i) ref[i] += hh / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+      if ((std::sin(ref[0]) > 0) != (before > 0)) ++flat;
+      t_ref += hh;
+    }
+    worst = std::max(worst, std::abs(x[static_cast<std::size_t>(th0)] - ref[0]));
+    for (int i = 1; i <= N; ++i)
+      spread = std::max(spread, std::abs(x[static_cast<std::size_t>(index_of(m.state_names, m.nx, "crank_" + std::to_string(i) + ".theta"))] -
+                                         x[static_cast<std::size_t>(th0)]));
+  };
+  const auto r = mbsc::runtime::simulate(dyn, *stepper, o, parallelogram(m, N, pi / 2, 1.0, p.data()), observe);
+  INFO(r.message << "; crossings " << r.crossings << " (estimate " << r.crossing_error << "), flat poses " << flat
+                 << ", worst angle error " << worst << ", crank spread " << spread << ", " << r.cpu_seconds << " s CPU");
+  REQUIRE(r.ok());
+  CHECK(flat >= 1);
+  CHECK(r.crossings == flat);  // every flat pose crossed by extrapolation
+  CHECK(r.crossing_error <= 10.0);
+  CHECK(worst < 1e-8);   // measured 1e-9 at t = 4
+  CHECK(spread < 1e-9);  // the parallelogram branch, not the anti-parallelogram
+}
+
+TEST_CASE("rank loss: the Hermite polynomial through values and rates", "[numeric][rank_loss]") {
+  // Exact for a polynomial of degree 2k - 1 (k nodes), and past its last node on sin its
+  // error falls like the spacing to the power 2k.
+  const std::vector<double> t = {0.0, 0.3, 0.5, 1.1};
+  std::vector<std::vector<double>> x, f;
+  auto poly = [](double s) { return 2 - s + 3 * s * s * s - 0.5 * std::pow(s, 7); };
+  auto dpoly = [](double s) { return -1 + 9 * s * s - 3.5 * std::pow(s, 6); };
+  for (double s : t) {
+    x.push_back({poly(s), std::sin(s)});
+    f.push_back({dpoly(s), std::cos(s)});
+  }
+  std::vector<double> out;
+  mbsc::runtime::HermitePolynomial(t, x, f).evaluate(1.7, out);
+  CHECK(out[0] == Approx(poly(1.7)).epsilon(1e-12));
+  double last = 0.0;
+  for (double h : {0.2, 0.1, 0.05}) {
+    std::vector<double> ts;
+    std::vector<std::vector<double>> xs, fs;
+    for (int k = 0; k < 3; ++k) {
+      ts.push_back(k * h);
+      xs.push_back({std::sin(k * h)});
+      fs.push_back({std::cos(k * h)});
+    }
+    mbsc::runtime::HermitePolynomial(ts, xs, fs).evaluate(3 * h, out);
+    const double err = std::abs(out[0] - std::sin(3 * h));
+    if (last > 0) CHECK(last / err > 40.0);  // 2^6 = 64 for degree 5
+    last = err;
+  }
 }
 
 TEST_CASE("rank loss: the 40-window chain's O(N) rhs at and near a flat pose", "[numeric][rank_loss]") {

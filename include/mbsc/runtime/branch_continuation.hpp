@@ -114,6 +114,31 @@ class BranchContinuation {
     return worst > s_.drift_tol ? project(t, x.data()) : 0;
   }
 
+  /// The same to rounding (residuals 1e-15, accepting 1e-13): where the rhs is read for
+  /// an extrapolation (singular_crossing.hpp), a residual left would be amplified.
+  int project_tight(double t, double* x) {
+    const BranchSettings kept = s_;
+    s_.position_tol = s_.velocity_tol = 1e-15;
+    s_.max_newton = std::max(s_.max_newton, 40);
+    const int status = project(t, x);
+    s_ = kept;
+    return status;
+  }
+
+  /// The conditioning at x relative to the reference (1 well away from any rank loss,
+  /// 0 at it).
+  double relative_conditioning(double t, const double* x) {
+    if (!seeded_) seed(t, x);
+    const double rc = conditioning(t, x);
+    reference_ = std::max(reference_, rc);
+    return reference_ > 0.0 ? rc / reference_ : 0.0;
+  }
+  /// Below this relative conditioning the rhs is evaluated at a projected state.
+  double near_threshold() const { return s_.near_below; }
+  /// How the conditioning falls towards a rank loss at distance d: like d^power (the
+  /// complement form's blocks: 1; the multipliers form's Schur complement: 2).
+  int conditioning_power() const { return m_.multipliers ? 2 : 1; }
+
   /// How many rhs evaluations were made at a projected state, and how many bridged.
   long projected() const { return projected_; }
   long bridged() const { return bridged_; }
@@ -151,14 +176,16 @@ class BranchContinuation {
     const double tol = velocity ? s_.velocity_tol : s_.position_tol;
     std::vector<double> r(static_cast<std::size_t>(rows)), J(static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols));
     std::vector<double> JJ(static_cast<std::size_t>(rows) * static_cast<std::size_t>(rows));
-    double last = 0.0;
+    double last = 0.0, previous = 0.0;
     for (int it = 0; it <= s_.max_newton; ++it) {
       const int st = velocity ? m_.velocity_constraints(t, x, u_, p_, r.data()) : m_.position_constraints(t, x, u_, p_, r.data());
       if (st != 0) return 1;
       last = 0.0;
       for (double e : r) last = std::max(last, std::abs(e));
       if (!(last == last)) return 1;
-      if (last <= tol || it == s_.max_newton) break;
+      // Done at the tolerance, or where rounding stops the progress within 100 times it.
+      if (last <= tol || it == s_.max_newton || (it > 0 && last > 0.5 * previous && last <= 100.0 * tol)) break;
+      previous = last;
       const int sj = velocity ? m_.constraint_jacobian(t, x, u_, p_, J.data()) : m_.position_jacobian(t, x, u_, p_, J.data());
       if (sj != 0) return 1;
       for (int i = 0; i < rows; ++i)

@@ -37,6 +37,7 @@
 #include "mbsc/runtime/branch_continuation.hpp"
 #include "mbsc/runtime/partition_selector.hpp"
 #include "mbsc/runtime/projection.hpp"
+#include "mbsc/runtime/singular_crossing.hpp"
 #include "mbsc/runtime/stepper.hpp"
 
 namespace mbsc::runtime {
@@ -79,6 +80,7 @@ class ModelDynamics {
     continuation_ = std::make_unique<BranchContinuation>(m_, u_.data(), p_.data(), s);
   }
   const BranchContinuation* continuation() const { return continuation_.get(); }
+  BranchContinuation* continuation() { return continuation_.get(); }
   /// evaluate() as a Stepper's Rhs (holds a pointer to this object).
   Rhs rhs() {
     return [this](double t, const double* x, double* xdot) { return evaluate(t, x, xdot); };
@@ -142,6 +144,10 @@ struct SimulationOptions {
   /// Asked after every step with its time: true ends the run there (status Stopped), e.g.
   /// when a time budget is spent (`mbsc run --budget`). Empty: never.
   std::function<bool(double t)> stop_requested;
+  /// With the dynamics' BranchContinuation on: cross each pose where the constraints lose
+  /// rank by extrapolation (singular_crossing.hpp; set its rtol and atol to the
+  /// stepper's). nodes = 0 turns it off (the continuation's evaluations alone).
+  CrossingSettings crossing;
 };
 
 /// The unit quaternions of a generated model, from its kQuaternionIndices (four state
@@ -175,6 +181,10 @@ struct SimulationResult {
   double max_velocity_residual = 0.0;
   long projections = 0;
   long normalizations = 0;  // quaternions brought back to |e| = 1 (unit_quaternions)
+  long crossings = 0;       // poses of rank loss crossed by extrapolation (SimulationOptions::crossing)
+  double crossing_error = 0.0;  // the largest error estimate of those, in units of the tolerances
+  long projected_evaluations = 0;  // BranchContinuation: rhs evaluations at a projected state
+  long bridged_evaluations = 0;    // and bridged ones (branch_continuation.hpp)
   // Energy (kinetic + potential, the generated energy()'s entry 2): defined unless the
   // model's energy() reports status 4.
   bool energy_defined = false;
@@ -265,9 +275,18 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
   const long evals0 = dyn.evaluations();
   res.t = o.t0;
   res.x = x0;
+  std::unique_ptr<SingularCrossing> crossing;  // made once the start is checked (below)
   auto finish = [&](SimulationResult::Status s, const std::string& msg) {
     res.status = s;
     res.message = msg;
+    if (crossing) {
+      res.crossings = crossing->crossings();
+      res.crossing_error = crossing->error_estimate();
+    }
+    if (const BranchContinuation* bc = dyn.continuation()) {
+      res.projected_evaluations = bc->projected();
+      res.bridged_evaluations = bc->bridged();
+    }
     res.stats = stepper.stats();
     res.rhs_evals = dyn.evaluations() - evals0;
     res.cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
@@ -358,6 +377,18 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
   };
 
   std::vector<double> x = x0;
+  if (dyn.continuation() != nullptr && o.crossing.nodes > 0) {
+    // Its error estimate reads the independent speeds and the coordinates they are rates of.
+    std::vector<int> watched;
+    const std::vector<int> pair = detail::coordinate_of_speed(dyn, o.t0, x);
+    for (int k = 0; k < m.ndof; ++k) {
+      const int i = ModelTable::find(m.state_names, m.nx, m.dof_names[k]);
+      if (i < m.nq) continue;
+      watched.push_back(i);
+      if (pair[static_cast<std::size_t>(i - m.nq)] >= 0) watched.push_back(pair[static_cast<std::size_t>(i - m.nq)]);
+    }
+    crossing = std::make_unique<SingularCrossing>(*dyn.continuation(), dyn.rhs(), o.crossing, watched);
+  }
   check_partition(o.t0, x);
   if (keep_independent) coordinate_of = detail::coordinate_of_speed(dyn, o.t0, x);
   track_energy(o.t0, x, true);
@@ -392,18 +423,37 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
   }
 
   std::vector<double> sample;
-  bool done = false;
-  while (!done) {
-    st = stepper.step(o.t_end);
-    if (st != Stepper::Status::Ok) return finish(detail::from_stepper(st), stepper.message());
-    const double t = stepper.t();
-    // (1) the samples inside this step, from the dense output.
+  // Every output time before t, sampled from `interpolate`; returns the first one not before t.
+  auto sample_before = [&](double t, const auto& interpolate) {
     double tk = next_output();
     for (; tk < t; tk = next_output()) {
-      stepper.interpolate(tk, sample);
+      interpolate(tk, sample);
       emit(tk, sample);
       ++k_out;
     }
+    return tk;
+  };
+  // The run is at (t, xs): the result so far, a sample when the output time tk is t (the
+  // state itself, projected), the energy recorded. True at t_end.
+  auto arrive = [&](double t, const std::vector<double>& xs, double tk) {
+    res.t = t;
+    res.x = xs;
+    bool end = false;
+    if (tk == t) {
+      emit(t, xs);
+      ++k_out;
+      end = t >= o.t_end;
+    }
+    track_energy(t, xs, false);
+    return end;
+  };
+  bool done = false;
+  while (!done) {
+    st = stepper.step(crossing ? crossing->step_stop(stepper.t(), o.t_end) : o.t_end);
+    if (st != Stepper::Status::Ok) return finish(detail::from_stepper(st), stepper.message());
+    double t = stepper.t();
+    // (1) the samples inside this step, from the dense output.
+    double tk = sample_before(t, [&](double s, std::vector<double>& out) { stepper.interpolate(s, out); });
     // (2) the new state.
     x = stepper.x();
     if (const int bad = detail::first_non_finite(x); bad >= 0)
@@ -448,16 +498,21 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
       ++res.normalizations;
       restart = true;
     }
-    res.t = t;
-    res.x = x;
-    // A sample at the step's end is the (projected) state itself.
-    if (tk == t) {
-      emit(t, x);
-      ++k_out;
-      done = t >= o.t_end;
-    }
-    track_energy(t, x, false);
+    done = arrive(t, x, tk);
     if (done) break;
+    // (3c) across a pose of rank loss ahead, by extrapolation: the samples on the way
+    // from the polynomial, the run on from the far side.
+    if (crossing && crossing->accepted(t, x)) {
+      std::vector<double> x_plus;
+      if (crossing->cross(o.t_end, x_plus)) {
+        t = crossing->t_plus();
+        tk = sample_before(t, [&](double s, std::vector<double>& out) { crossing->interpolate(s, out); });
+        x = x_plus;
+        done = arrive(t, x, tk);
+        if (done) break;
+        restart = true;
+      }
+    }
     // (4) the independent set.
     if (check_partition(t, x)) restart = true;
     if (restart) {
