@@ -22,15 +22,17 @@ namespace mbsc::run {
 
 namespace {
 
-/// Each `friction` joint of the model with its slide rate evaluated at a full state of
-/// the table (coordinates and speeds matched by name; parameters from p, by name).
+/// Each `friction` joint of the model with its slide rate evaluated at t and a full state
+/// of the table (coordinates and speeds matched by name; inputs in model order, as the
+/// table's; parameters from p, by name).
 std::vector<InverseCommandOptions::FrictionJoint> friction_joints(const model::Model& m, const runtime::ModelTable& T) {
   std::vector<int> q_at, u_at;  // each model coordinate's and speed's index in the state
   for (const auto& c : m.coords) q_at.push_back(runtime::ModelTable::find(T.state_names, T.nx, c.name.c_str()));
   for (const auto& u : m.speeds) u_at.push_back(runtime::ModelTable::find(T.state_names, T.nx, u.name.c_str()));
   std::vector<InverseCommandOptions::FrictionJoint> out;
   for (const auto& f : m.frictions)
-    out.push_back({f.joint, [&m, &T, q_at, u_at, v = f.slide_velocity](const std::vector<double>& x, const std::vector<double>& p) {
+    out.push_back({f.joint, [&m, &T, q_at, u_at, v = f.slide_velocity](double t, const std::vector<double>& x,
+                                                                        const std::vector<double>& u, const std::vector<double>& p) {
                      auto pick = [&x](const std::vector<int>& at) {
                        std::vector<double> values;
                        for (int k : at) values.push_back(k >= 0 ? x[static_cast<std::size_t>(k)] : 0.0);
@@ -38,7 +40,10 @@ std::vector<InverseCommandOptions::FrictionJoint> friction_joints(const model::M
                      };
                      std::map<std::string, double> params;
                      for (int k = 0; k < T.np; ++k) params[T.param_names[k]] = p[static_cast<std::size_t>(k)];
-                     return sym::Probe::configuration(m, params, pick(q_at), pick(u_at)).eval_double(v);
+                     sym::Probe at = sym::Probe::configuration(m, params, pick(q_at), pick(u_at));
+                     at.bind(m.time, t);  // a slide driven in time, or by an input
+                     for (std::size_t k = 0; k < m.inputs.size() && k < u.size(); ++k) at.bind(m.inputs[k].sym, u[k]);
+                     return at.eval_double(v);
                    }});
   return out;
 }

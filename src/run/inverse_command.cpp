@@ -49,7 +49,8 @@ std::string number_text(double v) { return fmt::format("{:.17g}", v); }
 /// its rate v' = 0, v' by a central difference along the state's rates (the motion).
 /// Rest is judged against the sample's speeds and rates (1e-9 and 1e-6 of them); a joint
 /// that only reverses (v = 0, v' != 0) is sliding either side, and the rhs's law, with
-/// sign(0) = 0, gives its force there.
+/// sign(0) = 0, gives its force there. Empty when none is; a joint whose slide rate does
+/// not evaluate there is an error too (rest cannot be ruled out), said so.
 std::string held_at_rest(const std::vector<InverseCommandOptions::FrictionJoint>& joints, const runtime::InverseSample& s,
                          const std::vector<double>& p, int nq) {
   if (joints.empty()) return "";
@@ -67,9 +68,18 @@ std::string held_at_rest(const std::vector<InverseCommandOptions::FrictionJoint>
     behind[i] -= eps * s.xdot[i];
   }
   for (const auto& j : joints) {
-    const double v = j.slide_rate(s.x, p);
-    const double a = (j.slide_rate(ahead, p) - j.slide_rate(behind, p)) / (2 * eps);
-    if (std::fabs(v) <= 1e-9 * speeds && std::fabs(a) <= 1e-6 * rates) return j.name;
+    const double v = j.slide_rate(s.t, s.x, s.inputs, p);
+    const double a = (j.slide_rate(s.t + eps, ahead, s.inputs, p) - j.slide_rate(s.t - eps, behind, s.inputs, p)) / (2 * eps);
+    if (!std::isfinite(v) || !std::isfinite(a))
+      return fmt::format("the slide rate of joint '{}' does not evaluate to a number, so whether its Coulomb friction "
+                         "sticks there (and the inputs are not determined) cannot be told",
+                         j.name);
+    if (std::fabs(v) <= 1e-9 * speeds && std::fabs(a) <= 1e-6 * rates)
+      return fmt::format("the prescribed motion holds joint '{}' at rest (its slide rate and that rate's rate are 0): its "
+                         "Coulomb friction may then be any force up to mu |N| (stiction), so the inputs are not "
+                         "determined; prescribe a motion that slides it there, or start the table where it slides "
+                         "(--t-start)",
+                         j.name);
   }
   return "";
 }
@@ -221,11 +231,7 @@ InverseOutcome inverse_command(const runtime::ModelTable& m, const InverseComman
     const std::string stuck = held_at_rest(opt.friction_joints, s, p, m.nq);
     if (!stuck.empty()) {
       out.exit_code = 2;
-      out.message = fmt::format("mbsc inverse: error: at t = {}: the prescribed motion holds joint '{}' at rest (its slide "
-                                "rate and that rate's rate are 0): its Coulomb friction may then be any force up to mu |N| "
-                                "(stiction), so the inputs are not determined; prescribe a motion that slides it there, or "
-                                "start the table where it slides (--t-start)",
-                                t, stuck);
+      out.message = fmt::format("mbsc inverse: error: at t = {}: {}", t, stuck);
       break;
     }
     std::vector<double> row = {t};

@@ -39,13 +39,14 @@ struct InverseCommandOptions {
   /// The command's seconds left (its --budget); the solve stops where it returns <= 0.
   std::function<double()> seconds_left;
   /// The joints whose Coulomb friction the rhs closes (`friction mu`), with their slide
-  /// rate v(x, p) at a full state. Such a model's rhs is not affine in its inputs, and the
+  /// rate v(t, x, u, p) at a full state (NaN where it does not evaluate). Such a model's rhs is not affine in its inputs, and the
   /// inputs are solved with the friction law; where the prescribed motion holds one at
   /// rest (v = 0 and v' = 0) its force may be anything up to mu |N| (stiction), and the
   /// inputs are not determined: a failure there.
   struct FrictionJoint {
     std::string name;
-    std::function<double(const std::vector<double>& x, const std::vector<double>& p)> slide_rate;
+    std::function<double(double t, const std::vector<double>& x, const std::vector<double>& u, const std::vector<double>& p)>
+        slide_rate;
   };
   std::vector<FrictionJoint> friction_joints;
   /// The unit quaternions of the state, four indices each: their assembly keeps them unit.

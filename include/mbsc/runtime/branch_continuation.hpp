@@ -114,11 +114,13 @@ class BranchContinuation {
     return worst > s_.drift_tol ? project(t, x.data()) : 0;
   }
 
-  /// The same to rounding (residuals 1e-15, accepting 1e-13): where the rhs is read for
+  /// The same to rounding (residuals 1e-15 of the state's size, accepting 1e-13): where the rhs is read for
   /// an extrapolation (singular_crossing.hpp), a residual left would be amplified.
   int project_tight(double t, double* x) {
     const BranchSettings kept = s_;
-    s_.position_tol = s_.velocity_tol = 1e-15;
+    double scale = 1.0;  // rounding of the residuals grows with the state's size
+    for (int i = 0; i < m_.nx; ++i) scale = std::max(scale, std::abs(x[i]));
+    s_.position_tol = s_.velocity_tol = 1e-15 * scale;
     s_.max_newton = std::max(s_.max_newton, 40);
     const int status = project(t, x);
     s_ = kept;

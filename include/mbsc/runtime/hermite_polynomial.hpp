@@ -16,11 +16,13 @@ namespace mbsc::runtime {
 
 class HermitePolynomial {
  public:
+  HermitePolynomial() = default;  // no nodes: evaluates to an empty vector
   /// t: distinct node times; x, f: the values and rates there (one vector of n entries per node).
   HermitePolynomial(const std::vector<double>& t, const std::vector<std::vector<double>>& x,
                     const std::vector<std::vector<double>>& f) {
     const std::size_t k = t.size(), m = 2 * k;
-    n_ = k > 0 ? x[0].size() : 0;
+    if (k == 0) return;
+    n_ = x[0].size();
     z_.resize(m);
     for (std::size_t i = 0; i < m; ++i) z_[i] = t[i / 2];
     // Column j of the divided-difference table, kept in place: after pass j, d[i] holds

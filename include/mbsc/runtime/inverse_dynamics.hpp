@@ -285,17 +285,19 @@ class InverseDynamics {
     // Newton on the inputs while the miss is above rounding: nothing to do for an rhs
     // affine in them; a few steps where the rhs closes friction on reactions they move.
     for (int it = 0; it < opt_.input_iterations && nk > 0 && s.acceleration_residual > 1e-13 * scale; ++it) {
-      for (std::size_t c = 0; c < nk; ++c) {
+      bool columns = true;
+      for (std::size_t c = 0; c < nk && columns; ++c) {
         std::vector<double> u = s.inputs;
         const double h = 1e-7 * std::max(1.0, std::fabs(u[static_cast<std::size_t>(unknowns_[c])]));
         u[static_cast<std::size_t>(unknowns_[c])] += h;
         int pc = 0;
-        if (rhs(t, x, u, col, pc) != 0) break;  // the step below is then not taken
-        for (std::size_t k = 0; k < np; ++k) {
+        columns = rhs(t, x, u, col, pc) == 0;
+        for (std::size_t k = 0; k < np && columns; ++k) {
           const std::size_t row = nq + static_cast<std::size_t>(speed_of_[k]);
           B[k * nk + c] = (col[row] - s.xdot[row]) / h;
         }
       }
+      if (!columns) break;  // no step without all its columns: the check below judges what we have
       for (double& e : r) e = -e;
       const LeastSquares step = solve_least_squares(B, r, static_cast<int>(np), static_cast<int>(nk), opt_.rank_tolerance);
       if (step.rank < static_cast<int>(nk)) break;
@@ -324,7 +326,7 @@ class InverseDynamics {
     double worst = 0.0;
     for (std::size_t k = 0; k < pres_.size(); ++k) {
       r[k] = xdot[static_cast<std::size_t>(m_.nq) + static_cast<std::size_t>(speed_of_[k])] - qdd[k];
-      worst = std::max(worst, std::fabs(r[k]));
+      if (!(std::fabs(r[k]) <= worst)) worst = std::fabs(r[k]);  // a NaN wins
     }
     return worst;
   }

@@ -377,8 +377,8 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
   };
 
   std::vector<double> x = x0;
-  if (dyn.continuation() != nullptr && o.crossing.nodes > 0) {
-    // Its error estimate reads the independent speeds and the coordinates they are rates of.
+  if (dyn.continuation() != nullptr && o.crossing.nodes > 0 && m.full_state_layout()) {
+    // (It projects, which needs the full state.) Its error estimate reads the independent speeds and the coordinates they are rates of.
     std::vector<int> watched;
     const std::vector<int> pair = detail::coordinate_of_speed(dyn, o.t0, x);
     for (int k = 0; k < m.ndof; ++k) {

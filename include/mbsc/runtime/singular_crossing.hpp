@@ -62,7 +62,7 @@ class SingularCrossing {
   /// their coordinates; empty: all).
   SingularCrossing(BranchContinuation& bc, Rhs rhs, CrossingSettings s = {}, std::vector<int> watched = {})
       : bc_(bc), rhs_(std::move(rhs)), s_(s), watched_(std::move(watched)) {
-    s_.nodes = std::max(s_.nodes, 2);
+    s_.nodes = std::clamp(s_.nodes, 2, static_cast<int>(kHistory));
   }
 
   /// Drops the states recorded (after the run's state jumped, e.g. across a pose).
@@ -82,7 +82,13 @@ class SingularCrossing {
     last_t_ = t;
     planned_ = false;
     limit_ = 0.0;
-    if (!(before > 0.0) || !(rc > 0.0) || !(rc < before) || !(rc < s_.approach * bc_.near_threshold())) return false;
+    if (!(before > 0.0) || !(rc > 0.0) || !(rc < before) || !(rc < s_.approach * bc_.near_threshold())) {
+      failed_tries_ = 0;  // away from a pose (or leaving one): the next approach tries afresh
+      return false;
+    }
+    // A crossing that keeps failing (a model whose states do not project to rounding)
+    // stops limiting the steps: the continuation's evaluations carry the run on.
+    if (failed_tries_ >= kMaxTries) return false;
     // rc ~ |t* - t|^p: (d + dt) / d = (before / rc)^(1/p).
     const double ratio = std::pow(before / rc, 1.0 / bc_.conditioning_power());
     const double d = (t - t_before) / (ratio - 1.0);
@@ -102,6 +108,7 @@ class SingularCrossing {
   bool cross(double t_end, std::vector<double>& x_plus) {
     if (!planned_) return false;
     planned_ = false;
+    ++failed_tries_;  // until it succeeds below
     const double t_last = history_.back().t, d = t_star_ - t_last;
     t_plus_ = std::min(t_star_ + d, t_end);
     if (!(t_plus_ > t_last)) return false;
@@ -130,9 +137,12 @@ class SingularCrossing {
     // the state nearer the pose: then the run steps on).
     const double rc = bc_.relative_conditioning(t_plus_, x_plus.data());
     if (!(rc >= 0.25 * last_rc_)) return false;
+    for (double v : x_plus)
+      if (!std::isfinite(v)) return false;
     error_estimate_ = std::max(error_estimate_, err);
     ++crossings_;
     forget();
+    failed_tries_ = 0;
     return true;
   }
 
@@ -186,7 +196,10 @@ class SingularCrossing {
   double estimate(const std::vector<double>& high, const std::vector<double>& low, double floor = 0.0) const {
     const double atol = std::max(s_.atol, floor), rtol = std::max(s_.rtol, floor);
     double err = 0.0;
-    auto weigh = [&](std::size_t i) { err = std::max(err, std::fabs(high[i] - low[i]) / (atol + rtol * std::fabs(high[i]))); };
+    auto weigh = [&](std::size_t i) {
+      const double e = std::fabs(high[i] - low[i]) / (atol + rtol * std::fabs(high[i]));
+      if (!(e <= err)) err = e;  // a NaN wins
+    };
     if (watched_.empty())
       for (std::size_t i = 0; i < high.size(); ++i) weigh(i);
     for (int i : watched_) weigh(static_cast<std::size_t>(i));
@@ -197,6 +210,8 @@ class SingularCrossing {
   CrossingSettings s_;
   std::vector<int> watched_;
   static constexpr std::size_t kHistory = 64;  // accepted states kept to pick the nodes from
+  static constexpr int kMaxTries = 24;          // failed crossings of one approach before giving up on it
+  int failed_tries_ = 0;
   // The first look, from the nodes as accepted, judges at tolerances no tighter than this:
   // their residuals, amplified near the pose, leave noise of about 1e-10 in the rates.
   static constexpr double kRawFloor = 1e-9;
@@ -208,7 +223,7 @@ class SingularCrossing {
   double last_rc_ = -1.0, last_t_ = 0.0, limit_ = 0.0;
   bool planned_ = false;
   double t_star_ = 0.0, t_plus_ = 0.0;
-  HermitePolynomial poly_{{}, {}, {}};
+  HermitePolynomial poly_;
   long crossings_ = 0;
   double error_estimate_ = 0.0;
 };
