@@ -186,7 +186,7 @@ bool singular_block(const Eigen::MatrixXd& Bx, const std::vector<int>& dep_cols,
 
 /// Warns when the dependent block of the chosen set is singular at `where` (Br: B there):
 /// the generated rhs cannot solve for the dependent speeds there.
-void warn_if_singular_at_reference(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
+void warn_if_singular_at(const ComplementInput& in, const Eigen::MatrixXd& Br, const std::vector<int>& dep_cols,
                                    const Partition& p, const std::string& where, Diagnostics& diags) {
   if (!singular_block(Br, dep_cols, p.rank)) return;
   const auto& m = *in.model;
@@ -333,8 +333,8 @@ std::optional<Partition> choose_partition(const ComplementInput& in, Diagnostics
   std::sort(dep_cols.begin(), dep_cols.end());
   for (int j : dep_cols) p.dependent.push_back(in.y[j]);
   // Warned where the model starts when that is known, else at the reference.
-  if (Bs0) warn_if_singular_at_reference(in, *Bs0, dep_cols, p, in.start_name, diags);
-  else if (Br) warn_if_singular_at_reference(in, *Br, dep_cols, p, kReferenceName, diags);
+  if (Bs0) warn_if_singular_at(in, *Bs0, dep_cols, p, in.start_name, diags);
+  else if (Br) warn_if_singular_at(in, *Br, dep_cols, p, kReferenceName, diags);
   if (p.rank == nr) classify(in, Bn, dep_cols, p);
   return p;
 }

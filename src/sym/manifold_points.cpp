@@ -26,7 +26,7 @@ struct PositionRows {
 PositionRows position_rows(const model::Model& m) {
   PositionRows out;
   // With kinematic names (named body rotations) the rows stay as written and the
-  // Jacobian is taken by differences (differences_): written out, a chain of 16
+  // Jacobian is taken by differences (`differences`): written out, a chain of 16
   // quaternion joints multiplies 16 rotations into every row, which takes minutes.
   out.differences = !m.kinematic_names.empty();
   for (const auto& c : m.constraints) {
@@ -205,11 +205,12 @@ ManifoldPoints manifold_points(const model::Model& m, const std::map<std::string
   // coordinates: no loop), nothing is to assemble and no row can be redundant: the start
   // is left to the reference, and the rows are not evaluated (a 16-joint quaternion chain
   // spent minutes here).
-  bool loop = false;
+  bool loop = false, any_position = false;
   for (const auto& c : m.constraints)
-    loop = loop || (c.level == model::Constraint::Level::Position && c.explicit_coordinate < 0);
-  bool any_position = false;
-  for (const auto& c : m.constraints) any_position = any_position || c.level == model::Constraint::Level::Position;
+    if (c.level == model::Constraint::Level::Position) {
+      any_position = true;
+      loop = loop || c.explicit_coordinate < 0;
+    }
   if (any_position && !loop) {
     out.why_not = "every position row places a coordinate of its own (no loop)";
     return out;

@@ -225,37 +225,50 @@ TEST_CASE("slider-crank 3-D: energy balance with Coulomb friction closed outside
   CHECK(reversals >= 2);   // the slider went back and forth
 }
 
+namespace {
+
+/// The thesis's prescribed slide (eq (k)), as the slider's x: l2 + s(t) with
+/// s(t) = -(1 - gamma2) l2 (1 + 8 sin^2(2 pi t)) / 10, period 1/2 s; and its two rates.
+void thesis_slide(double t, double& q, double& qd, double& qdd) {
+  const double pi = std::acos(-1.0), A = (1 - g2) * l2 / 10;
+  const double s2 = std::sin(2 * pi * t), c2 = std::cos(2 * pi * t);
+  q = l2 - A * (1 + 8 * s2 * s2);
+  qd = -A * 32 * pi * s2 * c2;
+  qdd = -A * 64 * pi * pi * (c2 * c2 - s2 * s2);
+}
+
+struct ThesisSample {
+  double u1, Ff, w, v, chi;  // torque, friction force, crank rate, slide rate, crank angle
+};
+
+/// The thesis's inverse dynamics at t along the prescribed slide, the crank on the branch
+/// chi > 0, closed outside the generated code: the crank's acceleration is affine in
+/// (u1, Ff), a0 + au u1 + aF Ff, so u1(Ff) = (dw - a0 - aF Ff) / au, along which the
+/// normal force is N0 + Ff N1, and the law's quadratic gives Ff.
+ThesisSample thesis_inverse(double t) {
+  double x2 = 0, ds = 0, dds = 0;
+  thesis_slide(t, x2, ds, dds);
+  const double cchi = 1 - (l2 * l2 - x2 * x2) / (2 * l1 * l1), chi = std::acos(cchi), schi = std::sin(chi);
+  const double w = -x2 * ds / (l1 * l1 * schi);
+  const double dw = -(ds * ds + x2 * dds + l1 * l1 * cchi * w * w) / (l1 * l1 * schi);
+  const auto x = state(chi, w, 0.0);
+  auto accel = [&](double u1, double Ff) {
+    std::vector<double> xd(x.size());
+    const double in[2] = {u1, Ff};
+    REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, xd.data()) == 0);
+    return xd[ix("crank.wx")];
+  };
+  const double a0 = accel(0, 0), au = accel(1, 0) - a0, aF = accel(0, 1) - a0;
+  const double u10 = (dw - a0) / au, du1 = -aF / au;
+  const auto Na = normal_force(x, u10, 0), Nb = normal_force(x, u10 + du1, 1);
+  const double Ff = coulomb(ds, Na, {Nb[0] - Na[0], Nb[1] - Na[1]});
+  return ThesisSample{u10 + du1 * Ff, Ff, w, ds, chi};
+}
+
+}  // namespace
+
 TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the prescribed slide",
           "[numeric][slider_crank_3d]") {
-  // s(t) = -(1 - gamma2) l2 (1 + 8 sin^2(2 pi t)) / 10 (thesis eq (k)), period 1/2 s; the
-  // crank on the branch chi > 0.
-  const double pi = std::acos(-1.0), A = (1 - g2) * l2 / 10;
-  struct Sample {
-    double u1, Ff, w, v;
-  };
-  auto at = [&](double t) {
-    const double s2 = std::sin(2 * pi * t), c2 = std::cos(2 * pi * t);
-    const double s = -A * (1 + 8 * s2 * s2), ds = -A * 32 * pi * s2 * c2;
-    const double dds = -A * 64 * pi * pi * (c2 * c2 - s2 * s2);
-    const double x2 = l2 + s;
-    const double cchi = 1 - (l2 * l2 - x2 * x2) / (2 * l1 * l1), chi = std::acos(cchi), schi = std::sin(chi);
-    const double w = -x2 * ds / (l1 * l1 * schi);
-    const double dw = -(ds * ds + x2 * dds + l1 * l1 * cchi * w * w) / (l1 * l1 * schi);
-    const auto x = state(chi, w, 0.0);
-    // The crank's acceleration is affine in (u1, Ff): a0 + au u1 + aF Ff.
-    auto accel = [&](double u1, double Ff) {
-      std::vector<double> xd(x.size());
-      const double in[2] = {u1, Ff};
-      REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, xd.data()) == 0);
-      return xd[ix("crank.wx")];
-    };
-    const double a0 = accel(0, 0), au = accel(1, 0) - a0, aF = accel(0, 1) - a0;
-    // u1(Ff) = (dw - a0 - aF Ff) / au; the normal force along that line is N0 + Ff N1.
-    const double u10 = (dw - a0) / au, du1 = -aF / au;
-    const auto Na = normal_force(x, u10, 0), Nb = normal_force(x, u10 + du1, 1);
-    const double Ff = coulomb(ds, Na, {Nb[0] - Na[0], Nb[1] - Na[1]});
-    return Sample{u10 + du1 * Ff, Ff, w, ds};
-  };
   // Work of u1 and of the friction over a period, by Simpson's rule on each quarter (the
   // integrands are smooth inside and continuous across the reversals at t = 1/4, 1/2).
   double work_u = 0, work_f = 0;
@@ -264,7 +277,7 @@ TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the pres
     const double a = 0.25 * q + 1e-9, b = 0.25 * (q + 1) - 1e-9, h = (b - a) / n;
     for (int k = 0; k <= n; ++k) {
       const double wgt = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
-      const Sample sm = at(a + k * h);
+      const ThesisSample sm = thesis_inverse(a + k * h);
       work_u += wgt * h / 3 * sm.u1 * sm.w;
       work_f += wgt * h / 3 * sm.Ff * sm.v;
     }
@@ -273,7 +286,7 @@ TEST_CASE("slider-crank 3-D: thesis inverse dynamics over one period of the pres
   CHECK(work_f < -1e-3);                                 // friction dissipates
   CHECK(std::fabs(work_u + work_f) < 1e-6 * std::fabs(work_f));  // kinetic energy back to its start
   // The jump of u1 where the slider reverses (t = 1/4): the friction force changes sign.
-  const Sample before = at(0.25 - 1e-6), after = at(0.25 + 1e-6);
+  const ThesisSample before = thesis_inverse(0.25 - 1e-6), after = thesis_inverse(0.25 + 1e-6);
   INFO("u1 at the reversal: " << before.u1 << " -> " << after.u1 << ", Ff " << before.Ff << " -> " << after.Ff);
   CHECK(before.Ff * after.Ff < 0);
   CHECK(std::fabs(before.u1 - after.u1) > 1e-3);
@@ -283,50 +296,22 @@ TEST_CASE("slider-crank 3-D: the runtime's inverse dynamics solves the torque wi
           "[numeric][slider_crank_3d][inverse]") {
   // The shipped model closes the friction in its rhs, which is then not affine in u1:
   // InverseDynamics (prescribed slide, thesis eq (k)) must give the torque the outside
-  // closure above gives, in both formulations, and drive its rhs to the prescribed motion.
-  const double pi = std::acos(-1.0), A = (1 - g2) * l2 / 10;
-  auto slide = [&](double t, double& q, double& qd, double& qdd) {
-    const double s2 = std::sin(2 * pi * t), c2 = std::cos(2 * pi * t);
-    q = l2 - A * (1 + 8 * s2 * s2);
-    qd = -A * 32 * pi * s2 * c2;
-    qdd = -A * 64 * pi * pi * (c2 * c2 - s2 * s2);
-  };
-  // The outside closure's torque and crank angle at t (as in the test above).
-  auto reference = [&](double t, double& chi) {
-    double x2 = 0, ds = 0, dds = 0;
-    slide(t, x2, ds, dds);
-    const double cchi = 1 - (l2 * l2 - x2 * x2) / (2 * l1 * l1), schi = std::sin(chi = std::acos(cchi));
-    const double w = -x2 * ds / (l1 * l1 * schi);
-    const double dw = -(ds * ds + x2 * dds + l1 * l1 * cchi * w * w) / (l1 * l1 * schi);
-    const auto x = state(chi, w, 0.0);
-    auto accel = [&](double u1, double Ff) {
-      std::vector<double> xd(x.size());
-      const double in[2] = {u1, Ff};
-      REQUIRE(R::rhs(0.0, x.data(), in, R::kParamDefaults, xd.data()) == 0);
-      return xd[ix("crank.wx")];
-    };
-    const double a0 = accel(0, 0), au = accel(1, 0) - a0, aF = accel(0, 1) - a0;
-    const double u10 = (dw - a0) / au, du1 = -aF / au;
-    const auto Na = normal_force(x, u10, 0), Nb = normal_force(x, u10 + du1, 1);
-    return u10 + du1 * coulomb(ds, Na, {Nb[0] - Na[0], Nb[1] - Na[1]});
-  };
+  // closure above gives (thesis_inverse), in both formulations, and drive its rhs to the
+  // prescribed motion.
   for (const auto& m : {MBSC_MODEL_TABLE(C), MBSC_MODEL_TABLE_MULTIPLIERS(CM)}) {
     INFO((m.multipliers ? "multipliers" : "complement"));
     const std::vector<double> p(m.param_defaults, m.param_defaults + m.np);  // (with the Baumgarte gains)
     mbsc::runtime::InverseOptions opt;  // the crank's and the slider's quaternions kept unit
     opt.quaternion_indices.assign(C::kQuaternionIndices, C::kQuaternionIndices + 4 * C::kNquaternions);
-    mbsc::runtime::InverseDynamics inv(m, {{static_cast<int>(ix("slider.x")), slide}}, {0}, p, {}, opt);
+    mbsc::runtime::InverseDynamics inv(m, {{static_cast<int>(ix("slider.x")), thesis_slide}}, {0}, p, {}, opt);
     REQUIRE(inv.setup_error().empty());
-    double chi0 = 0;
-    reference(0.003, chi0);
-    std::vector<double> x = state(chi0, 0.0, 0.0);  // the branch chi > 0
+    std::vector<double> x = state(thesis_inverse(0.003).chi, 0.0, 0.0);  // the branch chi > 0
     double worst = 0, largest = 0, friction_share = 0;
     for (int k = 0; k < 40; ++k) {
       const double t = 0.003 + 0.0125 * k;  // never at a reversal (t = 0, 1/4, 1/2)
       mbsc::runtime::InverseSample smp;
       REQUIRE(inv.solve(t, x, smp));
-      double chi = 0;
-      const double u1 = reference(t, chi);
+      const double u1 = thesis_inverse(t).u1;
       INFO("t = " << t << ": u1 " << smp.inputs[0] << " against " << u1);
       CHECK(std::fabs(smp.inputs[0] - u1) < 1e-8 * std::max(1.0, std::fabs(u1)));
       CHECK(smp.acceleration_residual < 1e-10);

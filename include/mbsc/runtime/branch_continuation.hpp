@@ -73,9 +73,7 @@ class BranchContinuation {
 
   /// The state derivative, robust near rank loss (see above). 0, or a non-zero status.
   int rhs(double t, const double* x, double* xdot) {
-    if (!seeded_) seed(t, x);
-    const double rc = conditioning(t, x);
-    reference_ = std::max(reference_, rc);
+    const double rc = measured_conditioning(t, x);
     if (rc >= s_.near_below * reference_) return m_.rhs_partition(partition_, t, x, u_, p_, xdot);
     std::vector<double> y(x, x + m_.nx);
     if (rc >= s_.bridge_below * reference_ && project(t, y.data()) == 0 &&
@@ -130,9 +128,7 @@ class BranchContinuation {
   /// The conditioning at x relative to the reference (1 well away from any rank loss,
   /// 0 at it).
   double relative_conditioning(double t, const double* x) {
-    if (!seeded_) seed(t, x);
-    const double rc = conditioning(t, x);
-    reference_ = std::max(reference_, rc);
+    const double rc = measured_conditioning(t, x);
     return reference_ > 0.0 ? rc / reference_ : 0.0;
   }
   /// Below this relative conditioning the rhs is evaluated at a projected state.
@@ -161,6 +157,14 @@ class BranchContinuation {
       for (int i = 0; i < nq; ++i) y[static_cast<std::size_t>(i)] = x[i] + sign * 0.3 / vmax * x[nq + i];
       reference_ = std::max(reference_, conditioning(t, y.data()));
     }
+  }
+
+  // The conditioning at x, raising the reference to it (seeded first).
+  double measured_conditioning(double t, const double* x) {
+    if (!seeded_) seed(t, x);
+    const double rc = conditioning(t, x);
+    reference_ = std::max(reference_, rc);
+    return rc;
   }
 
   double conditioning(double t, const double* x) const {

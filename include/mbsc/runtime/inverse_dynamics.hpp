@@ -253,21 +253,12 @@ class InverseDynamics {
 
   bool solve_inputs(double t, const std::vector<double>& x, const std::vector<double>& qdd, InverseSample& s) const {
     const std::size_t nq = static_cast<std::size_t>(m_.nq), np = pres_.size(), nk = unknowns_.size();
-    std::vector<double> a, col;
+    std::vector<double> a;
     int part = 0;
     if (rhs(t, x, base_u_, a, part) != 0)
       return fail(s, "the rhs failed at t = " + num(t) + " (a singular block or mass matrix in every partition)");
     std::vector<double> B(np * nk), r(np);
-    for (std::size_t c = 0; c < nk; ++c) {
-      std::vector<double> u = base_u_;
-      u[static_cast<std::size_t>(unknowns_[c])] += 1.0;
-      int pc = 0;
-      if (rhs(t, x, u, col, pc) != 0) return fail(s, "the rhs failed at t = " + num(t) + " with a unit input");
-      for (std::size_t k = 0; k < np; ++k) {
-        const std::size_t row = nq + static_cast<std::size_t>(speed_of_[k]);
-        B[k * nk + c] = col[row] - a[row];
-      }
-    }
+    if (!input_columns(t, x, base_u_, a, /*unit=*/true, B)) return fail(s, "the rhs failed at t = " + num(t) + " with a unit input");
     for (std::size_t k = 0; k < np; ++k) r[k] = qdd[k] - a[nq + static_cast<std::size_t>(speed_of_[k])];
     s.inputs = base_u_;
     s.inputs.resize(static_cast<std::size_t>(std::max(m_.nin, 1)));
@@ -285,19 +276,8 @@ class InverseDynamics {
     // Newton on the inputs while the miss is above rounding: nothing to do for an rhs
     // affine in them; a few steps where the rhs closes friction on reactions they move.
     for (int it = 0; it < opt_.input_iterations && nk > 0 && s.acceleration_residual > 1e-13 * scale; ++it) {
-      bool columns = true;
-      for (std::size_t c = 0; c < nk && columns; ++c) {
-        std::vector<double> u = s.inputs;
-        const double h = 1e-7 * std::max(1.0, std::fabs(u[static_cast<std::size_t>(unknowns_[c])]));
-        u[static_cast<std::size_t>(unknowns_[c])] += h;
-        int pc = 0;
-        columns = rhs(t, x, u, col, pc) == 0;
-        for (std::size_t k = 0; k < np && columns; ++k) {
-          const std::size_t row = nq + static_cast<std::size_t>(speed_of_[k]);
-          B[k * nk + c] = (col[row] - s.xdot[row]) / h;
-        }
-      }
-      if (!columns) break;  // no step without all its columns: the check below judges what we have
+      // No step without all its columns: the check below judges what we have.
+      if (!input_columns(t, x, s.inputs, s.xdot, /*unit=*/false, B)) break;
       for (double& e : r) e = -e;
       const LeastSquares step = solve_least_squares(B, r, static_cast<int>(np), static_cast<int>(nk), opt_.rank_tolerance);
       if (step.rank < static_cast<int>(nk)) break;
@@ -317,6 +297,28 @@ class InverseDynamics {
       for (std::size_t c = 0; c < nk; ++c) names += std::string(c ? ", " : "") + m_.input_names[unknowns_[c]];
       return fail(s, "the inputs " + names + " cannot produce the prescribed accelerations at t = " + num(t) + " (residual " +
                          num(s.acceleration_residual) + "): fewer unknowns than prescribed coordinates, or inputs that do not act on them");
+    }
+    return true;
+  }
+
+  /// B (np x nk): the prescribed speeds' rates against each unknown input, by differences
+  /// from (u, xdot = rhs at u): a unit step (exact where the rhs is affine in them), or a
+  /// small one (1e-7 of the input, at least 1e-7) for Newton's columns. False where the rhs fails.
+  bool input_columns(double t, const std::vector<double>& x, const std::vector<double>& u, const std::vector<double>& xdot,
+                     bool unit, std::vector<double>& B) const {
+    const std::size_t nq = static_cast<std::size_t>(m_.nq), np = pres_.size(), nk = unknowns_.size();
+    std::vector<double> col;
+    for (std::size_t c = 0; c < nk; ++c) {
+      std::vector<double> shifted = u;
+      const std::size_t k_in = static_cast<std::size_t>(unknowns_[c]);
+      const double h = unit ? 1.0 : 1e-7 * std::max(1.0, std::fabs(u[k_in]));
+      shifted[k_in] += h;
+      int pc = 0;
+      if (rhs(t, x, shifted, col, pc) != 0) return false;
+      for (std::size_t k = 0; k < np; ++k) {
+        const std::size_t row = nq + static_cast<std::size_t>(speed_of_[k]);
+        B[k * nk + c] = (col[row] - xdot[row]) / h;
+      }
     }
     return true;
   }
