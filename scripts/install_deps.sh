@@ -6,8 +6,9 @@
 # `install_deps.sh test` adds pdflatex (texlive-latex-base without its recommends: 16
 # packages, under a minute), which the test of `print --standalone` compiles with.
 set -euo pipefail
+# libtinyxml2-dev: the XML reader of `mbsc import` (URDF robots).
 # python3-numpy: the test of `generate --python` (tests/cli/python_module_test.cpp) runs the module.
-pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2 python3-numpy)
+pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libcli11-dev catch2 python3-numpy libtinyxml2-dev)
 # gnuplot-nox: the plots of `mbsc run --plot` and `mbsc bench --plot`.
 # libsundials-dev: the integrators bdf, adams, ark-dirk, ark-erk of `mbsc run` (optional at
 # configure time). Its hard dependencies bring MPI, PETSc, hypre and Trilinos development

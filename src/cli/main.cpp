@@ -7,6 +7,7 @@
 
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
+#include "mbsc/driver/import_command.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/run/bench_command.hpp"
 #include "mbsc/run/eig_command.hpp"
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
 
   mbsc::driver::CheckArgs check;
   auto* c = app.add_subcommand("check", "validate a model; print its tree, variables, ranks and degrees of freedom");
-  c->add_option("model", check.model, "model file (.mbs)")->required();
+  c->add_option("model", check.model, "model file (.mbs, or a robot's .urdf)")->required();
   std::vector<std::string> check_freeze;
   c->add_option("--freeze", check_freeze, "check with a parameter folded in, as generate --freeze would: name=value");
   WorkFlags check_work;
@@ -145,7 +146,7 @@ int main(int argc, char** argv) {
   mbsc::driver::PrintArgs print;
   std::vector<std::string> what, print_freeze, print_outputs;
   auto* p = app.add_subcommand("print", "print the matrices and equations of a subsystem (text or LaTeX)");
-  p->add_option("model", print.model, "model file (.mbs)")->required();
+  p->add_option("model", print.model, "model file (.mbs, or a robot's .urdf)")->required();
   p->add_option("--node", print.node, "subsystem (dotted name); default: the whole model");
   p->add_option("--what", what,
                 "comma-separated: M h eom invariants rates A B C S f fbar (default: M h eom invariants, then rates B C fbar)");
@@ -169,7 +170,7 @@ int main(int argc, char** argv) {
   mbsc::driver::GenerateArgs gen;
   std::vector<std::string> outputs, freeze;
   auto* g = app.add_subcommand("generate", "write standalone C++ for a model into OUT/<model>/");
-  g->add_option("model", gen.model, "model file (.mbs)")->required();
+  g->add_option("model", gen.model, "model file (.mbs, or a robot's .urdf)")->required();
   g->add_option("-o,--out", gen.out_dir, "output folder (default: generated)")->default_val("generated");
   g->add_option("--outputs", outputs,
                 "only these functions (comma-separated): rhs mass_matrix forcing inverse_dynamics position_constraints "
@@ -220,7 +221,7 @@ int main(int argc, char** argv) {
   std::string run_formulation = "complement";
   auto* r = app.add_subcommand("run", "simulate a model: compile it (cached), assemble the initial state, integrate, "
                                       "write CSV and a plot");
-  r->add_option("model", run.model, "model file (.mbs)")->required();
+  r->add_option("model", run.model, "model file (.mbs, or a robot's .urdf)")->required();
   r->add_option("--t-end", run.t_end, "end time, s")
       ->check(finite_above(0, "a positive number of seconds"))
       ->capture_default_str();
@@ -282,7 +283,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> bench_formulations, bench_integrators, bench_tolerances, bench_inputs, bench_errcols;
   auto* b = app.add_subcommand("bench", "speed against error: every formulation x integrator x tolerance against a "
                                         "reference run; CSV, markdown table and work-precision plot");
-  b->add_option("model", bench.model, "model file (.mbs)")->required();
+  b->add_option("model", bench.model, "model file (.mbs, or a robot's .urdf)")->required();
   b->add_option("--t-end", bench.t_end, "end time, s")
       ->check(finite_above(0, "a positive number of seconds"))
       ->capture_default_str();
@@ -311,7 +312,7 @@ int main(int argc, char** argv) {
   std::string inv_formulation = "complement";
   auto* iv = app.add_subcommand("inverse", "inverse dynamics: prescribe coordinates as functions of t, solve for the "
                                            "inputs (and reactions) along the motion; CSV and plot");
-  iv->add_option("model", inv.model, "model file (.mbs)")->required();
+  iv->add_option("model", inv.model, "model file (.mbs, or a robot's .urdf)")->required();
   iv->add_option("--prescribe", inv_prescribe,
                  "a coordinate's motion: NAME=EXPR of t and the parameters (repeatable; as many as degrees of freedom)");
   iv->add_option("--unknowns", inv_unknowns, "inputs to solve for (default: every input)");
@@ -336,7 +337,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> lin_keep, lin_second, lin_find, lin_steady, lin_symbolic;
   auto* li = app.add_subcommand("linearize", "linear model about a reference state (thesis section 4.5): A, B and the "
                                              "eigenvalues, as text, CSV or JSON");
-  li->add_option("model", lin.model, "model file (.mbs)")->required();
+  li->add_option("model", lin.model, "model file (.mbs, or a robot's .urdf)")->required();
   li->add_option("--init", lin.inits, "a coordinate or speed of the reference: name=value (repeatable; the rest is "
                                       "assembled from the model's initial values)");
   li->add_option("--let", lin.lets, "a name for a value the other options' expressions may use: name=value (e.g. v=5)");
@@ -369,7 +370,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> eig_keep, eig_find, eig_steady, eig_ratio;
   auto* ei = app.add_subcommand("eig", "eigenvalues of the linear model along a parameter sweep: modes tracked, the values "
                                        "where a mode changes stability found by root finding; CSV and plot");
-  ei->add_option("model", eig.model, "model file (.mbs)")->required();
+  ei->add_option("model", eig.model, "model file (.mbs, or a robot's .urdf)")->required();
   ei->add_option("--sweep", eig.sweep, "NAME=FROM:TO:STEP: a --let name, a parameter or a coordinate or speed")->required();
   ei->add_option("--let", eig.lets, "a name for a value the other options' expressions may use: name=value");
   ei->add_option("--set", eig.sets, "a parameter's value: name=value (repeatable)");
@@ -387,12 +388,26 @@ int main(int argc, char** argv) {
   WorkFlags eig_work;
   eig_work.add_to(ei);
 
+  mbsc::driver::ImportArgs import_args;
+  auto* im = app.add_subcommand("import", "read a robot's URDF file and write it as a model (docs/urdf.md)");
+  im->add_option("urdf", import_args.urdf, "robot description (.urdf)")->required();
+  im->add_option("-o,--out", import_args.output, "model file to write (default: standard output)");
+  im->add_flag("--floating-base", import_args.options.floating_base,
+               "the root link as a free body (quaternion attitude) instead of fixed to the ground");
+  bool no_inputs = false;
+  im->add_flag("--no-inputs", no_inputs, "no input per actuated joint (the joints move freely, damping aside)");
+  im->add_flag("--force", import_args.force, "replace the output file if it exists");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 1;
   }
   auto dispatch = [&]() -> int {
+    if (*im) {
+      import_args.options.joint_inputs = !no_inputs;
+      return mbsc::driver::run_import(import_args, std::cout, std::cerr);
+    }
     if (*c) {
       check.work = check_work.args();
       if (!add_freezes(check_freeze, check.frozen)) return 1;

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <exception>
 #include <stdexcept>
 
@@ -27,7 +28,8 @@ std::string Builder::varying_part(const GiNaC::ex& e) const { return model::vary
 /// derivation then checks that the reduced mass matrix stays positive definite
 /// (sym/massless_check.hpp).
 /// A rigid3d inertia tensor is constant and, at the parameters' defaults (or their
-/// --freeze values), symmetric positive definite: its leading minors are positive.
+/// --freeze values), symmetric positive definite (its leading minors are positive) or
+/// zero.
 /// (A tensor that is not makes the mass matrix singular or indefinite.)
 void Builder::check_rigid3d_inertia(const Node& node, const SourcePos& pos, const GiNaC::exmap& formals) {
   std::vector<double> I(9);
@@ -62,7 +64,10 @@ void Builder::check_rigid3d_inertia(const Node& node, const SourcePos& pos, cons
   const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6]) + I[2] * (I[3] * I[7] - I[4] * I[6]);
   GiNaC::ex all = 0;  // every entry, for the note on frozen parameters
   for (const auto& e : node.rigid3d.inertia) all += GiNaC::pow(e, 2);
-  if (!(m1 > 0 && m2 > 0 && m3 > 0))
+  // A zero tensor is a point mass (or, with mass 0, a massless carriage between joints):
+  // allowed, and the derivation checks that every motion still moves some inertia.
+  const bool zero = std::all_of(I.begin(), I.end(), [](double v) { return v == 0; });
+  if (!zero && !(m1 > 0 && m2 > 0 && m3 > 0))
     diags_.error(pos, fmt::format("inertia tensor of body '{}' is not positive definite at the parameter values "
                                   "(leading minors {:g}, {:g}, {:g}; all must be positive){}",
                                   node.name, m1, m2, m3, frozen_note(all)));

@@ -120,6 +120,15 @@ Vec cross(const Vec& a, const Vec& b) {
 
 ex dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+ex length(const Vec& d) {
+  const ex squared = GiNaC::expand(dot(d, d));
+  if (GiNaC::is_a<GiNaC::numeric>(squared)) {
+    const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(squared);
+    if (n.is_real() && GiNaC::abs(n - 1) <= GiNaC::numeric(1, 1000000000000000)) return 1;
+  }
+  return GiNaC::sqrt(squared);
+}
+
 Vec attitude_coordinates(const Model& m, const Node& node) {
   Vec out;
   for (std::size_t k = 3; k < node.coords.size(); ++k) out.push_back(m.coords[static_cast<std::size_t>(node.coords[k])].sym);

@@ -122,8 +122,10 @@ SpatialLibrary::Vec SpatialLibrary::unit(const Vec& d) {
   // Exactly, when the length is 1 symbolically (the unit axes users write).
   const GiNaC::ex len2 = tidy_square_length(d);
   Vec n = d;
-  if (!(len2 - 1).is_zero())
-    for (auto& x : n) x = x / GiNaC::sqrt(len2);
+  if ((len2 - 1).is_zero()) return n;
+  const GiNaC::ex len = GiNaC::is_a<GiNaC::numeric>(len2) ? rigid3d::length(d) : GiNaC::sqrt(len2);
+  if (len != 1)
+    for (auto& x : n) x = x / len;
   return n;
 }
 

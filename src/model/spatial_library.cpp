@@ -202,7 +202,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     out.ez = {0, 0, 1};
     if (axis) {
       out.d = dir;
-      out.d_length = GiNaC::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+      out.d_length = rigid3d::length(dir);
       std::tie(out.n1, out.n2) = normals(dir);
     }
     return out;
@@ -232,7 +232,7 @@ std::optional<SpatialLibrary::End> SpatialLibrary::end(int owner, const std::str
     const Vec d{it->second[3], it->second[4], it->second[5]};
     const auto n = normals(d);
     out.d = rigid3d::direction_in_space(m_, node, d);
-    out.d_length = GiNaC::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    out.d_length = rigid3d::length(d);
     out.n1 = rigid3d::direction_in_space(m_, node, n.first);
     out.n2 = rigid3d::direction_in_space(m_, node, n.second);
   }

@@ -7,6 +7,7 @@
 
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/limits.hpp"
+#include "mbsc/import/urdf_import.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/parse/source_file.hpp"
 #include "parser_internal.hpp"
@@ -131,6 +132,11 @@ std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
   if (!read_source_file(path, text, why, limits::kMaxFileBytes)) {
     diags.error(SourcePos{path, 0, 0}, "cannot read file '" + path + "': " + why);
     return std::nullopt;
+  }
+  if (import::is_urdf_path(path)) {  // a robot description: read as the model `mbsc import` writes
+    auto model = import::urdf_to_model(path, text, import::UrdfImportOptions{}, diags);
+    if (!model) return std::nullopt;
+    text = std::move(*model);
   }
   IncludeResolver resolver(diags, overrides);
   resolver.count_text(text.size(), SourcePos{path, 0, 0});

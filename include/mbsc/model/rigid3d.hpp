@@ -38,6 +38,12 @@ Vec mat_vec(const Vec& A, const Vec& v);   // A v
 Vec mat_t_vec(const Vec& A, const Vec& v);  // A^T v
 Vec cross(const Vec& a, const Vec& b);
 GiNaC::ex dot(const Vec& a, const Vec& b);
+/// |d|, taken as exactly 1 for a constant direction whose squared length is 1 to double
+/// rounding (within 1e-15): a direction written with 16-17 digits, such as a turned axis
+/// imported from URDF, is a unit vector to double precision but not as exact rationals,
+/// and the square root of its squared length would carry 34-digit constants into every
+/// product that reads it.
+GiNaC::ex length(const Vec& d);
 
 /// The node's attitude and angular speed symbols.
 Vec attitude_coordinates(const Model& m, const Node& node);
