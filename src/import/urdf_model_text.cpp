@@ -113,7 +113,7 @@ class Writer {
 
   void name_everything() {
     model_name_ = names_.claim(doc_.robot_name);
-    for (const auto& b : tree_.bodies) body_names_.push_back(b.ground ? "ground" : names_.claim(b.link));
+    for (const auto& b : tree_.bodies) body_names_.push_back(b.ground ? "ground" : names_.claim(b.name));
     for (std::size_t k = 0; k < tree_.joints.size(); ++k) {
       const RobotJoint& j = tree_.joints[k];
       const UrdfJoint& u = urdf(j);
@@ -220,6 +220,7 @@ class Writer {
   void body(std::size_t b) {
     const RobotBody& body = tree_.bodies[b];
     out_ << fmt::format("\n# link '{}'", body.link);
+    if (body.name != body.link) out_ << fmt::format(" (a massless anchor: the body is named after '{}')", body.name);
     if (!body.rpy_path.empty()) out_ << fmt::format(" (axes turned by the rpy of joint{} {})", body.rpy_path.size() == 1 ? "" : "s",
                                                     fmt::join(body.rpy_path, ", "));
     out_ << "\n";

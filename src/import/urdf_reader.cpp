@@ -7,6 +7,7 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -33,11 +34,21 @@ class Reader {
   std::optional<UrdfDocument> read() {
     tinyxml2::XMLDocument doc;
     if (doc.Parse(text_.data(), text_.size()) != tinyxml2::XML_SUCCESS) {
-      std::string why = doc.ErrorStr() ? doc.ErrorStr() : "unreadable";
-      // tinyxml2's message starts with its own name for the error and repeats the line.
-      const auto colon = why.find(": ");
-      if (why.rfind("Error=", 0) == 0 && colon != std::string::npos) why = why.substr(colon + 2);
-      diags_.error(SourcePos{path_, std::max(1, doc.ErrorLineNum()), 1}, "the URDF is not well-formed XML: " + why);
+      // tinyxml2 names the error (XML_ERROR_MISMATCHED_ELEMENT) and gives a detail after
+      // its own prefix ("Error=... Line number=2: XMLElement name=link").
+      std::string kind = doc.ErrorName() ? doc.ErrorName() : "XML_ERROR";
+      if (kind.rfind("XML_ERROR_", 0) == 0) kind = kind.substr(10);
+      for (auto& c : kind) c = c == '_' ? ' ' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      std::string detail = doc.ErrorStr() ? doc.ErrorStr() : "";
+      const auto colon = detail.find(": ");
+      detail = colon == std::string::npos ? "" : ": " + detail.substr(colon + 2);
+      // The line tinyxml2 reports, at its first tag (or its start).
+      const int line = std::clamp(doc.ErrorLineNum(), 1, static_cast<int>(starts_.size()));
+      const std::size_t from = starts_[static_cast<std::size_t>(line - 1)];
+      const std::size_t end = line < static_cast<int>(starts_.size()) ? starts_[static_cast<std::size_t>(line)] : text_.size();
+      const std::size_t tag = text_.find('<', from);
+      const SourcePos pos = position_of(tag != std::string::npos && tag < end ? tag : from);
+      diags_.error(pos, fmt::format("the URDF is not well-formed XML ({}{})", kind, printable(detail)));
       return std::nullopt;
     }
     const XMLElement* robot = doc.RootElement();

@@ -185,6 +185,14 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
       return std::nullopt;
     }
 
+  for (auto& body : tree.bodies) body.name = body.link;
+  if (floating_base && !doc.links[roots[0]].inertial)
+    for (const std::size_t l : queue)
+      if (group[l] == 0 && doc.links[l].inertial) {
+        tree.bodies[0].name = doc.links[l].name;
+        break;
+      }
+
   // Mass, mass centre and inertia of each group, in its top link's frame, then turned.
   std::vector<std::vector<std::size_t>> members(tree.bodies.size());
   for (std::size_t i = 0; i < doc.links.size(); ++i) members[group[i]].push_back(i);
@@ -226,7 +234,7 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
     const double m1 = I[0][0], m2 = I[0][0] * I[1][1] - I[0][1] * I[1][0];
     const double m3 = I[0][0] * (I[1][1] * I[2][2] - I[1][2] * I[2][1]) - I[0][1] * (I[1][0] * I[2][2] - I[1][2] * I[2][0]) +
                       I[0][2] * (I[1][0] * I[2][1] - I[1][1] * I[2][0]);
-    const bool zero = scale_i == 0;  // a point mass, or with mass 0 a massless link
+    const bool zero = scale_i == 0 && !body.free;  // a point mass, or with mass 0 a massless link
     if (!zero && !(m1 > 0 && m2 > 0 && m3 > 0))
       diags.error(doc.links[link_index[body.link]].inertial ? doc.links[link_index[body.link]].inertial->pos : body.pos,
                   fmt::format("link '{}'{}: the inertia tensor is not positive definite (leading minors {:.6g}, {:.6g}, "
@@ -235,27 +243,35 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
                               body.link, body.welded.empty() ? "" : " with the links welded to it", m1, m2, m3));
   }
 
-  // Mimics: the followed joint moves and is another joint; mimicking joints take one coordinate.
-  for (RobotJoint& rj : tree.joints) {
-    const UrdfJoint& j = doc.joints[rj.urdf];
+  // Mimics: on a joint with one coordinate, following another such joint that does not
+  // itself follow one (a chain would be rows on rows; URDF tools read one level).
+  std::vector<std::string> names;
+  for (const auto& k : doc.joints) names.push_back(k.name);
+  const auto one = [](const std::string& t) { return t == "revolute" || t == "continuous" || t == "prismatic"; };
+  for (std::size_t ji = 0; ji < doc.joints.size(); ++ji) {
+    const UrdfJoint& j = doc.joints[ji];
     if (!j.mimic) continue;
     const auto it = joint_index.find(j.mimic->joint);
-    std::vector<std::string> names;
-    for (const auto& k : doc.joints) names.push_back(k.name);
     if (it == joint_index.end()) {
       diags.error(j.mimic->joint_pos, fmt::format("joint '{}': <mimic> follows unknown joint '{}'{}", j.name,
                                                   printable(j.mimic->joint), did_you_mean(j.mimic->joint, names)));
       continue;
     }
     const UrdfJoint& followed = doc.joints[it->second];
-    const auto one = [](const std::string& t) { return t == "revolute" || t == "continuous" || t == "prismatic"; };
-    if (!one(j.type) || !one(followed.type) || it->second == rj.urdf) {
+    if (!one(j.type) || !one(followed.type) || it->second == ji) {
       diags.error(j.mimic->pos, fmt::format("joint '{}' ({}): <mimic> ties the coordinates of two distinct revolute, "
                                             "continuous or prismatic joints; '{}' is {}",
                                             j.name, j.type, followed.name, followed.type));
       continue;
     }
-    rj.mimics = moving_of.at(it->second);
+    if (followed.mimic) {
+      diags.error(j.mimic->joint_pos, fmt::format("joint '{}': <mimic> follows joint '{}', which itself follows '{}'; "
+                                                  "follow '{}' directly (with the multipliers and offsets combined)",
+                                                  j.name, followed.name, followed.mimic->joint, followed.mimic->joint));
+      continue;
+    }
+    if (!std::isfinite(j.mimic->multiplier) || !std::isfinite(j.mimic->offset)) continue;  // reported by the reader
+    tree.joints[moving_of.at(ji)].mimics = moving_of.at(it->second);
   }
   if (diags.has_errors()) return std::nullopt;
   return tree;

@@ -15,6 +15,8 @@ namespace mbsc::import {
 
 struct RobotBody {
   std::string link;                  // the link at the top of the welded group
+  std::string name;                  // the link the body is named after: its top link, but for a free
+                                     // base whose top is a massless anchor ("world"), the first with mass
   std::vector<std::size_t> welded;   // the fixed joints merged into it (indices into UrdfDocument::joints)
   bool ground = false;               // the root group of a fixed-base robot
   bool free = false;                 // a free body: the floating base, or the child of a floating joint

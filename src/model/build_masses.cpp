@@ -64,9 +64,11 @@ void Builder::check_rigid3d_inertia(const Node& node, const SourcePos& pos, cons
   const double m3 = I[0] * (I[4] * I[8] - I[5] * I[7]) - I[1] * (I[3] * I[8] - I[5] * I[6]) + I[2] * (I[3] * I[7] - I[4] * I[6]);
   GiNaC::ex all = 0;  // every entry, for the note on frozen parameters
   for (const auto& e : node.rigid3d.inertia) all += GiNaC::pow(e, 2);
-  // A zero tensor is a point mass (or, with mass 0, a massless carriage between joints):
-  // allowed, and the derivation checks that every motion still moves some inertia.
-  const bool zero = std::all_of(I.begin(), I.end(), [](double v) { return v == 0; });
+  // A zero tensor on a body a joint places (a point mass, or with mass 0 a massless
+  // carriage between joints) is allowed: its attitude follows from the joints, and the
+  // derivation checks that every motion still moves some inertia. A body with an
+  // attitude of its own needs the whole tensor.
+  const bool zero = node.rigid3d.placed() && std::all_of(I.begin(), I.end(), [](double v) { return v == 0; });
   if (!zero && !(m1 > 0 && m2 > 0 && m3 > 0))
     diags_.error(pos, fmt::format("inertia tensor of body '{}' is not positive definite at the parameter values "
                                   "(leading minors {:g}, {:g}, {:g}; all must be positive){}",
