@@ -3,8 +3,10 @@
 # derived and generated) with libFuzzer for FUZZ_SECONDS (default 60) on FUZZ_JOBS
 # workers (default 1), from a corpus seeded with every model in models/ and tests/data/;
 # then the reader of command-line expressions (--set, --init, --input, --let,
-# --prescribe) for FUZZ_OPTION_SECONDS (default half of FUZZ_SECONDS), from a corpus
-# seeded with tests/fuzz/option_seeds.txt, one expression a line.
+# --prescribe) for FUZZ_OPTION_SECONDS (default a third of FUZZ_SECONDS), from a corpus
+# seeded with tests/fuzz/option_seeds.txt, one expression a line; then `mbsc import` of
+# URDF files for FUZZ_URDF_SECONDS (default a third of FUZZ_SECONDS), from a corpus seeded
+# with tests/data/urdf.
 # FUZZ_SEED fixes libFuzzer's random seed (CI does, so that its short run is repeatable).
 # Expects the build of scripts/sanitize.sh (BUILD, default build-sanitize); builds it
 # when missing. A crash, leak, sanitizer report or timeout fails the run, leaving the
@@ -15,11 +17,13 @@ BUILD=${BUILD:-build-sanitize}
 SECONDS_TO_RUN=${FUZZ_SECONDS:-60}
 JOBS=${FUZZ_JOBS:-1}
 SEED=${FUZZ_SEED:-0}
-OPTION_SECONDS=${FUZZ_OPTION_SECONDS:-$(( ${SECONDS_TO_RUN:-0} / 2 ))}
-for v in "$SECONDS_TO_RUN" "$JOBS" "$SEED" "$OPTION_SECONDS"; do
+OPTION_SECONDS=${FUZZ_OPTION_SECONDS:-$(( ${SECONDS_TO_RUN:-0} / 3 ))}
+URDF_SECONDS=${FUZZ_URDF_SECONDS:-$(( ${SECONDS_TO_RUN:-0} / 3 ))}
+for v in "$SECONDS_TO_RUN" "$JOBS" "$SEED" "$OPTION_SECONDS" "$URDF_SECONDS"; do
   case "$v" in '' | *[!0-9]*) echo "fuzz.sh: FUZZ_SECONDS, FUZZ_JOBS and FUZZ_SEED must be whole numbers" >&2; exit 2 ;; esac
 done
-if [ ! -x "$BUILD/tests/fuzz/model_fuzzer" ] || [ ! -x "$BUILD/tests/fuzz/option_fuzzer" ]; then
+if [ ! -x "$BUILD/tests/fuzz/model_fuzzer" ] || [ ! -x "$BUILD/tests/fuzz/option_fuzzer" ] ||
+   [ ! -x "$BUILD/tests/fuzz/urdf_fuzzer" ]; then
   FUZZ_SECONDS=0 BUILD="$BUILD" bash scripts/sanitize.sh
 fi
 # A small quarantine: ASan's default (256 MiB of freed memory kept aside) lets the
@@ -51,3 +55,11 @@ option_args=(-dict="$root/tests/fuzz/mbs.dict" -max_len=4096 -timeout=20 -rss_li
 if [ "$JOBS" -gt 1 ]; then option_args+=(-jobs="$JOBS" -workers="$JOBS"); fi
 if [ "$SEED" -gt 0 ]; then option_args+=(-seed="$SEED"); fi
 ./tests/fuzz/option_fuzzer "${option_args[@]}" option-corpus
+[ "$URDF_SECONDS" -gt 0 ] || exit 0
+mkdir -p urdf-corpus
+cp -n "$root"/tests/data/urdf/*.urdf urdf-corpus/
+urdf_args=(-dict="$root/tests/fuzz/urdf.dict" -max_len=16384 -timeout=20 -rss_limit_mb=4096
+           -max_total_time="$URDF_SECONDS" -artifact_prefix=fuzz-findings/urdf- -print_final_stats=1)
+if [ "$JOBS" -gt 1 ]; then urdf_args+=(-jobs="$JOBS" -workers="$JOBS"); fi
+if [ "$SEED" -gt 0 ]; then urdf_args+=(-seed="$SEED"); fi
+./tests/fuzz/urdf_fuzzer "${urdf_args[@]}" urdf-corpus

@@ -391,7 +391,7 @@ int main(int argc, char** argv) {
   mbsc::driver::ImportArgs import_args;
   auto* im = app.add_subcommand("import", "read a robot's URDF file and write it as a model (docs/urdf.md)");
   im->add_option("urdf", import_args.urdf, "robot description (.urdf)")->required();
-  im->add_option("-o,--out", import_args.output, "model file to write (default: standard output)");
+  im->add_option("-o,--out", import_args.output, "model file to write (default, or -: standard output)");
   im->add_flag("--floating-base", import_args.options.floating_base,
                "the root link as a free body (quaternion attitude) instead of fixed to the ground");
   bool no_inputs = false;

@@ -30,7 +30,7 @@ int run_import(const ImportArgs& a, std::ostream& out, std::ostream& err) {
     return 1;
   }
   // The written model must read back: a failure here is mbsc's, and says so.
-  const std::string label = a.output.empty() ? a.urdf + " (imported)" : a.output;
+  const std::string label = a.output.empty() || a.output == "-" ? a.urdf + " (imported)" : a.output;
   Diagnostics back;
   auto file = parse::parse_text(*model, label, back);
   std::optional<model::Model> m;
@@ -43,7 +43,7 @@ int run_import(const ImportArgs& a, std::ostream& out, std::ostream& err) {
     return 1;
   }
   err << diags.format();  // warnings, if any
-  if (a.output.empty()) {
+  if (a.output.empty() || a.output == "-") {
     out << *model;
     return 0;
   }

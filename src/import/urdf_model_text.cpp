@@ -4,6 +4,8 @@
 // joint with its coordinate per moving joint (an input as its torque or force), mimic
 // rows, and gravity along -z. Names are the URDF's, made into model identifiers.
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -19,7 +21,7 @@ namespace {
 
 /// Shortest text that reads back as x (no "-0").
 std::string num(double x) {
-  if (x == 0) return "0";
+  if (std::abs(x) < std::numeric_limits<double>::min()) return "0";  // no subnormals in the language
   return fmt::format("{}", x);
 }
 
@@ -43,17 +45,34 @@ class Names {
                           "sign", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "pow", "min", "max"})
       taken_.insert(r);
   }
+  /// A coordinate's name c such that c and its rate's c_dot are both free; claims both.
+  std::string claim_coordinate(const std::string& wanted) {
+    const std::string base = identifier(wanted);
+    std::string name = base;
+    for (int k = 2; !free(name) || !free(name + "_dot"); ++k) name = fmt::format("{}_{}", base, k);
+    taken_.insert(name);
+    taken_.insert(name + "_dot");
+    return name;
+  }
+
   std::string claim(const std::string& wanted) {
-    std::string s;
-    for (const char c : wanted) s += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
-    if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) s = "_" + s;
+    const std::string s = identifier(wanted);
     std::string name = s;
-    for (int k = 2; taken_.count(name) || parse::is_keyword(name); ++k) name = fmt::format("{}_{}", s, k);
+    for (int k = 2; !free(name); ++k) name = fmt::format("{}_{}", s, k);
     taken_.insert(name);
     return name;
   }
 
  private:
+  bool free(const std::string& name) const { return !taken_.count(name) && !parse::is_keyword(name); }
+
+  static std::string identifier(const std::string& wanted) {
+    std::string s;
+    for (const char c : wanted) s += std::isalnum(static_cast<unsigned char>(c)) || c == '_' ? c : '_';
+    if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0]))) s = "_" + s;
+    return s;
+  }
+
   std::set<std::string> taken_;
 };
 
@@ -121,12 +140,11 @@ class Writer {
       std::vector<std::string> q;
       std::vector<std::string> parts;
       if (u.type == "planar") {
-        for (const char* s : {"_a", "_b", "_turn"}) q.push_back(names_.claim("q_" + u.name + s));
+        for (const char* s : {"_a", "_b", "_turn"}) q.push_back(names_.claim_coordinate("q_" + u.name + s));
         for (const char* s : {"_slide1", "_slide2", "_a", "_b"}) parts.push_back(names_.claim(u.name + s));
       } else if (u.type != "floating") {
-        q.push_back(names_.claim("q_" + u.name));
+        q.push_back(names_.claim_coordinate("q_" + u.name));
       }
-      for (const auto& c : q) names_.claim(c + "_dot");
       coordinates_.push_back(q);
       planar_parts_.push_back(parts);
       if (options_.joint_inputs && !j.mimics && (u.type == "revolute" || u.type == "continuous" || u.type == "prismatic"))
@@ -135,8 +153,8 @@ class Writer {
   }
 
   void header() {
-    out_ << fmt::format("# Robot '{}', imported from {} by `mbsc import` (docs/urdf.md).\n", doc_.robot_name,
-                        file_name(path_));
+    out_ << fmt::format("# Robot '{}', imported from {} by `mbsc import` (docs/urdf.md).\n", printable(doc_.robot_name),
+                        printable(file_name(path_)));
     out_ << "#\n# Each body is a link with the links welded to it by fixed joints merged in. Its axes are\n"
             "# the link's frame turned to the world's directions at the zero pose (every joint\n"
             "# coordinate 0): points, axes, mass centres and inertia tensors below are the URDF's turned\n"
@@ -151,6 +169,11 @@ class Writer {
       safety += j.safety;
       calibration += j.calibration;
     }
+    int damped = 0, undamped = 0;  // damping on the joints that take it; on fixed, floating, planar ones
+    for (const auto& j : doc_.joints) {
+      const bool takes = j.type == "revolute" || j.type == "continuous" || j.type == "prismatic";
+      (takes ? damped : undamped) += j.damping > 0;
+    }
     std::vector<std::string> unused;
     auto count = [&](int n, const char* what) {
       if (n > 0) unused.push_back(fmt::format("{} {}", n, what));
@@ -160,23 +183,22 @@ class Writer {
     count(limits, "joint <limit> (listed at each joint)");
     count(friction, "joint Coulomb <friction> (mbsc's friction acts on spatial prismatic and cylindrical joints "
                     "without coordinates; listed at each joint)");
+    count(undamped, "joint damping on fixed, floating or planar joints");
     count(safety, "<safety_controller>");
     count(calibration, "<calibration>");
     count(doc_.transmissions, "<transmission> (each moving joint has an input instead)");
     count(doc_.gazebo, "<gazebo>");
     count(doc_.materials, "<material>");
-    for (const auto& e : doc_.other_elements) unused.push_back("<" + e + ">");
+    for (const auto& e : doc_.other_elements) unused.push_back("<" + printable(e) + ">");
     if (!unused.empty()) {
       out_ << "#\n# Not used:\n";
       for (const auto& u : unused) out_ << "#   " << u << "\n";
     }
-    int damped = 0;
-    for (const auto& j : doc_.joints) damped += j.damping > 0;
     if (damped > 0)
       out_ << fmt::format("# Joint damping ({} joint{}) acts as a torque or force -c q' on the joint.\n", damped,
                           damped == 1 ? "" : "s");
     const RobotBody& root = tree_.bodies[0];
-    out_ << fmt::format("#\n# Root link '{}': {}.\n", root.link,
+    out_ << fmt::format("#\n# Root link '{}': {}.\n", printable(root.link),
                         root.free ? "a free body (the floating base), attitude a unit quaternion"
                                   : "fixed to the ground (import with --floating-base for a free base)");
     if (root.ground && root.has_inertial) out_ << "# Its inertia and that of the links welded to it do not move and are not used.\n";
@@ -186,7 +208,7 @@ class Writer {
   void welded_comment(const RobotBody& b) {
     for (const std::size_t k : b.welded) {
       const UrdfJoint& j = doc_.joints[k];
-      out_ << fmt::format("# + link '{}' (fixed joint '{}')\n", j.child, j.name);
+      out_ << fmt::format("# + link '{}' (fixed joint '{}')\n", printable(j.child), printable(j.name));
     }
   }
 
@@ -212,17 +234,17 @@ class Writer {
     joint_axes(0);
     std::swap(axes, out_);
     if (!tree_.bodies[0].ground || axes.str().empty()) return;
-    out_ << fmt::format("\n# The root link '{}' is the ground.\n", tree_.bodies[0].link);
+    out_ << fmt::format("\n# The root link '{}' is the ground.\n", printable(tree_.bodies[0].link));
     welded_comment(tree_.bodies[0]);
     out_ << "ground {\n" << axes.str() << "}\n";
   }
 
   void body(std::size_t b) {
     const RobotBody& body = tree_.bodies[b];
-    out_ << fmt::format("\n# link '{}'", body.link);
-    if (body.name != body.link) out_ << fmt::format(" (a massless anchor: the body is named after '{}')", body.name);
+    out_ << fmt::format("\n# link '{}'", printable(body.link));
+    if (body.name != body.link) out_ << fmt::format(" (a massless anchor: the body is named after '{}')", printable(body.name));
     if (!body.rpy_path.empty()) out_ << fmt::format(" (axes turned by the rpy of joint{} {})", body.rpy_path.size() == 1 ? "" : "s",
-                                                    fmt::join(body.rpy_path, ", "));
+                                                    printable(fmt::format("{}", fmt::join(body.rpy_path, ", "))));
     out_ << "\n";
     welded_comment(body);
     out_ << fmt::format("body {} : rigid3d {{\n", body_names_[b]);
@@ -269,9 +291,9 @@ class Writer {
       if (u.rpy != Vec3{0, 0, 0}) notes.push_back(fmt::format("rpy ({}, {}, {})", angle(u.rpy[0]), angle(u.rpy[1]), angle(u.rpy[2])));
       if (!u.limit.empty()) notes.push_back("limit: " + u.limit);
       if (u.friction > 0) notes.push_back(fmt::format("friction {} not modelled", num(u.friction)));
-      if (!notes.empty()) out_ << fmt::format("# {}: {}\n", u.name, fmt::join(notes, "; "));
+      if (!notes.empty()) out_ << fmt::format("# {}: {}\n", printable(u.name), fmt::join(notes, "; "));
       if (u.type == "floating") {
-        out_ << fmt::format("# joint '{}' (floating): '{}' is a free body\n", u.name, u.child);
+        out_ << fmt::format("# joint '{}' (floating): '{}' is a free body\n", printable(u.name), printable(u.child));
       } else if (u.type == "planar") {
         const auto& q = coordinates_[k];
         const auto& parts = planar_parts_[k];
@@ -326,7 +348,7 @@ class Writer {
       const Vec3 x = add(body.start.position, mul(body.start.rotation, body.com));
       const auto e = quaternion_of(body.start.rotation);
       const std::string& n = body_names_[b];
-      out_ << fmt::format("\n# '{}' starts {}.\n", body.link, b == 0 ? "at the origin, level" : "where its floating joint's origin puts it");
+      out_ << fmt::format("\n# '{}' starts {}.\n", printable(body.link), b == 0 ? "at the origin, level" : "where its floating joint's origin puts it");
       out_ << fmt::format("initial {}.x = {}, {}.y = {}, {}.z = {}\n", n, num(x[0]), n, num(x[1]), n, num(x[2]));
       out_ << fmt::format("initial {}.e0 = {}, {}.e1 = {}, {}.e2 = {}, {}.e3 = {}\n", n, num(e[0]), n, num(e[1]), n, num(e[2]),
                           n, num(e[3]));

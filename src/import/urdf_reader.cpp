@@ -10,10 +10,13 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
 
+#include "mbsc/diag/limits.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "urdf_document.hpp"
 
@@ -29,6 +32,17 @@ class Reader {
     starts_.push_back(0);
     for (std::size_t i = 0; i < text.size(); ++i)
       if (text[i] == '\n') starts_.push_back(i + 1);
+    // Stretches where a '<' starts no element: comments, CDATA, declarations.
+    for (std::size_t i = text.find('<'); i != std::string::npos; i = text.find('<', i + 1)) {
+      for (const auto& [open, close] : {std::pair<const char*, const char*>{"<!--", "-->"}, {"<![CDATA[", "]]>"}, {"<?", "?>"}})
+        if (text.compare(i, std::char_traits<char>::length(open), open) == 0) {
+          const std::size_t end = text.find(close, i + 1);
+          const std::size_t stop = end == std::string::npos ? text.size() : end + std::char_traits<char>::length(close);
+          skipped_.emplace_back(i, stop);
+          i = stop - 1;
+          break;
+        }
+    }
   }
 
   std::optional<UrdfDocument> read() {
@@ -51,6 +65,7 @@ class Reader {
       diags_.error(pos, fmt::format("the URDF is not well-formed XML ({}{})", kind, printable(detail)));
       return std::nullopt;
     }
+    locate(doc.RootElement());
     const XMLElement* robot = doc.RootElement();
     if (!robot || std::string(robot->Name()) != "robot") {
       diags_.error(robot ? at(robot) : SourcePos{path_, 1, 1},
@@ -75,19 +90,59 @@ class Reader {
   }
 
  private:
+  /// file:line:col of a byte offset; the column counts characters (UTF-8), as the model
+  /// language's lexer does.
   SourcePos position_of(std::size_t offset) const {
     const auto it = std::upper_bound(starts_.begin(), starts_.end(), offset);
     const std::size_t line = static_cast<std::size_t>(it - starts_.begin());
-    return SourcePos{path_, static_cast<int>(line), static_cast<int>(offset - starts_[line - 1] + 1)};
+    int col = 1;
+    for (std::size_t i = starts_[line - 1]; i < offset && i < text_.size(); ++i)
+      col += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+    return SourcePos{path_, static_cast<int>(line), col};
   }
 
-  /// Where the element's start tag begins: its '<' on the line tinyxml2 reports.
+  bool skipped(std::size_t offset) const {
+    for (const auto& [from, to] : skipped_)
+      if (offset >= from && offset < to) return true;
+    return false;
+  }
+
+  /// Every element's start tag, found in document order with a cursor that only moves on:
+  /// the first "<Name" followed by a space, '/' or '>' at or after the line tinyxml2
+  /// reports, outside comments, after the element before it.
+  void locate(const XMLElement* root) {
+    std::size_t cursor = 0;
+    std::vector<const XMLElement*> stack;
+    if (root) stack.push_back(root);
+    while (!stack.empty()) {
+      const XMLElement* e = stack.back();
+      stack.pop_back();
+      const int line = e->GetLineNum();
+      std::size_t from = cursor;
+      if (line >= 1 && static_cast<std::size_t>(line) <= starts_.size())
+        from = std::max(from, starts_[static_cast<std::size_t>(line - 1)]);
+      const std::string tag = std::string("<") + e->Name();
+      std::size_t found = text_.find(tag, from);
+      while (found != std::string::npos) {
+        const std::size_t after = found + tag.size();
+        const char next = after < text_.size() ? text_[after] : '>';
+        if (!skipped(found) && (std::isspace(static_cast<unsigned char>(next)) || next == '/' || next == '>')) break;
+        found = text_.find(tag, found + 1);
+      }
+      if (found == std::string::npos) found = from < text_.size() ? from : 0;
+      offsets_[e] = found;
+      cursor = found + 1;
+      // Children in document order: pushed last to first.
+      std::vector<const XMLElement*> children;
+      for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) children.push_back(c);
+      for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(*it);
+    }
+  }
+
+  /// Where the element's start tag begins (its '<').
   std::size_t offset_of(const XMLElement* e) const {
-    const int line = e->GetLineNum();
-    if (line < 1 || static_cast<std::size_t>(line) > starts_.size()) return 0;
-    const std::size_t from = starts_[static_cast<std::size_t>(line - 1)];
-    const std::size_t found = text_.find(std::string("<") + e->Name(), from);
-    return found == std::string::npos ? from : found;
+    const auto it = offsets_.find(e);
+    return it == offsets_.end() ? 0 : it->second;
   }
 
   SourcePos at(const XMLElement* e) const { return position_of(offset_of(e)); }
@@ -110,7 +165,7 @@ class Reader {
   std::string required(const XMLElement* e, const char* attribute, const std::string& what) {
     const char* v = e->Attribute(attribute);
     if (!v || !*v) {
-      diags_.error(at(e), fmt::format("{} needs a {} attribute", what, attribute));
+      diags_.error(at(e), fmt::format("{} needs the attribute {}", what, attribute));
       return "";
     }
     return v;
@@ -143,13 +198,21 @@ class Reader {
                                                  attribute, printable(v), N, N == 1 ? "" : "s"));
       return fallback;
     }
+    // The range of the model language's numbers (docs/language.md, "Limits").
+    for (const double x : out)
+      if (std::abs(x) > limits::kMaxValue || (x != 0 && std::abs(x) < std::numeric_limits<double>::min())) {
+        diags_.error(at(e, attribute), fmt::format("{}: {}=\"{}\": {} is outside the range of mbsc's numbers (1e-308 to "
+                                                   "1e30 in magnitude, or 0)",
+                                                   what, attribute, printable(v), x));
+        return fallback;
+      }
     return out;
   }
 
   double number(const XMLElement* e, const char* attribute, double fallback, const std::string& what,
                 bool needed = false) {
     if (needed && !e->Attribute(attribute)) {
-      diags_.error(at(e), fmt::format("{} needs a {} attribute", what, attribute));
+      diags_.error(at(e), fmt::format("{} needs the attribute {}", what, attribute));
       return fallback;
     }
     return numbers<1>(e, attribute, {fallback}, what)[0];
@@ -161,7 +224,13 @@ class Reader {
     const XMLElement* o = e->FirstChildElement("origin");
     if (!o) return pose;
     pose.position = numbers<3>(o, "xyz", {0, 0, 0}, what + " <origin>");
-    const Vec3 rpy = numbers<3>(o, "rpy", {0, 0, 0}, what + " <origin>");
+    Vec3 rpy = numbers<3>(o, "rpy", {0, 0, 0}, what + " <origin>");
+    if (std::abs(rpy[0]) > kMaxAngle || std::abs(rpy[1]) > kMaxAngle || std::abs(rpy[2]) > kMaxAngle) {
+      diags_.error(at(o, "rpy"), fmt::format("{} <origin>: rpy angles beyond {:g} rad (thousands of turns) are not meant; "
+                                             "write the angle within a turn",
+                                             what, kMaxAngle));
+      rpy = {0, 0, 0};
+    }
     pose.rotation = rpy_rotation(rpy);
     if (rpy_out) *rpy_out = rpy;
     return pose;
@@ -255,6 +324,9 @@ class Reader {
   const std::string& text_;
   Diagnostics& diags_;
   std::vector<std::size_t> starts_;  // offset of each line's first character
+  std::vector<std::pair<std::size_t, std::size_t>> skipped_;  // comments, CDATA, declarations
+  std::map<const XMLElement*, std::size_t> offsets_;          // each element's '<' (locate)
+  static constexpr double kMaxAngle = 1e4;
 };
 
 }  // namespace

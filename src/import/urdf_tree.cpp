@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 
+#include "mbsc/diag/limits.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
 #include "urdf_tree.hpp"
 
@@ -56,21 +57,21 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
   for (std::size_t i = 0; i < doc.links.size(); ++i) {
     const auto& l = doc.links[i];
     if (!link_index.emplace(l.name, i).second)
-      diags.error(l.pos, fmt::format("link '{}' is defined twice (first at {})", l.name,
+      diags.error(l.pos, fmt::format("link '{}' is defined twice (first at {})", printable(l.name),
                                      to_string(doc.links[link_index[l.name]].pos)));
     link_names.push_back(l.name);
   }
   for (std::size_t i = 0; i < doc.joints.size(); ++i) {
     const auto& j = doc.joints[i];
     if (!joint_index.emplace(j.name, i).second)
-      diags.error(j.pos, fmt::format("joint '{}' is defined twice (first at {})", j.name,
+      diags.error(j.pos, fmt::format("joint '{}' is defined twice (first at {})", printable(j.name),
                                      to_string(doc.joints[joint_index[j.name]].pos)));
     for (const auto& [end, pos] : {std::pair{&j.parent, j.parent_pos}, std::pair{&j.child, j.child_pos}})
       if (!end->empty() && !link_index.count(*end))
-        diags.error(pos, fmt::format("joint '{}': unknown link '{}'{}", j.name, printable(*end),
+        diags.error(pos, fmt::format("joint '{}': unknown link '{}'{}", printable(j.name), printable(*end),
                                      did_you_mean(*end, link_names)));
     if (!j.parent.empty() && j.parent == j.child)
-      diags.error(j.child_pos, fmt::format("joint '{}' joins link '{}' to itself", j.name, j.child));
+      diags.error(j.child_pos, fmt::format("joint '{}' joins link '{}' to itself", printable(j.name), printable(j.child)));
   }
   if (diags.has_errors()) return std::nullopt;
   if (doc.links.empty()) {
@@ -163,12 +164,13 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
         if (j.rpy != Vec3{0, 0, 0}) body.rpy_path.push_back(j.name);
         const double n = std::sqrt(dot(j.axis, j.axis));
         if (!(std::abs(n - 1) <= 1e-6)) {
-          diags.error(j.axis_pos, fmt::format("joint '{}': the axis ({} {} {}) is not a unit vector (its length is {:.6g}); "
-                                              "write its direction with length 1",
+          diags.error(j.axis_pos, fmt::format("joint '{}': the axis ({} {} {}) is not a unit vector (its length is {:.10g}); "
+                                              "write its direction with length 1 to 6 digits or more",
                                               j.name, j.axis[0], j.axis[1], j.axis[2], n));
           return std::nullopt;
         }
         rj.axis = mul(body.axes, scale(1 / n, j.axis));
+        rj.axis = scale(1 / std::sqrt(dot(rj.axis, rj.axis)), rj.axis);  // unit to rounding after the turns
       }
       group[c] = tree.bodies.size();
       in_group[c] = Pose{};
@@ -230,11 +232,18 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
       continue;
     }
     const Mat3& I = body.inertia;
-    const double scale_i = std::abs(I[0][0]) + std::abs(I[1][1]) + std::abs(I[2][2]);
     const double m1 = I[0][0], m2 = I[0][0] * I[1][1] - I[0][1] * I[1][0];
     const double m3 = I[0][0] * (I[1][1] * I[2][2] - I[1][2] * I[2][1]) - I[0][1] * (I[1][0] * I[2][2] - I[1][2] * I[2][0]) +
                       I[0][2] * (I[1][0] * I[2][1] - I[1][1] * I[2][0]);
-    const bool zero = scale_i == 0 && !body.free;  // a point mass, or with mass 0 a massless link
+    bool zero = !body.free;  // a point mass, or with mass 0 a massless link, on a joint
+    for (const auto& row : I)
+      for (const double v : row) zero = zero && v == 0;
+    if (body.free && !(m > 0)) {
+      diags.error(body.pos, fmt::format("link '{}' is a free body (the floating base, or a floating joint's child) with "
+                                        "mass {}; a free body needs a positive mass and inertia",
+                                        printable(body.link), m));
+      continue;
+    }
     if (!zero && !(m1 > 0 && m2 > 0 && m3 > 0))
       diags.error(doc.links[link_index[body.link]].inertial ? doc.links[link_index[body.link]].inertial->pos : body.pos,
                   fmt::format("link '{}'{}: the inertia tensor is not positive definite (leading minors {:.6g}, {:.6g}, "
@@ -242,6 +251,31 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
                               "massless link)",
                               body.link, body.welded.empty() ? "" : " with the links welded to it", m1, m2, m3));
   }
+
+  // What the model text will hold stays inside the range of the language's numbers:
+  // inputs within it can still combine beyond it (parallel axes of far, heavy links).
+  const auto in_range = [](double x) { return std::isfinite(x) && std::abs(x) <= limits::kMaxValue; };
+  for (const RobotBody& body : tree.bodies) {
+    bool ok = in_range(body.mass);
+    for (int i = 0; i < 3; ++i) {
+      ok = ok && in_range(body.com[i]) && in_range(body.start.position[i]);
+      for (int k = 0; k < 3; ++k) ok = ok && in_range(body.inertia[i][k]);
+    }
+    if (!ok) {
+      diags.error(body.pos, fmt::format("link '{}': its mass, mass centre or inertia{} comes to a value beyond 1e30 in "
+                                        "magnitude, outside the range of mbsc's numbers",
+                                        printable(body.link), body.welded.empty() ? "" : " (with the links welded to it)"));
+      return std::nullopt;
+    }
+  }
+  for (const RobotJoint& rj : tree.joints)
+    for (int i = 0; i < 3; ++i)
+      if (!in_range(rj.point[i])) {
+        diags.error(doc.joints[rj.urdf].pos, fmt::format("joint '{}': its origin comes to a value beyond 1e30 in magnitude "
+                                                         "from the link it hangs from",
+                                                         printable(doc.joints[rj.urdf].name)));
+        return std::nullopt;
+      }
 
   // Mimics: on a joint with one coordinate, following another such joint that does not
   // itself follow one (a chain would be rows on rows; URDF tools read one level).
@@ -264,10 +298,17 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
                                             j.name, j.type, followed.name, followed.type));
       continue;
     }
+    if (followed.mimic && followed.mimic->joint == j.name) {
+      diags.error(j.mimic->joint_pos, fmt::format("joints '{}' and '{}' mimic each other; one of them must move on its "
+                                                  "own (drop its <mimic>)",
+                                                  printable(j.name), printable(followed.name)));
+      continue;
+    }
     if (followed.mimic) {
       diags.error(j.mimic->joint_pos, fmt::format("joint '{}': <mimic> follows joint '{}', which itself follows '{}'; "
                                                   "follow '{}' directly (with the multipliers and offsets combined)",
-                                                  j.name, followed.name, followed.mimic->joint, followed.mimic->joint));
+                                                  printable(j.name), printable(followed.name),
+                                                  printable(followed.mimic->joint), printable(followed.mimic->joint)));
       continue;
     }
     if (!std::isfinite(j.mimic->multiplier) || !std::isfinite(j.mimic->offset)) continue;  // reported by the reader

@@ -133,10 +133,17 @@ std::optional<ast::File> parse_file(const std::string& path, Diagnostics& diags,
     diags.error(SourcePos{path, 0, 0}, "cannot read file '" + path + "': " + why);
     return std::nullopt;
   }
-  if (import::is_urdf_path(path)) {  // a robot description: read as the model `mbsc import` writes
+  if (import::is_urdf_path(path)) {
+    // A robot description: read as the model `mbsc import` writes. Positions in that text
+    // are labelled "ROBOT.urdf (imported)": the text `mbsc import ROBOT.urdf` prints.
     auto model = import::urdf_to_model(path, text, import::UrdfImportOptions{}, diags);
     if (!model) return std::nullopt;
-    text = std::move(*model);
+    ast::File file;
+    if (!parse_source(*model, path + " (imported)", diags, file, overrides)) return std::nullopt;
+    file.path = path;
+    file.sources = {path};
+    file.main_source = std::move(*model);
+    return file;
   }
   IncludeResolver resolver(diags, overrides);
   resolver.count_text(text.size(), SourcePos{path, 0, 0});

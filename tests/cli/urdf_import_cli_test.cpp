@@ -93,6 +93,13 @@ TEST_CASE("mbsc import: bad URDF is a positioned error, exit 1, nothing written"
       {"mimic of a fixed joint", arm(joint2("fixed", "<mimic joint=\"j1\"/>")), "12:5",
        "<mimic> ties the coordinates of two distinct revolute"},
       {"floating joint under a moving link", arm(joint2("floating")), "10:20", "a floating joint must hang from the fixed root"},
+      {"a number beyond the language's range", arm(joint2("revolute", "<origin xyz=\"1e31 0 0\"/>")), "12:13",
+       "1e+31 is outside the range of mbsc's numbers"},
+      {"a floating base without mass",
+       "<robot name=\"r\">\n  <link name=\"w\"/>\n  <joint name=\"f\" type=\"floating\">\n    <parent link=\"w\"/> <child "
+       "link=\"b\"/>\n  </joint>\n  <link name=\"b\">\n    <inertial> <mass value=\"0\"/> <inertia ixx=\"0\" ixy=\"0\" "
+       "ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/> </inertial>\n  </link>\n</robot>\n",
+       "6:3", "is a free body (the floating base, or a floating joint's child) with mass 0"},
   };
   for (const auto& c : cases) {
     SECTION(c.what) {
@@ -147,6 +154,24 @@ TEST_CASE("mbsc import: the output file, byte-identical imports, options", "[urd
   CHECK(r.exit_code == 0);
   CHECK(slurp(out) == first);  // byte-identical from run to run
   CHECK(first + "" == to_stdout.output.substr(0, first.size()));
+
+  // URDF names become identifiers; what reaches a comment is escaped (an attribute may
+  // hold a newline, &#10;, which must not start a statement), and a coordinate's rate
+  // name is free too (a link named q_j_dot).
+  const fs::path odd = dir / "odd.urdf";
+  write(odd, "<robot name=\"odd\">\n  <link name=\"base\"/>\n  <joint name=\"j\" type=\"revolute\">\n"
+             "    <parent link=\"base\"/> <child link=\"q_j_dot\"/>\n  </joint>\n"
+             "  <link name=\"q_j_dot\">\n    <inertial> <mass value=\"1\"/> <inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" "
+             "iyz=\"0\" izz=\"1\"/> </inertial>\n  </link>\n"
+             "  <joint name=\"k\" type=\"continuous\">\n    <parent link=\"q_j_dot\"/> <child link=\"b&#10;parameter evil = 1 #\"/>\n"
+             "  </joint>\n  <link name=\"b&#10;parameter evil = 1 #\">\n    <inertial> <mass value=\"1\"/> <inertia ixx=\"1\" "
+             "ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/> </inertial>\n  </link>\n</robot>\n");
+  const auto odd_model = run(kMbsc + " import " + quote(odd.string()));
+  INFO(odd_model.output);
+  REQUIRE(odd_model.exit_code == 0);
+  CHECK(odd_model.output.find("\nparameter evil") == std::string::npos);
+  CHECK(odd_model.output.find("coordinate q_j_2 ") != std::string::npos);
+  CHECK(run(kMbsc + " check " + quote(odd.string())).exit_code == 0);
 
   // --floating-base frees the root; --no-inputs drops the torques but keeps the damping.
   const auto free_base = run(kMbsc + " import " + urdf + " --floating-base --no-inputs");
