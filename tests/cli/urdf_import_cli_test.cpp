@@ -203,7 +203,7 @@ TEST_CASE("mbsc run reads a URDF: a free-flying robot keeps its energy", "[run]"
   fs::remove_all(dir);
 }
 
-TEST_CASE("the real robots: import, check, degrees of freedom from the file", "[urdf]") {
+TEST_CASE("the real robots: import, check, degrees of freedom from the file", "[urdf_robots]") {
   const fs::path robots = fs::path(MBSC_SOURCE_DIR).parent_path() / "shared" / "robots";
   if (!fs::exists(robots / "ur5_robot.urdf")) {
     WARN("skipped: no robot URDFs at " << robots.string() << " (they live beside the repository, not in it)");
