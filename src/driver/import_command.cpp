@@ -60,10 +60,9 @@ int run_import(const ImportArgs& a, std::ostream& out, std::ostream& err) {
     err << "mbsc: error: " << error << "\n";
     return 1;
   }
-  std::size_t bodies = 0, joints = 0;
+  std::size_t bodies = 0;
   for (const auto& n : m->nodes) bodies += n.kind == model::LeafKind::Rigid3d;
-  joints = m->coords.size();
-  err << fmt::format("wrote {}: model {}, {} bodies, {} coordinates\n", printable(a.output), m->name, bodies, joints);
+  err << fmt::format("wrote {}: model {}, {} bodies, {} coordinates\n", printable(a.output), m->name, bodies, m->coords.size());
   return 0;
 }
 

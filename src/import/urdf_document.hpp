@@ -44,6 +44,12 @@ struct UrdfJoint {
   bool safety = false, calibration = false;
 };
 
+/// The joint types with one coordinate of their own (revolute, continuous, prismatic):
+/// those that take an input, damping and a mimic.
+inline bool has_one_coordinate(const std::string& type) {
+  return type == "revolute" || type == "continuous" || type == "prismatic";
+}
+
 struct UrdfDocument {
   std::string robot_name;
   SourcePos robot_pos;

@@ -3,8 +3,10 @@
 // and what of the file it does not use, a rigid3d body per welded group of links, a
 // joint with its coordinate per moving joint (an input as its torque or force), mimic
 // rows, and gravity along -z. Names are the URDF's, made into model identifiers.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -84,20 +86,14 @@ std::pair<Vec3, Vec3> plane_basis(const Vec3& n) {
     if (std::abs(n[i]) < std::abs(n[k])) k = i;
   Vec3 e{0, 0, 0};
   e[k] = 1;
-  Vec3 a = {n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2], n[0] * e[1] - n[1] * e[0]};
+  Vec3 a = cross(n, e);
   a = scale(1 / std::sqrt(dot(a, a)), a);
-  const Vec3 b = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
-  return {a, b};
+  return {a, cross(n, a)};
 }
 
 std::string inertia_text(const Mat3& I) {
   return fmt::format("({}, {}, {}, {}, {}, {})", num(I[0][0]), num(I[1][1]), num(I[2][2]), num(I[0][1]), num(I[0][2]),
                      num(I[1][2]));
-}
-
-std::string file_name(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 class Writer {
@@ -109,12 +105,13 @@ class Writer {
     name_everything();
     header();
     out_ << fmt::format("model {}\n\nparameter g = 9.81\ngravity (0, 0, -g)\n", model_name_);
-    if (!inputs_.empty()) {
+    std::vector<std::string> inputs;
+    for (const auto& name : input_names_)
+      if (!name.empty()) inputs.push_back(name);
+    if (!inputs.empty()) {
       out_ << "\n# One input per actuated joint: a torque about a revolute joint's axis, a force along a\n"
               "# prismatic one's (M q'' = h + tau).\n";
-      std::vector<std::string> list;
-      for (const auto& [j, name] : inputs_) list.push_back(name);
-      out_ << "input " << fmt::format("{}", fmt::join(list, ", ")) << "\n";
+      out_ << fmt::format("input {}\n", fmt::join(inputs, ", "));
     }
     ground();
     for (std::size_t b = 1; b < tree_.bodies.size(); ++b) body(b);
@@ -147,14 +144,14 @@ class Writer {
       }
       coordinates_.push_back(q);
       planar_parts_.push_back(parts);
-      if (options_.joint_inputs && !j.mimics && (u.type == "revolute" || u.type == "continuous" || u.type == "prismatic"))
-        inputs_.emplace_back(k, names_.claim("tau_" + u.name));
+      input_names_.push_back(options_.joint_inputs && !j.mimics && has_one_coordinate(u.type) ? names_.claim("tau_" + u.name)
+                                                                                               : "");
     }
   }
 
   void header() {
     out_ << fmt::format("# Robot '{}', imported from {} by `mbsc import` (docs/urdf.md).\n", printable(doc_.robot_name),
-                        printable(file_name(path_)));
+                        printable(std::filesystem::path(path_).filename().string()));
     out_ << "#\n# Each body is a link with the links welded to it by fixed joints merged in. Its axes are\n"
             "# the link's frame turned to the world's directions at the zero pose (every joint\n"
             "# coordinate 0): points, axes, mass centres and inertia tensors below are the URDF's turned\n"
@@ -170,10 +167,7 @@ class Writer {
       calibration += j.calibration;
     }
     int damped = 0, undamped = 0;  // damping on the joints that take it; on fixed, floating, planar ones
-    for (const auto& j : doc_.joints) {
-      const bool takes = j.type == "revolute" || j.type == "continuous" || j.type == "prismatic";
-      (takes ? damped : undamped) += j.damping > 0;
-    }
+    for (const auto& j : doc_.joints) (has_one_coordinate(j.type) ? damped : undamped) += j.damping > 0;
     std::vector<std::string> unused;
     auto count = [&](int n, const char* what) {
       if (n > 0) unused.push_back(fmt::format("{} {}", n, what));
@@ -213,30 +207,26 @@ class Writer {
   }
 
   /// The axes statements of body b: its own joint's (at its origin) and its children's.
-  void joint_axes(std::size_t b) {
+  std::string joint_axes(std::size_t b) const {
+    std::string axes;
     for (std::size_t k = 0; k < tree_.joints.size(); ++k) {
       const RobotJoint& j = tree_.joints[k];
-      const UrdfJoint& u = urdf(j);
-      if (u.type == "floating") continue;
-      if (u.type == "planar") {  // the parent's end slides along the plane's first direction
-        if (j.parent == b) out_ << fmt::format("  axis {} {} {}\n", joint_names_[k], vec(j.point), vec(plane_basis(j.axis).first));
-        if (j.child == b) out_ << fmt::format("  axis {} (0, 0, 0) {}\n", joint_names_[k], vec(j.axis));
-        continue;
-      }
-      if (j.child == b) out_ << fmt::format("  axis {} (0, 0, 0) {}\n", joint_names_[k], vec(j.axis));
-      if (j.parent == b) out_ << fmt::format("  axis {} {} {}\n", joint_names_[k], vec(j.point), vec(j.axis));
+      const std::string& type = urdf(j).type;
+      if (type == "floating") continue;
+      // A planar joint's parent end slides along the plane's first direction.
+      const Vec3 parent_direction = type == "planar" ? plane_basis(j.axis).first : j.axis;
+      if (j.child == b) axes += fmt::format("  axis {} (0, 0, 0) {}\n", joint_names_[k], vec(j.axis));
+      if (j.parent == b) axes += fmt::format("  axis {} {} {}\n", joint_names_[k], vec(j.point), vec(parent_direction));
     }
+    return axes;
   }
 
   void ground() {
-    std::ostringstream axes;
-    std::swap(axes, out_);
-    joint_axes(0);
-    std::swap(axes, out_);
-    if (!tree_.bodies[0].ground || axes.str().empty()) return;
+    const std::string axes = joint_axes(0);
+    if (!tree_.bodies[0].ground || axes.empty()) return;
     out_ << fmt::format("\n# The root link '{}' is the ground.\n", printable(tree_.bodies[0].link));
     welded_comment(tree_.bodies[0]);
-    out_ << "ground {\n" << axes.str() << "}\n";
+    out_ << "ground {\n" << axes << "}\n";
   }
 
   void body(std::size_t b) {
@@ -251,8 +241,7 @@ class Writer {
     out_ << fmt::format("  mass {}\n", num(body.mass));
     out_ << fmt::format("  inertia {}\n", inertia_text(body.inertia));
     if (body.com != Vec3{0, 0, 0}) out_ << fmt::format("  com {}\n", vec(body.com));
-    joint_axes(b);
-    out_ << "}\n";
+    out_ << joint_axes(b) << "}\n";
     // A planar joint's child hangs from two massless carriages, one per slide.
     for (std::size_t k = 0; k < tree_.joints.size(); ++k) {
       const RobotJoint& j = tree_.joints[k];
@@ -271,9 +260,7 @@ class Writer {
   std::string actuator(std::size_t k) {
     const RobotJoint& j = tree_.joints[k];
     const UrdfJoint& u = urdf(j);
-    std::string value;
-    for (const auto& [jk, name] : inputs_)
-      if (jk == k) value = name;
+    std::string value = input_names_[k];
     if (u.damping > 0) value += fmt::format("{}{}*{}_dot", value.empty() ? "-" : " - ", num(u.damping), coordinates_[k][0]);
     if (value.empty()) return "";
     return fmt::format(" {} {}", u.type == "prismatic" ? "force" : "torque", value);
@@ -312,7 +299,6 @@ class Writer {
     for (std::size_t k = 0; k < tree_.joints.size(); ++k) {
       const RobotJoint& j = tree_.joints[k];
       if (!j.mimics) continue;
-      mimicking_ = true;
       const UrdfMimic& m = *urdf(j).mimic;
       std::string rhs = m.multiplier == 1 ? coordinates_[*j.mimics][0]
                                           : fmt::format("{}*{}", num(m.multiplier), coordinates_[*j.mimics][0]);
@@ -336,8 +322,9 @@ class Writer {
       if (!tree_.joints[k].mimics)
         for (const auto& q : coordinates_[k]) speeds.push_back(q + "_dot");
     if (speeds.empty()) return;
+    const bool mimicking = std::any_of(tree_.joints.begin(), tree_.joints.end(), [](const RobotJoint& j) { return j.mimics.has_value(); });
     out_ << "\n# The robot's speeds: " << (tree_.bodies[0].free ? "the base's six and " : "")
-         << "the joint rates" << (mimicking_ ? " (not the mimic joints')" : "") << ".\n";
+         << "the joint rates" << (mimicking ? " (not the mimic joints')" : "") << ".\n";
     out_ << fmt::format("independent {}\n", fmt::join(speeds, ", "));
   }
 
@@ -362,11 +349,10 @@ class Writer {
   std::ostringstream out_;
   Names names_;
   std::string model_name_;
-  bool mimicking_ = false;
   std::vector<std::string> body_names_, joint_names_;
   std::vector<std::vector<std::string>> coordinates_;
   std::vector<std::vector<std::string>> planar_parts_;  // a planar joint's carriages and slide joints
-  std::vector<std::pair<std::size_t, std::string>> inputs_;
+  std::vector<std::string> input_names_;  // per joint: its input, or "" (none)
 };
 
 }  // namespace

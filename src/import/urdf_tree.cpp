@@ -200,27 +200,25 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
   for (std::size_t i = 0; i < doc.links.size(); ++i) members[group[i]].push_back(i);
   for (std::size_t b = 0; b < tree.bodies.size(); ++b) {
     RobotBody& body = tree.bodies[b];
+    // The members with an inertial, each with its mass centre in the top link's frame.
+    std::vector<std::pair<std::size_t, Vec3>> massive;
     double m = 0;
-    Vec3 first{0, 0, 0}, only{0, 0, 0};
-    int with_inertial = 0;
+    Vec3 first{0, 0, 0};
     for (const std::size_t i : members[b])
       if (const auto& in = doc.links[i].inertial) {
-        ++with_inertial;
-        const Vec3 c = add(in_group[i].position, mul(in_group[i].rotation, in->origin.position));
+        massive.emplace_back(i, add(in_group[i].position, mul(in_group[i].rotation, in->origin.position)));
         m += in->mass;
-        first = add(first, scale(in->mass, c));
-        only = c;
+        first = add(first, scale(in->mass, massive.back().second));
       }
-    body.has_inertial = with_inertial > 0;
+    body.has_inertial = !massive.empty();
     // One link's mass centre as the file has it (m c / m need not give c back).
-    const Vec3 com = with_inertial == 1 ? only : m > 0 ? scale(1 / m, first) : Vec3{0, 0, 0};
+    const Vec3 com = massive.size() == 1 ? massive[0].second : m > 0 ? scale(1 / m, first) : Vec3{0, 0, 0};
     Mat3 inertia{};
-    for (const std::size_t i : members[b])
-      if (const auto& in = doc.links[i].inertial) {
-        const Mat3 own = {{{in->ixx, in->ixy, in->ixz}, {in->ixy, in->iyy, in->iyz}, {in->ixz, in->iyz, in->izz}}};
-        const Vec3 c = add(in_group[i].position, mul(in_group[i].rotation, in->origin.position));
-        inertia = plus(inertia, plus(turned(mul(in_group[i].rotation, in->origin.rotation), own), steiner(in->mass, sub(c, com))));
-      }
+    for (const auto& [i, c] : massive) {
+      const UrdfInertial& in = *doc.links[i].inertial;
+      const Mat3 own = {{{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}}};
+      inertia = plus(inertia, plus(turned(mul(in_group[i].rotation, in.origin.rotation), own), steiner(in.mass, sub(c, com))));
+    }
     body.mass = m;
     body.com = mul(body.axes, com);
     body.inertia = turned(body.axes, inertia);
@@ -281,7 +279,6 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
   // itself follow one (a chain would be rows on rows; URDF tools read one level).
   std::vector<std::string> names;
   for (const auto& k : doc.joints) names.push_back(k.name);
-  const auto one = [](const std::string& t) { return t == "revolute" || t == "continuous" || t == "prismatic"; };
   for (std::size_t ji = 0; ji < doc.joints.size(); ++ji) {
     const UrdfJoint& j = doc.joints[ji];
     if (!j.mimic) continue;
@@ -292,7 +289,7 @@ std::optional<RobotTree> build_robot_tree(const UrdfDocument& doc, bool floating
       continue;
     }
     const UrdfJoint& followed = doc.joints[it->second];
-    if (!one(j.type) || !one(followed.type) || it->second == ji) {
+    if (!has_one_coordinate(j.type) || !has_one_coordinate(followed.type) || it->second == ji) {
       diags.error(j.mimic->pos, fmt::format("joint '{}' ({}): <mimic> ties the coordinates of two distinct revolute, "
                                             "continuous or prismatic joints; '{}' is {}",
                                             j.name, j.type, followed.name, followed.type));
