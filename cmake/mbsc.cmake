@@ -2,7 +2,7 @@
 # mbsc_add_model(<target> MODEL <file.mbs> [NAME name] [STATE full|minimal]
 #                [FORMULATION complement|multipliers] [SOLVER auto|dense|sparse]
 #                [MASS_MATRIX auto|symbolic|factors] [OUTPUTS fn...] [FREEZE name=value...]
-#                [LINEAR_PARTS])
+#                [LINEAR_PARTS] [DERIVATIVES])
 #
 # Runs the mbsc compiler at build time and adds the generated C++ to <target>.
 # The generated header is included as "<name>/<name>.hpp", namespace mbsc_gen::<name>.
@@ -48,7 +48,7 @@ function(_mbsc_model_name path out_var)
 endfunction()
 
 function(mbsc_add_model target)
-  cmake_parse_arguments(ARG "LINEAR_PARTS" "MODEL;NAME;STATE;FORMULATION;SOLVER;MASS_MATRIX" "OUTPUTS;FREEZE" ${ARGN})
+  cmake_parse_arguments(ARG "LINEAR_PARTS;DERIVATIVES" "MODEL;NAME;STATE;FORMULATION;SOLVER;MASS_MATRIX" "OUTPUTS;FREEZE" ${ARGN})
   if(NOT ARG_MODEL)
     message(FATAL_ERROR "mbsc_add_model: MODEL is required")
   endif()
@@ -85,6 +85,9 @@ function(mbsc_add_model target)
   endif()
   if(ARG_LINEAR_PARTS)
     list(APPEND args --linear-parts)
+  endif()
+  if(ARG_DERIVATIVES)
+    list(APPEND args --derivatives)
   endif()
   if(ARG_OUTPUTS)
     string(REPLACE ";" "," outs "${ARG_OUTPUTS}")

@@ -204,6 +204,9 @@ int main(int argc, char** argv) {
       ->default_val("auto");
   g->add_option("--name", gen.name, "C++ namespace and file stem (default: the model's name)");
   g->add_option("--freeze", freeze, "fold a parameter into the code: name=value (repeatable)");
+  g->add_flag("--derivatives", gen.derivatives,
+              "also emit rhs_jacobian (dxdot/dx, dxdot/du) and inverse_dynamics_jacobian (du/dx, du/dzdot), "
+              "derived by forward-mode differentiation (docs/derivatives.md)");
   g->add_flag("--linear-parts", gen.linear_parts,
               "also emit linear_parts, the Taylor coefficients include/mbsc/runtime/linear_model.hpp forms the linear model from");
   g->add_flag("--python", gen.python,
@@ -233,6 +236,11 @@ int main(int argc, char** argv) {
                   for (const auto& n : mbsc::run::integrator_names()) s += (s.empty() ? "" : ", ") + n;
                   return s;
                 }())
+      ->capture_default_str();
+  r->add_option("--newton-jacobian", run.newton_jacobian,
+                "bdf and ark-dirk: the Jacobian of their Newton matrices: generated (the model's rhs_jacobian), "
+                "differences (forward differences of the rhs) or sundials (its own difference quotients)")
+      ->check(CLI::IsMember({"generated", "differences", "sundials"}))
       ->capture_default_str();
   r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods (1e-14 .. 0.1)")
       ->check(finite_above(1e-14 * 0.999, "a relative tolerance of at least 1e-14"))

@@ -366,6 +366,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.functions = a.functions;
     opt.multipliers = a.multipliers;
     opt.linear_parts = a.linear_parts;
+    opt.derivatives = a.derivatives;
     opt.minimal_state = a.minimal_state;
     opt.solver = solver_named(a.solver);
     opt.mass_matrix = mass_matrix_form_named(a.mass_matrix);

@@ -18,6 +18,7 @@
 #include "../ir/identifiers.hpp"
 #include "mbsc/diag/activity.hpp"
 #include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/derivative_specs.hpp"
 #include "mbsc/driver/mass_matrix_factors.hpp"
 #include "mbsc/driver/linear_parts.hpp"
 #include "mbsc/model/build.hpp"
@@ -52,6 +53,8 @@ const std::vector<std::string>& all_function_names() {
 std::string unknown_function_message(const std::set<std::string>& functions) {
   std::vector<std::string> known = all_function_names();
   known.push_back("linear_parts");  // on request only (driver/linear_parts.hpp)
+  known.push_back("rhs_jacobian");  // on request only (driver/derivative_specs.hpp)
+  known.push_back("inverse_dynamics_jacobian");
   for (const auto& name : functions)
     if (std::find(known.begin(), known.end(), name) == known.end())
       return fmt::format("--outputs: unknown function '{}'{} (known: {})", name, did_you_mean(name, known),
@@ -652,15 +655,25 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   }
   const BaumgarteGains gains;
   std::vector<ir::FunctionSpec> specs;
+  // A derivative is taken of its function: built here even when only the derivative is asked.
+  const auto asked = [&](const char* n) { return opt.derivatives || opt.functions.count(n) > 0; };
+  std::set<std::string> primal_only_for_derivative;
+  GenerateOptions built = opt;
+  for (const auto& [function, derivative] : {std::pair<const char*, const char*>{"rhs", "rhs_jacobian"},
+                                             {"inverse_dynamics", "inverse_dynamics_jacobian"}})
+    if (!opt.functions.empty() && opt.functions.count(derivative) && !opt.functions.count(function)) {
+      built.functions.insert(function);
+      primal_only_for_derivative.insert(function);
+    }
   if (opt.multipliers) {
     // The functions both formulations share, the reduced M z' = h of the declared
     // independent set included (the common ABI).
-    GenerateOptions rest = opt;
+    GenerateOptions rest = built;
     if (rest.functions.empty())
       for (const auto& n : all_function_names()) rest.functions.insert(n);
     for (const char* own : {"rhs", "multipliers", "reaction_forces", "conditioning"}) rest.functions.erase(own);
     if (opt.functions.empty() && !eom.has_energy) rest.functions.erase("energy");  // undefined_energy below
-    specs = multiplier_specs(m, eom, opt, gains, diags);
+    specs = multiplier_specs(m, eom, built, gains, diags);
     if (rest.functions.empty() && rest.linear_parts) rest.functions = {"linear_parts"};  // (empty would mean all)
     if (!rest.functions.empty())
       for (auto& f : function_specs(m, eom, rest, diags, nullptr)) specs.push_back(std::move(f));
@@ -668,11 +681,15 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     for (const char* own : {"multipliers", "reaction_forces"})
       if (opt.functions.count(own))
         diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
-    if (!diags.has_errors()) specs = function_specs(m, eom, opt, diags, ms);
+    if (!diags.has_errors()) specs = function_specs(m, eom, built, diags, ms);
   }
   if (diags.has_errors()) return std::nullopt;
   std::optional<std::vector<ir::Step>> friction_closure;
   close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
+  add_derivative_specs(m, eom, ms, asked("rhs_jacobian"), asked("inverse_dynamics_jacobian"), specs);
+  specs.erase(std::remove_if(specs.begin(), specs.end(),
+                             [&](const ir::FunctionSpec& f) { return primal_only_for_derivative.count(f.name) > 0; }),
+              specs.end());
   const std::vector<SparseJacobian> sparse = add_sparse_jacobians(m, opt, specs);
 
   // Conditioning of the solved blocks, and the partitions the run time can switch

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mbsc/emit/generated_model.hpp"
@@ -58,6 +59,23 @@ std::string shape_tuple(const GeneratedModel& m, const ir::LoweredFunction& f) {
   return tuple(dims);
 }
 
+// The blocks of an output made of several matrices one after the other (a derivative:
+// "kNx*kNx + kNx*kNin"), each as its two sizes; empty for an output of one block.
+std::vector<std::pair<long, long>> output_blocks(const GeneratedModel& m, const ir::LoweredFunction& f) {
+  std::vector<std::pair<long, long>> blocks;
+  std::string rest = f.out_shape;
+  if (rest.find(" + ") == std::string::npos) return {};
+  while (!rest.empty()) {
+    const std::size_t plus = rest.find(" + ");
+    const std::string term = rest.substr(0, plus);
+    rest = plus == std::string::npos ? "" : rest.substr(plus + 3);
+    const std::size_t star = term.find('*');
+    if (star == std::string::npos) return {};
+    blocks.emplace_back(constant(m, term.substr(0, star)), constant(m, term.substr(star + 1)));
+  }
+  return blocks;
+}
+
 std::string constants(const GeneratedModel& m) {
   std::vector<std::string> lines;
   for (const auto& [name, value] : m.int_constants) lines.push_back(name + " = " + std::to_string(value));
@@ -95,7 +113,21 @@ std::string emit_python(const GeneratedModel& m) {
   std::vector<std::string> shapes, partition_shapes, methods;
   for (const auto& f : m.functions) {
     shapes.push_back(c_string_literal(f.name) + ": " + shape_tuple(m, f) + ",");
-    if (f.third_arg == "w")  // linear_parts: inputs, rates of every speed, multipliers
+    if (const auto blocks = output_blocks(m, f); !blocks.empty()) {
+      // A derivative: its blocks as matrices, (d/dx, d/du) or (d/dx, d/dzdot).
+      const bool zdot = f.third_arg == "zdot";
+      const std::string third = zdot ? "zdot" : "u";
+      std::string body = "def " + f.name + "(self, t, x, " + third + "=None, p=None):\n    \"\"\"" + summary(f) +
+                         ": a tuple of matrices.\"\"\"\n    out = self.call(\"" + f.name + "\", t, x, " + third + ", p" +
+                         (zdot ? ", third=(\"zdot\", kNdof)" : "") + ")\n    return (";
+      long at = 0;
+      for (const auto& [rows, cols] : blocks) {
+        body += "out[" + std::to_string(at) + ":" + std::to_string(at + rows * cols) + "].reshape((" + std::to_string(rows) +
+                ", " + std::to_string(cols) + ")), ";
+        at += rows * cols;
+      }
+      methods.push_back(body + ")");
+    } else if (f.third_arg == "w")  // linear_parts: inputs, rates of every speed, multipliers
       methods.push_back("def " + f.name + "(self, t, x, w, p=None):\n    \"\"\"" + summary(f) + ".\"\"\"\n    return self.call(\"" +
                         f.name + "\", t, x, w, p, third=(\"w\", kLinearWSize))");
     else if (f.third_arg == "zdot")  // inverse_dynamics: the third argument is kNdof accelerations

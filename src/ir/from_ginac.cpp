@@ -170,6 +170,9 @@ NodeId GinacConverter::leaf_or_start(const GiNaC::ex& e, GKind kind, bool& is_le
       is_leaf = false;
       return -1;
     case GKind::Function:
+      // A derivative of a function (D[0](csgn)(x)) carries its function's serial: never it.
+      if (GiNaC::is_a<GiNaC::fderivative>(e))
+        throw std::runtime_error("unsupported derivative of a function in " + printed(e));
       if (!function_of(e, func)) {
         const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
         // GiNaC's derivative of abs(x) reads conjugate(x) (its symbols may be complex).

@@ -12,7 +12,8 @@ namespace mbsc::run {
 
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
-                      runtime::SimulationOptions sim, const Observer& observe, bool continuation) {
+                      runtime::SimulationOptions sim, const Observer& observe, bool continuation,
+                      NewtonJacobian newton) {
   // The loop owns what the rhs goes through: the inputs at t and the independent set.
   runtime::ModelDynamics dynamics(model.table(), p,
                                   [&model, &p](double t, double* u) { return model.inputs(t, p.data(), u); });
@@ -28,8 +29,25 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
   const bool cvode_projection =
       integrator == "bdf" && constrained && sim.projection == runtime::SimulationOptions::Projection::Auto;
   std::unique_ptr<runtime::Stepper> stepper;
+  SundialsOptions extra;
+  if (newton == NewtonJacobian::Differences) extra.jacobian_source = JacobianSource::Differences;
+  std::vector<double> jacobian_rows;
+  if (newton == NewtonJacobian::Generated && table.rhs_jacobian) {
+    // The generated J_x (row-major, the first nx*nx values) into SUNDIALS' column-major matrix.
+    extra.jacobian_source = JacobianSource::User;
+    extra.jacobian = [&dynamics, &table, &jacobian_rows](double t, const double* x, const double*, double* J) {
+      if (dynamics.inputs_at(t) != 0) return 1;
+      const int n = table.nx;
+      jacobian_rows.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n + table.nin));
+      if (const int s = table.rhs_jacobian(t, x, dynamics.inputs(), dynamics.params(), jacobian_rows.data()); s != 0) return s;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+          J[static_cast<std::size_t>(i) + static_cast<std::size_t>(j) * static_cast<std::size_t>(n)] =
+              jacobian_rows[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)];
+      return 0;
+    };
+  }
   if (cvode_projection) {
-    SundialsOptions extra;
     // Newton to a tenth of the absolute tolerance (or rounding, where it stalls): a
     // projection that leaves more than the error test allows makes every step fail it.
     runtime::ProjectionOptions po;
@@ -47,6 +65,7 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
     stepper = make_sundials_stepper(integrator, dynamics.rhs(), table.nx, options, extra);
     sim.projection = runtime::SimulationOptions::Projection::Off;  // done inside the method
   }
+  if (!stepper) stepper = make_sundials_stepper(integrator, dynamics.rhs(), table.nx, options, extra);
   if (!stepper) stepper = make_integrator(integrator, dynamics.rhs(), table.nx, options);
   // Project only once the constraints drift past what the tolerances allow anyway: each
   // projection restarts the stepper. The other SUNDIALS methods have no projection of

@@ -124,6 +124,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   req.work = a.work;
   req.minimal_state = a.minimal_state;
   req.solver = a.solver;
+  // The Newton methods' matrices from the generated Jacobian (compiled only for them).
+  const bool newton_method = a.integrator == "bdf" || a.integrator == "ark-dirk";
+  const NewtonJacobian newton = a.newton_jacobian == "differences" ? NewtonJacobian::Differences
+                                : a.newton_jacobian == "sundials"  ? NewtonJacobian::Sundials
+                                                                   : NewtonJacobian::Generated;
+  req.derivatives = newton_method && newton == NewtonJacobian::Generated;
   int code = 1;
   const auto compiled = compile_model(req, *m, sources, err, code);
   if (!compiled) return code;
@@ -282,7 +288,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // The time budget covers the whole command: the run stops where it runs out.
   sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
   watch.note("integrating", "model " + m->name);
-  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation);
+  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation, newton);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();
@@ -291,7 +297,10 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   const auto& st = run.stats;
   err << fmt::format("mbsc: {} {} t = 0 .. {:g}: {} steps ({} accepted, {} rejected), {} rhs evaluations{}, {:.3g} s CPU\n",
                      m->name, run.method, r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
-                     st.jacobian_evals ? fmt::format(", {} Jacobians", st.jacobian_evals) : "", cpu);
+                     st.jacobian_evals ? fmt::format(", {} Jacobians, {} Newton iterations, {} Newton failures",
+                                                     st.jacobian_evals, st.newton_iterations, st.newton_failures)
+                                       : "",
+                     cpu);
   RunAccuracy accuracy;
   accuracy.rtol = a.rtol, accuracy.atol = a.atol;
   accuracy.constrained = T.nposc + T.nc > 0;

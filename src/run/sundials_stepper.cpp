@@ -178,8 +178,10 @@ class SundialsStepper final : public Stepper {
     return 0;
   }
 
+  // A user Jacobian that fails at this state (a generated one not defined for the model,
+  // status 4, or a singular solve) gives way to difference quotients for this call.
   int call_jacobian(double t, const double* x, const double* fx, double* J) {
-    if (extra_.jacobian_source == JacobianSource::User) return extra_.jacobian(t, x, fx, J) == 0 ? 0 : 1;
+    if (extra_.jacobian_source == JacobianSource::User && extra_.jacobian(t, x, fx, J) == 0) return 0;
     // Typical sizes from the error weights: 1/w_i = rtol |x_i| + atol.
     int flag = is_cvode() ? CVodeGetErrWeights(mem_, weights_) : ARKStepGetErrWeights(mem_, weights_);
     const double* w = NV_DATA_S(weights_);
@@ -337,6 +339,7 @@ class SundialsStepper final : public Stepper {
     stats_.steps += nst + netf + ncfn;
     stats_.jacobian_evals += nje;
     stats_.newton_iterations += nni;
+    stats_.newton_failures += ncfn;
     stats_.rhs_evals = rhs;
     stats_.projections = projections_;  // counted by projection_callback across restarts
   }

@@ -27,7 +27,7 @@ namespace mbsc::run {
 enum class JacobianSource {
   Sundials,     // the integrator's internal difference quotients (the default)
   Differences,  // mbsc::runtime::rhs_jacobian_x (include/mbsc/runtime/rhs_jacobian.hpp)
-  User,         // SundialsOptions::jacobian, e.g. an analytic one
+  User,         // SundialsOptions::jacobian, e.g. the generated rhs_jacobian (differences where it fails)
 };
 
 /// J = dxdot/dx at (t, x), column-major n x n; xdot = f(t, x) is given. Returns 0 or a status.

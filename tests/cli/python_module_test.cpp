@@ -132,3 +132,27 @@ TEST_CASE("a model with inputs stops on a null u in a debug build", "[python]") 
   REQUIRE(r.output.find("u != nullptr") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("generate --derivatives --python: the derivatives as matrices, equal to differences", "[python]") {
+  const std::string interpreter = python();
+  if (run(interpreter + " -c 'import numpy'").exit_code != 0) {
+    WARN("Python derivative check skipped: " << interpreter << " cannot import numpy");
+    return;
+  }
+  const fs::path dir = mbsc_test::fresh_dir("python_derivatives");
+  // A loop with inputs (the slider-crank's drive).
+  const auto gen = run(quote(kMbsc) + " generate " + quote(kSource + "/models/slider_crank.mbs") + " -o " +
+                       quote(dir.string()) + " --python --derivatives --quiet");
+  INFO(gen.output);
+  REQUIRE(gen.exit_code == 0);
+  const fs::path out = dir / "slider_crank";
+  const auto so = run("cd " + quote(out.string()) + " && c++ -O2 -shared -fPIC slider_crank.cpp -o libslider_crank.so");
+  INFO(so.output);
+  REQUIRE(so.exit_code == 0);
+  const auto py = run(interpreter + " " + quote(kSource + "/tests/data/abi/check_python_derivatives.py") + " " +
+                      quote(out.string()) + " slider_crank");
+  INFO(py.output);
+  REQUIRE(py.exit_code == 0);
+  REQUIRE(py.output.find("checked ") != std::string::npos);
+  fs::remove_all(dir);
+}

@@ -11,7 +11,9 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
+#include "derivative_check.hpp"
 #include "every_joint/every_joint.hpp"
 #include "floating_base/floating_base.hpp"
 #include "test_support.hpp"
@@ -189,4 +191,12 @@ TEST_CASE("URDF import: a floating base with a welded sensor against an independ
   const double worst = compare(r, view, 60);
   INFO("largest relative difference " << worst);
   CHECK(worst < 1e-10);
+}
+
+TEST_CASE("URDF import: the generated derivatives agree with central differences", "[urdf][derivatives]") {
+  std::mt19937 rng(20261206);
+  for (int trial = 0; trial < 3; ++trial) {
+    mbsc_test::check_derivatives(MBSC_DERIVATIVE_MODEL(every_joint), rng);
+    mbsc_test::check_derivatives(MBSC_DERIVATIVE_MODEL(floating_base), rng);
+  }
 }

@@ -57,6 +57,7 @@ struct GenerateArgs {
   std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)
   bool linear_parts = false;        // also linear_parts (what `mbsc linearize` compiles)
+  bool derivatives = false;         // --derivatives: also rhs_jacobian, inverse_dynamics_jacobian
   WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);

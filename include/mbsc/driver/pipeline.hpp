@@ -66,6 +66,10 @@ struct GenerateOptions {
   /// Also linear_parts (driver/linear_parts.hpp), which no default set includes; also
   /// asked for by naming it in `functions`.
   bool linear_parts = false;
+  /// Also rhs_jacobian and inverse_dynamics_jacobian (docs/derivatives.md), which no
+  /// default set includes (a long chain's are tens of megabytes of code); also asked
+  /// for by naming them in `functions`.
+  bool derivatives = false;
 };
 
 /// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]

@@ -32,6 +32,9 @@ struct CompileRequest {
   std::map<std::string, std::string> input_expressions;
   std::string cache_dir;  // "" = the default
   bool linear_parts = false;  // also linear_parts (mbsc linearize, mbsc eig)
+  /// Also rhs_jacobian and inverse_dynamics_jacobian (implicit integrators' Newton
+  /// matrices, linearize); without, the table's pointers to them are null.
+  bool derivatives = false;
   driver::WorkArgs work;
 };
 

@@ -23,10 +23,18 @@ struct Integration {
 
 using Observer = std::function<void(double t, const std::vector<double>& x)>;
 
+/// Where bdf's and ark-dirk's Newton matrices take dxdot/dx from (`mbsc run --newton-jacobian`).
+enum class NewtonJacobian {
+  Generated,    // the generated rhs_jacobian, when the model was compiled with it (else as Sundials)
+  Differences,  // forward differences of the rhs, one column per state (runtime/rhs_jacobian.hpp)
+  Sundials,     // SUNDIALS' own difference quotients
+};
+
 /// `integrator` must be one of available_integrators(); `continuation` evaluates the rhs
 /// through the runtime's BranchContinuation (through rank loss of the constraints).
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
-                      runtime::SimulationOptions sim, const Observer& observe, bool continuation = false);
+                      runtime::SimulationOptions sim, const Observer& observe, bool continuation = false,
+                      NewtonJacobian newton = NewtonJacobian::Generated);
 
 }  // namespace mbsc::run

@@ -34,6 +34,7 @@ struct RunArgs {
   std::vector<std::string> plot_columns;  // --plot-columns (default: outputs, else the dof speeds)
   bool continuation = false;      // --continuation: through rank loss of the constraints
   std::string projection = "auto";  // auto (on for full state with constraints), on, off
+  std::string newton_jacobian = "generated";  // bdf, ark-dirk: generated|differences|sundials (NewtonJacobian)
   double baumgarte_alpha = -1, baumgarte_beta = -1;  // < 0: the model's defaults
   std::string cache_dir;
   bool strict = false;            // --strict: accuracy warnings are failures (exit 2)

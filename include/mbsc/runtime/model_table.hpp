@@ -45,6 +45,13 @@ struct ModelTable {
   /// inverse_dynamics(t, x, zdot, p, u): the inputs giving the independent accelerations
   /// zdot (kNdof); both forms. Its third argument is zdot, not the inputs.
   Fn inverse_dynamics;
+  /// rhs_jacobian(t, x, u, p, OUT): OUT = (dxdot/dx, nx x nx, then dxdot/du, nx x nin),
+  /// row-major; inverse_dynamics_jacobian(t, x, zdot, p, OUT): (du/dx, nin x nx, then
+  /// du/dzdot, nin x ndof). Null where the code was generated without them (the
+  /// MBSC_MODEL_TABLE macros set them null: assign them for a model generated with
+  /// --derivatives).
+  Fn rhs_jacobian = nullptr;
+  Fn inverse_dynamics_jacobian = nullptr;
 
   bool full_state_layout() const { return nq == nq_full && nu == nu_full; }
   /// names[0..n) as strings (for messages and column lists).
@@ -70,7 +77,7 @@ struct ModelTable {
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
         &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, nullptr, nullptr,       \
-        &NS::inverse_dynamics                                                                                        \
+        &NS::inverse_dynamics, nullptr, nullptr                                                                      \
   }
 
 /// The same for a model generated with --formulation multipliers.
@@ -82,5 +89,5 @@ struct ModelTable {
         NS::kParamDefaults, &NS::rhs, &NS::mass_matrix, &NS::forcing, &NS::position_constraints,                     \
         &NS::velocity_constraints, &NS::constraint_jacobian, &NS::position_jacobian, &NS::energy, &NS::outputs,      \
         &NS::full_state, &NS::conditioning, &NS::rhs_partition, &NS::conditioning_partition, &NS::multipliers,       \
-        &NS::reaction_forces, &NS::inverse_dynamics                                                                  \
+        &NS::reaction_forces, &NS::inverse_dynamics, nullptr, nullptr                                                \
   }

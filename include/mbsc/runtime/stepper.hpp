@@ -32,6 +32,7 @@ struct StepperStats {
   long rhs_evals = 0;  // calls of f, including those for Jacobians by differences
   long jacobian_evals = 0;
   long newton_iterations = 0;
+  long newton_failures = 0;  // steps retried because Newton's iteration did not converge
   long projections = 0;  // projections inside the method (CVODE's, for bdf), not the loop's
 };
 

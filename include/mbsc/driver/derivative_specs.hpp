@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// The generated derivatives (docs/derivatives.md): rhs_jacobian and
+/// inverse_dynamics_jacobian, forward-mode derivatives of the rhs and inverse_dynamics
+/// functions already built (sym/forward_derivative.hpp).
+#include <vector>
+
+#include "mbsc/ir/function_spec.hpp"
+#include "mbsc/model/model.hpp"
+#include "mbsc/sym/eom.hpp"
+#include "mbsc/sym/minimal_state.hpp"
+
+namespace mbsc::driver {
+
+/// rhs_jacobian(t, x, u, p, OUT): OUT = (dxdot/dx, kNx x kNx, then dxdot/du, kNx x kNin),
+/// both row-major, from `rhs` (the spec rhs emits, with its friction closure).
+ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
+                                   const ir::FunctionSpec& rhs);
+
+/// inverse_dynamics_jacobian(t, x, zdot, p, OUT): OUT = (du/dx, kNin x kNx, then
+/// du/dzdot, kNin x kNdof), both row-major, from `inverse_dynamics`.
+ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym::Eom& eom,
+                                                const sym::MinimalState* minimal, const ir::FunctionSpec& inverse_dynamics);
+
+/// Appends the derivatives asked for to `specs`, each taken of its function there.
+void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
+                          bool inverse_dynamics_jacobian, std::vector<ir::FunctionSpec>& specs);
+
+}  // namespace mbsc::driver

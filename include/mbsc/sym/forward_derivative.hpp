@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+#pragma once
+/// Forward-mode differentiation of an emitted function, as straight-line steps: the
+/// derivative of every output of an ir::FunctionSpec with respect to chosen input
+/// symbols (the state x and the inputs u of rhs: the generated rhs_jacobian;
+/// docs/derivatives.md).
+///
+/// Each step s := v gets tangents ds/dy_d = sum over the symbols w that v reads of
+/// (dv/dw) dw/dy_d, kept sparse (a tangent that is zero is never formed), and each
+/// numeric solve X = A^-1 B gets one more solve with the same matrix,
+/// dX = A^-1 (dB - dA X), over all its nonzero directions at once. The partials dv/dw
+/// are GiNaC's, shared by every direction; the back end's CSE shares them further.
+#include <ginac/ginac.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mbsc/ir/function_spec.hpp"
+
+namespace mbsc::sym {
+
+/// What forward mode does not differentiate: a minimum-norm solve of a semidefinite
+/// matrix (redundant constraints' multipliers), a conditioning estimate, a function
+/// formed by a congruence product.
+struct NotDifferentiable : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The steps and outputs of the derivative of `f`: for each block of symbols, the
+/// derivatives d(outputs)/d(block), row-major (outputs x block size), the blocks one
+/// after the other. The name, documentation and shape are left to the caller.
+/// abs(a) is differentiated as sign(a) a' (0 at a = 0) and the sign function as 0.
+ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks);
+
+}  // namespace mbsc::sym

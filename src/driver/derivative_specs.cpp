@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// rhs_jacobian and inverse_dynamics_jacobian (include/mbsc/driver/derivative_specs.hpp).
+#include "mbsc/driver/derivative_specs.hpp"
+
+#include <fmt/format.h>
+
+#include "mbsc/driver/pipeline.hpp"
+#include "mbsc/sym/forward_derivative.hpp"
+
+namespace mbsc::driver {
+
+namespace {
+
+// The state's symbols in x order (what bindings() binds to x[i]).
+std::vector<GiNaC::symbol> state_symbols(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal) {
+  std::vector<GiNaC::symbol> x;
+  for (const ir::Binding& b : bindings(m, eom, minimal))
+    if (b.cpp.rfind("x[", 0) == 0) x.push_back(b.sym);
+  return x;
+}
+
+// The derivative of `f` over the blocks, or a function returning 4 (with NaN) where
+// `f` cannot be computed or forward mode cannot differentiate it.
+ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
+                            ir::FunctionSpec shell) {
+  std::size_t columns = 0;
+  for (const auto& b : blocks) columns += b.size();
+  auto undefined = [&](std::string why) {
+    shell.steps.clear();
+    shell.outputs.assign(f.outputs.size() * columns, GiNaC::ex(0));
+    shell.undefined_reason = std::move(why);
+    return shell;
+  };
+  if (!f.undefined_reason.empty()) return undefined(f.undefined_reason);
+  try {
+    ir::FunctionSpec d = sym::forward_derivative(f, blocks);
+    shell.steps = std::move(d.steps);
+    shell.outputs = std::move(d.outputs);
+    return shell;
+  } catch (const sym::NotDifferentiable& e) {
+    return undefined(fmt::format("{} does not differentiate {} (difference quotients of {} instead)", "forward mode",
+                                 e.what(), f.name));
+  }
+}
+
+}  // namespace
+
+ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
+                                   const ir::FunctionSpec& rhs) {
+  std::vector<GiNaC::symbol> u;
+  for (const auto& in : m.inputs) u.push_back(in.sym);
+  ir::FunctionSpec shell{"rhs_jacobian",
+                         "derivatives of the state derivative: OUT = (J_x = dxdot/dx, kNx x kNx, then J_u = dxdot/du,\n"
+                         "kNx x kNin), both row-major (J_u at OUT + kNx*kNx); forward-mode derivatives of rhs",
+                         "J", "kNx*kNx + kNx*kNin", {}, {}};
+  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell));
+}
+
+ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym::Eom& eom,
+                                                const sym::MinimalState* minimal, const ir::FunctionSpec& inverse_dynamics) {
+  std::vector<GiNaC::symbol> zdot;
+  for (int s : eom.independent) zdot.push_back(m.speed_dots[static_cast<std::size_t>(s)]);
+  ir::FunctionSpec shell{"inverse_dynamics_jacobian",
+                         "derivatives of the inverse dynamics: OUT = (du/dx, kNin x kNx, then du/dzdot, kNin x kNdof),\n"
+                         "both row-major (du/dzdot at OUT + kNin*kNx); forward-mode derivatives of inverse_dynamics",
+                         "J", "kNin*kNx + kNin*kNdof", {}, {}};
+  shell.third_arg = "zdot";
+  return derivative(inverse_dynamics, {state_symbols(m, eom, minimal), zdot}, std::move(shell));
+}
+
+void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
+                          bool inverse_dynamics_jacobian, std::vector<ir::FunctionSpec>& specs) {
+  auto find = [&](const char* name) -> const ir::FunctionSpec& {
+    for (const auto& f : specs)
+      if (f.name == name) return f;
+    throw std::logic_error(fmt::format("generate: {} is differentiated but was not built", name));
+  };
+  std::vector<ir::FunctionSpec> added;
+  if (rhs_jacobian) added.push_back(rhs_jacobian_spec(m, eom, minimal, find("rhs")));
+  if (inverse_dynamics_jacobian)
+    added.push_back(inverse_dynamics_jacobian_spec(m, eom, minimal, find("inverse_dynamics")));
+  for (auto& f : added) specs.push_back(std::move(f));
+}
+
+}  // namespace mbsc::driver
