@@ -367,6 +367,8 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.multipliers = a.multipliers;
     opt.linear_parts = a.linear_parts;
     opt.derivatives = a.derivatives;
+    opt.rhs_jacobian = a.rhs_jacobian;
+    opt.rhs_jacobian_max_ops = a.rhs_jacobian_max_ops;
     opt.minimal_state = a.minimal_state;
     opt.solver = solver_named(a.solver);
     opt.mass_matrix = mass_matrix_form_named(a.mass_matrix);

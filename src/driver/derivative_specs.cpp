@@ -22,7 +22,7 @@ std::vector<GiNaC::symbol> state_symbols(const model::Model& m, const sym::Eom& 
 // The derivative of `f` over the blocks, or a function returning 4 (with NaN) where
 // `f` cannot be computed or forward mode cannot differentiate it.
 ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
-                            ir::FunctionSpec shell) {
+                            ir::FunctionSpec shell, long max_ops = 0) {
   std::size_t columns = 0;
   for (const auto& b : blocks) columns += b.size();
   auto undefined = [&](std::string why) {
@@ -32,28 +32,36 @@ ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::ve
     return shell;
   };
   if (!f.undefined_reason.empty()) return undefined(f.undefined_reason);
+  const long entries = static_cast<long>(f.outputs.size() * columns);
+  if (max_ops > 0 && 4 * entries > max_ops)
+    return undefined(fmt::format("{} entries, more than the {} operations this compile allows", entries, max_ops));
   try {
     ir::FunctionSpec d = sym::forward_derivative(f, blocks);
     shell.steps = std::move(d.steps);
     shell.outputs = std::move(d.outputs);
     return shell;
   } catch (const sym::NotDifferentiable& e) {
-    return undefined(fmt::format("{} does not differentiate {} (difference quotients of {} instead)", "forward mode",
-                                 e.what(), f.name));
+    return undefined(fmt::format("forward mode does not differentiate {} (take difference quotients of {})", e.what(),
+                                 f.name));
+  } catch (const std::exception& e) {
+    // A spec forward mode does not expect (a step reading a later one) or a GiNaC error
+    // (a log of zero): the function is written undefined rather than failing generate.
+    return undefined(fmt::format("its forward-mode derivative failed: {} (take difference quotients of {})", e.what(),
+                                 f.name));
   }
 }
 
 }  // namespace
 
 ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
-                                   const ir::FunctionSpec& rhs) {
+                                   const ir::FunctionSpec& rhs, long max_ops) {
   std::vector<GiNaC::symbol> u;
   for (const auto& in : m.inputs) u.push_back(in.sym);
   ir::FunctionSpec shell{"rhs_jacobian",
                          "derivatives of the state derivative: OUT = (J_x = dxdot/dx, kNx x kNx, then J_u = dxdot/du,\n"
                          "kNx x kNin), both row-major (J_u at OUT + kNx*kNx); forward-mode derivatives of rhs",
                          "J", "kNx*kNx + kNx*kNin", {}, {}};
-  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell));
+  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell), max_ops);
 }
 
 ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym::Eom& eom,
@@ -69,14 +77,14 @@ ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym
 }
 
 void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
-                          bool inverse_dynamics_jacobian, std::vector<ir::FunctionSpec>& specs) {
+                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, std::vector<ir::FunctionSpec>& specs) {
   auto find = [&](const char* name) -> const ir::FunctionSpec& {
     for (const auto& f : specs)
       if (f.name == name) return f;
     throw std::logic_error(fmt::format("generate: {} is differentiated but was not built", name));
   };
   std::vector<ir::FunctionSpec> added;
-  if (rhs_jacobian) added.push_back(rhs_jacobian_spec(m, eom, minimal, find("rhs")));
+  if (rhs_jacobian) added.push_back(rhs_jacobian_spec(m, eom, minimal, find("rhs"), rhs_jacobian_max_ops));
   if (inverse_dynamics_jacobian)
     added.push_back(inverse_dynamics_jacobian_spec(m, eom, minimal, find("inverse_dynamics")));
   for (auto& f : added) specs.push_back(std::move(f));

@@ -656,12 +656,14 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   const BaumgarteGains gains;
   std::vector<ir::FunctionSpec> specs;
   // A derivative is taken of its function: built here even when only the derivative is asked.
-  const auto asked = [&](const char* n) { return opt.derivatives || opt.functions.count(n) > 0; };
+  const auto asked = [&](const std::string& n) {
+    return opt.derivatives || (n == "rhs_jacobian" && opt.rhs_jacobian) || opt.functions.count(n) > 0;
+  };
   std::set<std::string> primal_only_for_derivative;
   GenerateOptions built = opt;
   for (const auto& [function, derivative] : {std::pair<const char*, const char*>{"rhs", "rhs_jacobian"},
                                              {"inverse_dynamics", "inverse_dynamics_jacobian"}})
-    if (!opt.functions.empty() && opt.functions.count(derivative) && !opt.functions.count(function)) {
+    if (!opt.functions.empty() && asked(derivative) && !opt.functions.count(function)) {
       built.functions.insert(function);
       primal_only_for_derivative.insert(function);
     }
@@ -686,7 +688,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   if (diags.has_errors()) return std::nullopt;
   std::optional<std::vector<ir::Step>> friction_closure;
   close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
-  add_derivative_specs(m, eom, ms, asked("rhs_jacobian"), asked("inverse_dynamics_jacobian"), specs);
+  add_derivative_specs(m, eom, ms, asked("rhs_jacobian"), asked("inverse_dynamics_jacobian"), opt.rhs_jacobian_max_ops, specs);
   specs.erase(std::remove_if(specs.begin(), specs.end(),
                              [&](const ir::FunctionSpec& f) { return primal_only_for_derivative.count(f.name) > 0; }),
               specs.end());
@@ -853,6 +855,12 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
         spec_binds.push_back({m.speed_dots[static_cast<std::size_t>(eom.independent[k])], fmt::format("zdot[{}]", k)});
     try {
       lowered[i] = ir::lower(spec, spec_binds);
+      if (spec.name == "rhs_jacobian" && opt.rhs_jacobian_max_ops > 0 && lowered[i]->ops.total() > opt.rhs_jacobian_max_ops) {
+        ir::FunctionSpec capped = spec;
+        capped.undefined_reason = fmt::format("{} operations, more than the {} this compile allows", lowered[i]->ops.total(),
+                                              opt.rhs_jacobian_max_ops);
+        lowered[i] = undefined_function(capped);
+      }
     } catch (const std::exception& e) {
       diags.error(m.name_pos, fmt::format("cannot generate function '{}' of model '{}': {}", spec.name, m.name, e.what()));
       return std::nullopt;

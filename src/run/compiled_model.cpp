@@ -181,7 +181,8 @@ bool build_entry(const CompileRequest& req, const CacheFolder& cache, const std:
   gen.minimal_state = req.minimal_state;
   gen.solver = req.solver;
   gen.linear_parts = req.linear_parts;
-  gen.derivatives = req.derivatives;
+  gen.rhs_jacobian = req.rhs_jacobian;
+  gen.rhs_jacobian_max_ops = kRunJacobianMaxOps;
   gen.work = req.work;
   gen.work.quiet = true;
   std::ostringstream sink;
@@ -304,7 +305,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
   key_text += req.minimal_state ? "minimal\n" : "full\n";
   key_text += "solver " + req.solver + "\n";
   if (req.linear_parts) key_text += "linear_parts\n";
-  if (req.derivatives) key_text += "derivatives\n";
+  if (req.rhs_jacobian) key_text += "rhs_jacobian " + std::to_string(kRunJacobianMaxOps) + "\n";
   key_text += inputs_body;
   for (const auto& s : sources) key_text += "\n--- " + s + "\n" + read_text(s);
   // The entry's name: the model's and 16 hex digits of the key's hash; its record holds
@@ -364,9 +365,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
                        printable(entry_path), missing);
     return nullptr;
   }
-  if (req.derivatives && (!symbol(result->handle_, "mbsc_" + kStem + "_rhs_jacobian", result->table_.rhs_jacobian, missing) ||
-                          !symbol(result->handle_, "mbsc_" + kStem + "_inverse_dynamics_jacobian",
-                                  result->table_.inverse_dynamics_jacobian, missing))) {
+  if (req.rhs_jacobian && !symbol(result->handle_, "mbsc_" + kStem + "_rhs_jacobian", result->table_.rhs_jacobian, missing)) {
     err << fmt::format("mbsc: error: the compiled model '{}' lacks '{}' (remove that folder to rebuild it)\n",
                        printable(entry_path), missing);
     return nullptr;

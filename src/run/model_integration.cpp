@@ -32,7 +32,9 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
   SundialsOptions extra;
   if (newton == NewtonJacobian::Differences) extra.jacobian_source = JacobianSource::Differences;
   std::vector<double> jacobian_rows;
-  if (newton == NewtonJacobian::Generated && table.rhs_jacobian) {
+  // The generated Jacobian is that of the declared partition's rhs without continuation:
+  // the function integrated only where no other partition or branch can take over.
+  if (newton == NewtonJacobian::Generated && table.rhs_jacobian && table.npartitions <= 1 && !continuation) {
     // The generated J_x (row-major, the first nx*nx values) into SUNDIALS' column-major matrix.
     extra.jacobian_source = JacobianSource::User;
     extra.jacobian = [&dynamics, &table, &jacobian_rows](double t, const double* x, const double*, double* J) {

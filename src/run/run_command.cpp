@@ -129,7 +129,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   const NewtonJacobian newton = a.newton_jacobian == "differences" ? NewtonJacobian::Differences
                                 : a.newton_jacobian == "sundials"  ? NewtonJacobian::Sundials
                                                                    : NewtonJacobian::Generated;
-  req.derivatives = newton_method && newton == NewtonJacobian::Generated;
+  req.rhs_jacobian = newton_method && newton == NewtonJacobian::Generated;
   int code = 1;
   const auto compiled = compile_model(req, *m, sources, err, code);
   if (!compiled) return code;
@@ -297,9 +297,11 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   const auto& st = run.stats;
   err << fmt::format("mbsc: {} {} t = 0 .. {:g}: {} steps ({} accepted, {} rejected), {} rhs evaluations{}, {:.3g} s CPU\n",
                      m->name, run.method, r.t, st.steps, st.accepted, st.rejected, st.rhs_evals,
-                     st.jacobian_evals ? fmt::format(", {} Jacobians, {} Newton iterations, {} Newton failures",
-                                                     st.jacobian_evals, st.newton_iterations, st.newton_failures)
-                                       : "",
+                     st.jacobian_evals
+                         ? fmt::format(", {} Jacobians{}, {} Newton iterations, {} Newton failures", st.jacobian_evals,
+                                       st.jacobian_fallbacks ? fmt::format(" ({} by differences)", st.jacobian_fallbacks) : "",
+                                       st.newton_iterations, st.newton_failures)
+                         : "",
                      cpu);
   RunAccuracy accuracy;
   accuracy.rtol = a.rtol, accuracy.atol = a.atol;

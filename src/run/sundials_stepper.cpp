@@ -181,7 +181,10 @@ class SundialsStepper final : public Stepper {
   // A user Jacobian that fails at this state (a generated one not defined for the model,
   // status 4, or a singular solve) gives way to difference quotients for this call.
   int call_jacobian(double t, const double* x, const double* fx, double* J) {
-    if (extra_.jacobian_source == JacobianSource::User && extra_.jacobian(t, x, fx, J) == 0) return 0;
+    if (extra_.jacobian_source == JacobianSource::User) {
+      if (extra_.jacobian(t, x, fx, J) == 0) return 0;
+      ++fallbacks_;
+    }
     // Typical sizes from the error weights: 1/w_i = rtol |x_i| + atol.
     int flag = is_cvode() ? CVodeGetErrWeights(mem_, weights_) : ARKStepGetErrWeights(mem_, weights_);
     const double* w = NV_DATA_S(weights_);
@@ -340,6 +343,7 @@ class SundialsStepper final : public Stepper {
     stats_.jacobian_evals += nje;
     stats_.newton_iterations += nni;
     stats_.newton_failures += ncfn;
+    stats_.jacobian_fallbacks = fallbacks_;  // counted by call_jacobian across restarts
     stats_.rhs_evals = rhs;
     stats_.projections = projections_;  // counted by projection_callback across restarts
   }
@@ -435,6 +439,7 @@ class SundialsStepper final : public Stepper {
   int rhs_status_ = 0;
   double rhs_t_ = 0.0;
   long projections_ = 0;
+  long fallbacks_ = 0;  // user Jacobians that failed and gave way to differences
   int tiny_steps_ = 0;  // steps in a row below 1e-14 max(1, |t|)
 };
 

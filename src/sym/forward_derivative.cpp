@@ -67,14 +67,15 @@ class ForwardMode {
 
   void track(const GiNaC::ex& s, Tangent t) {
     if (t.empty()) return;
-    id_.emplace(s, static_cast<int>(tangents_.size()));
+    if (!id_.emplace(s, static_cast<int>(tangents_.size())).second)
+      throw std::logic_error("forward_derivative: a symbol defined twice");
     tracked_.push_back(s);
     tangents_.push_back(std::move(t));
   }
 
-  // The tangent of e, node by node (chain rule over GiNaC's expression graph): a node
-  // held elsewhere too is differentiated once (memo by address), so an expression that
-  // shares subexpressions costs its graph's size, not its tree's.
+  // The tangent of e, node by node (chain rule over GiNaC's expression graph): every node
+  // is differentiated once (memo by address, the node kept alive with its entry), so an
+  // expression that shares subexpressions costs its graph's size, not its tree's.
   Tangent tangent_of(const GiNaC::ex& e) {
     if (GiNaC::is_a<GiNaC::numeric>(e) || GiNaC::is_a<GiNaC::constant>(e)) return {};
     if (GiNaC::is_a<GiNaC::symbol>(e)) {
@@ -83,13 +84,10 @@ class ForwardMode {
       return at == id_.end() ? Tangent{} : tangents_[static_cast<std::size_t>(at->second)];
     }
     const GiNaC::basic* key = &GiNaC::ex_to<GiNaC::basic>(e);
-    const bool shared = key->get_refcount() > 1;
-    if (shared) {
-      const auto hit = memo_.find(key);
-      if (hit != memo_.end()) return hit->second.second;
-    }
+    const auto hit = memo_.find(key);
+    if (hit != memo_.end()) return hit->second.second;
     Tangent t = node_tangent(e);
-    if (shared) memo_.emplace(key, std::make_pair(e, t));
+    memo_.emplace(key, std::make_pair(e, t));
     return t;
   }
 
@@ -133,6 +131,7 @@ class ForwardMode {
       if (!tx.empty()) accumulate(sum, e * GiNaC::log(b), tx);
       return nonzero(std::move(sum));
     }
+    if (GiNaC::is_a<GiNaC::fderivative>(e)) throw NotDifferentiable("a derivative of a function");
     if (GiNaC::is_a<GiNaC::function>(e)) {
       const auto& f = GiNaC::ex_to<GiNaC::function>(e);
       for (std::size_t i = 0; i < e.nops(); ++i) {

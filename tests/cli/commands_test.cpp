@@ -155,3 +155,36 @@ TEST_CASE("generate --formulation multipliers: its functions and its refusals", 
   CHECK(fs::is_empty(bad));
   fs::remove_all(bad);
 }
+
+TEST_CASE("generate --derivatives and --outputs: the derivatives with or without their functions", "[cli]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fresh_dir("derivative_outputs");
+  auto header = [&](const char* options) {
+    fs::remove_all(dir / "four_bar");
+    const auto r = run(kMbsc + " generate " + model("four_bar.mbs") + " " + options + " -o " + quote(dir.string()));
+    INFO(options << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    std::ifstream in(dir / "four_bar" / "four_bar.hpp");
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  // By default: neither derivative.
+  std::string h = header("");
+  CHECK(h.find("int rhs_jacobian(") == std::string::npos);
+  CHECK(h.find("int inverse_dynamics_jacobian(") == std::string::npos);
+  // --derivatives: both, with every other function.
+  h = header("--derivatives");
+  CHECK(h.find("int rhs_jacobian(") != std::string::npos);
+  CHECK(h.find("int inverse_dynamics_jacobian(") != std::string::npos);
+  CHECK(h.find("int mass_matrix(") != std::string::npos);
+  // With a list that lacks the functions they differentiate: those are derived, not written.
+  h = header("--outputs mass_matrix --derivatives");
+  CHECK(h.find("int rhs_jacobian(") != std::string::npos);
+  CHECK(h.find("int inverse_dynamics_jacobian(") != std::string::npos);
+  CHECK(h.find("int rhs(") == std::string::npos);
+  CHECK(h.find("int inverse_dynamics(") == std::string::npos);
+  h = header("--outputs rhs_jacobian");
+  CHECK(h.find("int rhs_jacobian(") != std::string::npos);
+  CHECK(h.find("int inverse_dynamics_jacobian(") == std::string::npos);
+  CHECK(h.find("int rhs(") == std::string::npos);
+  fs::remove_all(dir);
+}

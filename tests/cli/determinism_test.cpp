@@ -95,6 +95,8 @@ TEST_CASE("determinism: generate writes the same files in every process", "[dete
       {"tests/data/determinism/flyball.mbs", "--state minimal"},
       {"tests/data/determinism/friction_sled.mbs", ""},
       {"tests/data/determinism/friction_sled.mbs", "--formulation multipliers"},
+      {"tests/data/determinism/flyball.mbs", "--derivatives"},
+      {"tests/data/determinism/friction_sled.mbs", "--derivatives --formulation multipliers"},
       {"tests/data/determinism/nodal_loop.mbs", ""},
       {"tests/data/determinism/nodal_loop.mbs", "--formulation multipliers"},
       {"tests/data/determinism/euler_chain.mbs", ""},

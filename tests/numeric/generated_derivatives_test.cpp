@@ -3,7 +3,8 @@
 // docs/derivatives.md) against central differences of rhs and inverse_dynamics
 // (derivative_check.hpp) at random states: shipped models of every kind (a tree in joint
 // coordinates, closed loops, nonholonomic rolling, a quaternion body, Coulomb friction,
-// custom leaves with inputs), both state layouts and both formulations. A model whose
+// custom leaves with inputs; inverse dynamics with as many, more and state-dependent
+// inputs), both state layouts and both formulations. A model whose
 // multipliers are solved by a minimum-norm solve (redundant constraints) gets a
 // rhs_jacobian that returns 4 with NaN, and the rhs itself works.
 #include <catch2/catch.hpp>
@@ -15,8 +16,8 @@
 #include "derivative_check.hpp"
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/linear_model.hpp"
-#include "four_bar_lin_d/four_bar_lin_d.hpp"
 #include "arm_lin_d/arm_lin_d.hpp"
+#include "arm_torques_min_d/arm_torques_min_d.hpp"
 #include "dc_motor_d/dc_motor_d.hpp"
 #include "dc_motor_mult_d/dc_motor_mult_d.hpp"
 #include "dp_d/dp_d.hpp"
@@ -24,14 +25,17 @@
 #include "fbq_d/fbq_d.hpp"
 #include "five_bar_d/five_bar_d.hpp"
 #include "four_bar_d/four_bar_d.hpp"
+#include "four_bar_lin_d/four_bar_lin_d.hpp"
 #include "four_bar_min_d/four_bar_min_d.hpp"
 #include "four_bar_mult_d/four_bar_mult_d.hpp"
 #include "heavy_top_d/heavy_top_d.hpp"
 #include "humanoid_tree_d/humanoid_tree_d.hpp"
+#include "lever_input_d/lever_input_d.hpp"
 #include "parallelogram_red_mult_d/parallelogram_red_mult_d.hpp"
 #include "rolling_disc_d/rolling_disc_d.hpp"
 #include "slider_crank_3d_d/slider_crank_3d_d.hpp"
 #include "ssd_d/ssd_d.hpp"
+#include "two_inputs_d/two_inputs_d.hpp"
 #include "wbj_d/wbj_d.hpp"
 
 namespace {
@@ -45,7 +49,9 @@ TEST_CASE("generated derivatives agree with central differences", "[derivatives]
   const DerivativeModel models[] = {MBSC_DERIVATIVE_MODEL(dp_d),      MBSC_DERIVATIVE_MODEL(dp_min_d),        MBSC_DERIVATIVE_MODEL(four_bar_d),  MBSC_DERIVATIVE_MODEL(four_bar_min_d),
                           MBSC_DERIVATIVE_MODEL(four_bar_mult_d), MBSC_DERIVATIVE_MODEL(five_bar_d), MBSC_DERIVATIVE_MODEL(fbq_d),      MBSC_DERIVATIVE_MODEL(heavy_top_d),
                           MBSC_DERIVATIVE_MODEL(humanoid_tree_d), MBSC_DERIVATIVE_MODEL(rolling_disc_d), MBSC_DERIVATIVE_MODEL(slider_crank_3d_d), MBSC_DERIVATIVE_MODEL(ssd_d),
-                          MBSC_DERIVATIVE_MODEL(wbj_d),     MBSC_DERIVATIVE_MODEL(dc_motor_d),      MBSC_DERIVATIVE_MODEL(dc_motor_mult_d)};
+                          MBSC_DERIVATIVE_MODEL(wbj_d),     MBSC_DERIVATIVE_MODEL(dc_motor_d),      MBSC_DERIVATIVE_MODEL(dc_motor_mult_d),
+                          MBSC_DERIVATIVE_MODEL(two_inputs_d), MBSC_DERIVATIVE_MODEL(lever_input_d),
+                          MBSC_DERIVATIVE_MODEL(arm_torques_min_d)};
   std::mt19937 rng(20261206);
   for (int trial = 0; trial < 3; ++trial)
     for (const DerivativeModel& m : models) mbsc_test::check_derivatives(m, rng);

@@ -58,6 +58,8 @@ struct GenerateArgs {
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)
   bool linear_parts = false;        // also linear_parts (what `mbsc linearize` compiles)
   bool derivatives = false;         // --derivatives: also rhs_jacobian, inverse_dynamics_jacobian
+  bool rhs_jacobian = false;        // also rhs_jacobian alone, capped (GenerateOptions::rhs_jacobian)
+  long rhs_jacobian_max_ops = 0;
   WorkArgs work;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);

@@ -13,9 +13,11 @@
 namespace mbsc::driver {
 
 /// rhs_jacobian(t, x, u, p, OUT): OUT = (dxdot/dx, kNx x kNx, then dxdot/du, kNx x kNin),
-/// both row-major, from `rhs` (the spec rhs emits, with its friction closure).
+/// both row-major, from `rhs` (the spec rhs emits, with its friction closure). With
+/// `max_ops` > 0, a Jacobian whose entries alone (a few operations each) would exceed it
+/// is not derived: the function is written undefined (GenerateOptions::rhs_jacobian_max_ops).
 ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
-                                   const ir::FunctionSpec& rhs);
+                                   const ir::FunctionSpec& rhs, long max_ops = 0);
 
 /// inverse_dynamics_jacobian(t, x, zdot, p, OUT): OUT = (du/dx, kNin x kNx, then
 /// du/dzdot, kNin x kNdof), both row-major, from `inverse_dynamics`.
@@ -24,6 +26,6 @@ ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym
 
 /// Appends the derivatives asked for to `specs`, each taken of its function there.
 void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
-                          bool inverse_dynamics_jacobian, std::vector<ir::FunctionSpec>& specs);
+                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, std::vector<ir::FunctionSpec>& specs);
 
 }  // namespace mbsc::driver

@@ -70,6 +70,11 @@ struct GenerateOptions {
   /// default set includes (a long chain's are tens of megabytes of code); also asked
   /// for by naming them in `functions`.
   bool derivatives = false;
+  /// Also rhs_jacobian alone (what `mbsc run` compiles for its Newton methods), unless
+  /// its lowered code exceeds `rhs_jacobian_max_ops` operations (0: no limit): then it is
+  /// written returning 4 (not defined), and the run takes difference quotients.
+  bool rhs_jacobian = false;
+  long rhs_jacobian_max_ops = 0;
 };
 
 /// The Baumgarte gains of the multipliers formulation: symbols bound to the last two p[]

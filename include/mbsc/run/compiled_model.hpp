@@ -22,6 +22,11 @@
 
 namespace mbsc::run {
 
+/// The largest rhs_jacobian (operations of its generated code) a run compiles: about a
+/// quarter of a minute of g++ -O2 on these machines (a 7-joint arm's is 10 000, a
+/// 9-joint one's 118 000 and minutes; big straight-line functions are g++'s slow case).
+inline constexpr long kRunJacobianMaxOps = 40000;
+
 struct CompileRequest {
   std::string model_path;
   bool multipliers = false;  // --formulation multipliers
@@ -32,9 +37,10 @@ struct CompileRequest {
   std::map<std::string, std::string> input_expressions;
   std::string cache_dir;  // "" = the default
   bool linear_parts = false;  // also linear_parts (mbsc linearize, mbsc eig)
-  /// Also rhs_jacobian and inverse_dynamics_jacobian (implicit integrators' Newton
-  /// matrices, linearize); without, the table's pointers to them are null.
-  bool derivatives = false;
+  /// Also rhs_jacobian (the Newton matrices of the implicit integrators), unless its
+  /// code would exceed kRunJacobianMaxOps operations (then it returns 4 and the run
+  /// takes difference quotients); without, the table's pointer to it is null.
+  bool rhs_jacobian = false;
   driver::WorkArgs work;
 };
 

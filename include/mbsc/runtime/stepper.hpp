@@ -33,6 +33,7 @@ struct StepperStats {
   long jacobian_evals = 0;
   long newton_iterations = 0;
   long newton_failures = 0;  // steps retried because Newton's iteration did not converge
+  long jacobian_fallbacks = 0;  // Jacobians by differences where the given one failed
   long projections = 0;  // projections inside the method (CVODE's, for bdf), not the loop's
 };
 
