@@ -28,7 +28,6 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
   // left the stiff flyball 1e-4 m off an explicit reference at rtol 1e-8.
   const bool cvode_projection =
       integrator == "bdf" && constrained && sim.projection == runtime::SimulationOptions::Projection::Auto;
-  std::unique_ptr<runtime::Stepper> stepper;
   SundialsOptions extra;
   if (newton == NewtonJacobian::Differences) extra.jacobian_source = JacobianSource::Differences;
   std::vector<double> jacobian_rows;
@@ -64,10 +63,10 @@ Integration integrate(const CompiledModel& model, const std::vector<double>& p, 
       for (int i = 0; i < table.nx; ++i) correction[i] = y[static_cast<std::size_t>(i)] - x[i];
       return 0;
     };
-    stepper = make_sundials_stepper(integrator, dynamics.rhs(), table.nx, options, extra);
     sim.projection = runtime::SimulationOptions::Projection::Off;  // done inside the method
   }
-  if (!stepper) stepper = make_sundials_stepper(integrator, dynamics.rhs(), table.nx, options, extra);
+  // A SUNDIALS method with its Newton Jacobian and projection, else the runtime's.
+  std::unique_ptr<runtime::Stepper> stepper = make_sundials_stepper(integrator, dynamics.rhs(), table.nx, options, extra);
   if (!stepper) stepper = make_integrator(integrator, dynamics.rhs(), table.nx, options);
   // Project only once the constraints drift past what the tolerances allow anyway: each
   // projection restarts the stepper. The other SUNDIALS methods have no projection of

@@ -18,12 +18,14 @@ using Tangent = std::map<int, GiNaC::ex>;
 class ForwardMode {
  public:
   ForwardMode(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks) : f_(f) {
-    for (const auto& block : blocks)
+    for (const auto& block : blocks) {
+      block_sizes_.push_back(static_cast<int>(block.size()));
       for (const auto& y : block) {
         if (id_.count(y)) throw std::logic_error("forward_derivative: a direction listed twice");
         const int d = ndir_++;
         track(y, Tangent{{d, GiNaC::ex(1)}});
       }
+    }
   }
 
   ir::FunctionSpec run() {
@@ -43,33 +45,23 @@ class ForwardMode {
     // after block, so the blocks' row-major layouts follow from one loop per block).
     std::vector<Tangent> rows;
     for (const GiNaC::ex& o : f_.outputs) rows.push_back(tangent_of(o));
-    const int nout = static_cast<int>(f_.outputs.size());
-    for (int begin = 0; begin < ndir_;) {
-      const int end = block_end(begin);
-      for (int i = 0; i < nout; ++i)
-        for (int d = begin; d < end; ++d) {
-          const auto it = rows[static_cast<std::size_t>(i)].find(d);
-          out.outputs.push_back(it == rows[static_cast<std::size_t>(i)].end() ? GiNaC::ex(0) : it->second);
+    int begin = 0;
+    for (const int size : block_sizes_) {
+      for (const Tangent& row : rows)
+        for (int d = begin; d < begin + size; ++d) {
+          const auto it = row.find(d);
+          out.outputs.push_back(it == row.end() ? GiNaC::ex(0) : it->second);
         }
-      begin = end;
+      begin += size;
     }
     return out;
   }
 
-  void set_block_ends(std::vector<int> ends) { block_ends_ = std::move(ends); }
-
  private:
-  int block_end(int begin) const {
-    for (int e : block_ends_)
-      if (e > begin) return e;
-    return ndir_;
-  }
-
   void track(const GiNaC::ex& s, Tangent t) {
     if (t.empty()) return;
     if (!id_.emplace(s, static_cast<int>(tangents_.size())).second)
       throw std::logic_error("forward_derivative: a symbol defined twice");
-    tracked_.push_back(s);
     tangents_.push_back(std::move(t));
   }
 
@@ -251,9 +243,8 @@ class ForwardMode {
 
   const ir::FunctionSpec& f_;
   int ndir_ = 0;
-  std::vector<int> block_ends_;
+  std::vector<int> block_sizes_;  // the directions, block after block
   std::map<GiNaC::ex, int, GiNaC::ex_is_less> id_;
-  std::vector<GiNaC::ex> tracked_;
   std::vector<Tangent> tangents_;
   std::unordered_map<const GiNaC::basic*, std::pair<GiNaC::ex, Tangent>> memo_;  // the ex keeps its address unique
   std::map<std::pair<unsigned, std::size_t>, PartialTemplate> partial_templates_;
@@ -263,12 +254,7 @@ class ForwardMode {
 }  // namespace
 
 ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks) {
-  ForwardMode fm(f, blocks);
-  std::vector<int> ends;
-  int at = 0;
-  for (const auto& b : blocks) ends.push_back(at += static_cast<int>(b.size()));
-  fm.set_block_ends(std::move(ends));
-  return fm.run();
+  return ForwardMode(f, blocks).run();
 }
 
 }  // namespace mbsc::sym

@@ -5,11 +5,11 @@
 /// symbols (the state x and the inputs u of rhs: the generated rhs_jacobian;
 /// docs/derivatives.md).
 ///
-/// Each step s := v gets tangents ds/dy_d = sum over the symbols w that v reads of
-/// (dv/dw) dw/dy_d, kept sparse (a tangent that is zero is never formed), and each
-/// numeric solve X = A^-1 B gets one more solve with the same matrix,
-/// dX = A^-1 (dB - dA X), over all its nonzero directions at once. The partials dv/dw
-/// are GiNaC's, shared by every direction; the back end's CSE shares them further.
+/// Each step s := v gets tangents ds/dy_d, derived node by node over v's expression
+/// graph (sums, the product rule, powers, functions by their partials), each shared node
+/// once, and kept sparse (a tangent that is zero is never formed); each numeric solve
+/// X = A^-1 B gets one more solve with the same matrix, dX = A^-1 (dB - dA X), over all
+/// its nonzero directions at once. The back end's CSE shares the rest.
 #include <ginac/ginac.h>
 
 #include <stdexcept>
