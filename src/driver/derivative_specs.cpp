@@ -22,7 +22,7 @@ std::vector<GiNaC::symbol> state_symbols(const model::Model& m, const sym::Eom& 
 // The derivative of `f` over the blocks, or a function returning 4 (with NaN) where
 // `f` cannot be computed or forward mode cannot differentiate it.
 ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
-                            ir::FunctionSpec shell, long max_ops = 0) {
+                            ir::FunctionSpec shell, long max_ops = 0, const TreeResidual* residual = nullptr) {
   std::size_t columns = 0;
   for (const auto& b : blocks) columns += b.size();
   auto undefined = [&](std::string why) {
@@ -36,7 +36,12 @@ ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::ve
   if (max_ops > 0 && 4 * entries > max_ops)
     return undefined(fmt::format("{} entries, more than the {} operations this compile allows", entries, max_ops));
   try {
-    ir::FunctionSpec d = sym::forward_derivative(f, blocks);
+    ir::FunctionSpec d = residual ? implicit_rhs_jacobian(f, *residual, blocks) : sym::forward_derivative(f, blocks);
+    if (residual) {
+      const auto at = shell.doc.rfind("; forward-mode derivatives of rhs");
+      if (at != std::string::npos)
+        shell.doc.replace(at, std::string::npos, ";\nimplicit form: the residual's forward-mode derivatives solved with the tree recursion's pivots");
+    }
     shell.steps = std::move(d.steps);
     shell.outputs = std::move(d.outputs);
     return shell;
@@ -54,14 +59,14 @@ ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::ve
 }  // namespace
 
 ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
-                                   const ir::FunctionSpec& rhs, long max_ops) {
+                                   const ir::FunctionSpec& rhs, long max_ops, const TreeResidual* residual) {
   std::vector<GiNaC::symbol> u;
   for (const auto& in : m.inputs) u.push_back(in.sym);
   ir::FunctionSpec shell{"rhs_jacobian",
                          "derivatives of the state derivative: OUT = (J_x = dxdot/dx, kNx x kNx, then J_u = dxdot/du,\n"
                          "kNx x kNin), both row-major (J_u at OUT + kNx*kNx); forward-mode derivatives of rhs",
                          "J", "kNx*kNx + kNx*kNin", {}, {}};
-  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell), max_ops);
+  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell), max_ops, residual);
 }
 
 ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym::Eom& eom,
@@ -77,14 +82,15 @@ ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym
 }
 
 void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
-                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, std::vector<ir::FunctionSpec>& specs) {
+                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, const TreeResidual* residual,
+                          std::vector<ir::FunctionSpec>& specs) {
   auto find = [&](const char* name) -> const ir::FunctionSpec& {
     for (const auto& f : specs)
       if (f.name == name) return f;
     throw std::logic_error(fmt::format("generate: {} is differentiated but was not built", name));
   };
   std::vector<ir::FunctionSpec> added;
-  if (rhs_jacobian) added.push_back(rhs_jacobian_spec(m, eom, minimal, find("rhs"), rhs_jacobian_max_ops));
+  if (rhs_jacobian) added.push_back(rhs_jacobian_spec(m, eom, minimal, find("rhs"), rhs_jacobian_max_ops, residual));
   if (inverse_dynamics_jacobian)
     added.push_back(inverse_dynamics_jacobian_spec(m, eom, minimal, find("inverse_dynamics")));
   for (auto& f : added) specs.push_back(std::move(f));

@@ -404,8 +404,41 @@ std::vector<ir::Define> dependency_order(std::vector<ir::Define> defines) {
 
 }  // namespace
 
+// The residual of the system the tree recursion solved, with the multipliers defined
+// (the implicit form of rhs_jacobian); nullopt when the recursion with multipliers fails.
+static std::optional<TreeResidual> tree_residual(const model::Model& m, const sym::Eom& eom, const sym::KktSystem& sys,
+                                          const std::vector<GiNaC::ex>& c, const std::vector<GiNaC::symbol>& lambda,
+                                          const std::function<std::vector<ir::Step>(std::vector<ir::Step>)>& with_rebuild,
+                                          const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
+  std::string why;
+  const auto tree = rhs_solve_steps(m, eom, sys, c, lambda, /*with_multipliers=*/true, why);
+  if (!tree || !tree->tree) return std::nullopt;
+  TreeResidual r;
+  r.steps = with_rebuild(sparse_steps_reported(*tree, GiNaC::numeric(1, 3)));
+  r.tree = tree->tree;
+  const std::size_t ns = m.speeds.size();
+  for (std::size_t s = 0; s < ns; ++s) {
+    GiNaC::ex f = fin(sys.hy[s]);
+    for (const auto& e : sys.My[s]) f -= fin(e.value) * m.speed_dots[static_cast<std::size_t>(e.col)];
+    r.forces.push_back(f);
+  }
+  for (std::size_t row = 0; row < sys.A.size(); ++row) {
+    GiNaC::ex g = fin(c[row]);
+    for (const auto& e : sys.A[row]) {
+      const GiNaC::ex a = fin(e.value);
+      g -= a * m.speed_dots[static_cast<std::size_t>(e.col)];
+      r.forces[static_cast<std::size_t>(e.col)] += a * lambda[row];
+    }
+    r.rows.push_back(g);
+  }
+  for (const auto& s : m.speed_dots) r.held.push_back(s);
+  for (const auto& l : lambda) r.held.push_back(l);
+  return r;
+}
+
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                             Diagnostics& diags, const sym::MinimalState* minimal) {
+                                             Diagnostics& diags, const sym::MinimalState* minimal,
+                                             std::optional<TreeResidual>* residual) {
   std::vector<ir::FunctionSpec> specs;
   // (The commands check the names before any work; this is for other callers.)
   if (const std::string unknown = unknown_function_message(opt.functions); !unknown.empty()) {
@@ -513,6 +546,8 @@ std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::E
         ir::FunctionSpec f{"rhs", doc, "xdot", "kNx", with_rebuild(sparse_steps_reported(*sparse, GiNaC::numeric(1, 3))),
                            outputs};
         if (prefer_sparse(m, opt, *sparse, f, dense, bindings(m, eom, minimal))) chosen = std::move(f);
+        if (chosen && sparse->tree && residual && m.frictions.empty())
+          *residual = tree_residual(m, eom, sys, c, lambda, with_rebuild, fin);
       }
     }
     if (chosen) specs.push_back(std::move(*chosen));
@@ -655,6 +690,7 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
   }
   const BaumgarteGains gains;
   std::vector<ir::FunctionSpec> specs;
+  std::optional<TreeResidual> residual;  // filled by a tree's rhs: the implicit rhs_jacobian
   // A derivative is taken of its function: built here even when only the derivative is asked.
   const auto asked = [&](const std::string& n) {
     return opt.derivatives || (n == "rhs_jacobian" && opt.rhs_jacobian) || opt.functions.count(n) > 0;
@@ -683,12 +719,13 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     for (const char* own : {"multipliers", "reaction_forces"})
       if (opt.functions.count(own))
         diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
-    if (!diags.has_errors()) specs = function_specs(m, eom, built, diags, ms);
+    if (!diags.has_errors()) specs = function_specs(m, eom, built, diags, ms, &residual);
   }
   if (diags.has_errors()) return std::nullopt;
   std::optional<std::vector<ir::Step>> friction_closure;
   close_friction(m, eom, opt.multipliers, gains, specs, friction_closure);
-  add_derivative_specs(m, eom, ms, asked("rhs_jacobian"), asked("inverse_dynamics_jacobian"), opt.rhs_jacobian_max_ops, specs);
+  add_derivative_specs(m, eom, ms, asked("rhs_jacobian"), asked("inverse_dynamics_jacobian"), opt.rhs_jacobian_max_ops,
+                       residual ? &*residual : nullptr, specs);
   specs.erase(std::remove_if(specs.begin(), specs.end(),
                              [&](const ir::FunctionSpec& f) { return primal_only_for_derivative.count(f.name) > 0; }),
               specs.end());

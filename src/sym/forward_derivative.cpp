@@ -17,7 +17,9 @@ using Tangent = std::map<int, GiNaC::ex>;
 
 class ForwardMode {
  public:
-  ForwardMode(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks) : f_(f) {
+  ForwardMode(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
+              const std::vector<GiNaC::symbol>& held)
+      : f_(f), held_(held.begin(), held.end()) {
     for (const auto& block : blocks) {
       block_sizes_.push_back(static_cast<int>(block.size()));
       for (const auto& y : block) {
@@ -34,10 +36,18 @@ class ForwardMode {
       if (const auto* d = std::get_if<ir::Define>(&step)) pending_.insert(d->sym);
       else for (const auto& x : std::get<ir::Solve>(step).X) pending_.insert(x);
     }
+    const std::vector<char> needed = steps_needed();
     ir::FunctionSpec out;
     out.third_arg = f_.third_arg;
     out.third_bindings = f_.third_bindings;
-    for (const ir::Step& step : f_.steps) {
+    for (std::size_t i = 0; i < f_.steps.size(); ++i) {
+      const ir::Step& step = f_.steps[i];
+      if (!needed[i]) {  // its value only: no output's tangent reads it
+        out.steps.push_back(step);
+        if (const auto* d = std::get_if<ir::Define>(&step)) pending_.erase(d->sym);
+        else for (const auto& x : std::get<ir::Solve>(step).X) pending_.erase(x);
+        continue;
+      }
       if (const auto* d = std::get_if<ir::Define>(&step)) define(*d, out.steps);
       else solve(std::get<ir::Solve>(step), out.steps);
     }
@@ -58,6 +68,48 @@ class ForwardMode {
   }
 
  private:
+  // The steps whose tangents the outputs read: last step first, a step is needed when an
+  // output or a needed step reads what it defines; a held symbol's definition is not
+  // followed (its tangent is zero).
+  std::vector<char> steps_needed() {
+    std::set<GiNaC::ex, GiNaC::ex_is_less> read;
+    Seen seen;
+    for (const GiNaC::ex& o : f_.outputs) symbols_of(o, read, seen);
+    std::vector<char> needed(f_.steps.size(), 0);
+    for (std::size_t i = f_.steps.size(); i-- > 0;) {
+      if (const auto* d = std::get_if<ir::Define>(&f_.steps[i])) {
+        if (!read.count(d->sym) || held_.count(d->sym)) continue;
+        needed[i] = 1;
+        symbols_of(d->value, read, seen);
+        continue;
+      }
+      const auto& s = std::get<ir::Solve>(f_.steps[i]);
+      bool any = false;
+      for (const auto& x : s.X) {
+        if (held_.count(x)) throw std::logic_error("forward_derivative: a held symbol is a solve's unknown");
+        any = any || read.count(x) > 0;
+      }
+      if (!any) continue;
+      needed[i] = 1;
+      for (const auto* entries : {&s.A, &s.B})
+        for (const auto& e : *entries) symbols_of(e, read, seen);
+    }
+    return needed;
+  }
+
+  // Nodes visited, each kept alive with its entry: op(i) of a sum or product may build a
+  // new node, whose address a later one could reuse.
+  using Seen = std::unordered_map<const GiNaC::basic*, GiNaC::ex>;
+
+  static void symbols_of(const GiNaC::ex& e, std::set<GiNaC::ex, GiNaC::ex_is_less>& out, Seen& seen) {
+    if (GiNaC::is_a<GiNaC::symbol>(e)) {
+      out.insert(e);
+      return;
+    }
+    if (e.nops() == 0 || !seen.emplace(&GiNaC::ex_to<GiNaC::basic>(e), e).second) return;
+    for (std::size_t i = 0; i < e.nops(); ++i) symbols_of(e.op(i), out, seen);
+  }
+
   void track(const GiNaC::ex& s, Tangent t) {
     if (t.empty()) return;
     if (!id_.emplace(s, static_cast<int>(tangents_.size())).second)
@@ -173,6 +225,7 @@ class ForwardMode {
   void define(const ir::Define& d, std::vector<ir::Step>& steps) {
     steps.push_back(d);
     pending_.erase(d.sym);
+    if (held_.count(d.sym)) return;
     Tangent t = tangent_of(d.value);
     Tangent named;
     for (auto& [dir, v] : t) {
@@ -242,6 +295,7 @@ class ForwardMode {
   }
 
   const ir::FunctionSpec& f_;
+  const std::set<GiNaC::ex, GiNaC::ex_is_less> held_;  // symbols whose tangent is taken as zero
   int ndir_ = 0;
   std::vector<int> block_sizes_;  // the directions, block after block
   std::map<GiNaC::ex, int, GiNaC::ex_is_less> id_;
@@ -253,8 +307,9 @@ class ForwardMode {
 
 }  // namespace
 
-ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks) {
-  return ForwardMode(f, blocks).run();
+ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
+                                    const std::vector<GiNaC::symbol>& held) {
+  return ForwardMode(f, blocks, held).run();
 }
 
 }  // namespace mbsc::sym

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
+#include <memory>
 #include <set>
 #include <tuple>
 
@@ -65,7 +66,9 @@ struct Body {
   Mat IA;                   // articulated inertia (own My block, then children's share)
   Mat pA;                   // articulated force, a column per right-hand side
   Mat G, g;                 // s_c' = g - G T u_p' (a free root: u_c' = g), g per column
+  Mat U, D;                 // U = IA Phi, the joint pivot D = Phi^T U + My_s
   std::vector<Substitution> steps;  // its rows in the order they were solved
+  std::vector<TreeFactors::Substitution> k_map;  // how its rows' right-hand sides give k
 };
 
 class Recursion {
@@ -98,6 +101,7 @@ class Recursion {
     out.speeds_first = !loop_rows_.empty();
     out.blocks = static_cast<int>(bodies_.size());
     for (const auto& b : bodies_) out.largest = std::max(out.largest, static_cast<int>(b.speeds.size()));
+    if (out.forest) out.tree = factors();
     return out;
   }
 
@@ -413,11 +417,13 @@ class Recursion {
       const Q inverse{1 / pivot, 1.0 / GiNaC::ex_to<GiNaC::numeric>(pivot).to_double()};
       Q k = read(c_[static_cast<std::size_t>(row)]) * inverse;
       std::vector<Q> x(static_cast<std::size_t>(np)), s(static_cast<std::size_t>(ns));
+      TreeFactors::Substitution by_row{a, row, inverse.e, {}};
       for (const auto& e : sys_.A[static_cast<std::size_t>(row)]) {
         const int l = position(b.speeds, e.col);
         if (l == a) continue;
         const Q w = Q{0, 0.0} - read(e.value) * inverse;
         if (l >= 0) {  // an own speed solved before: its map, scaled
+          by_row.own.emplace_back(l, w.e);
           for (int j = 0; j < np; ++j) x[static_cast<std::size_t>(j)] = x[static_cast<std::size_t>(j)] + w * b.T(l, j);
           for (int j = 0; j < ns; ++j) s[static_cast<std::size_t>(j)] = s[static_cast<std::size_t>(j)] + w * b.Phi(l, j);
           k = k + w * b.k[static_cast<std::size_t>(l)];
@@ -431,6 +437,7 @@ class Recursion {
       for (int j = 0; j < np; ++j) b.T(a, j) = named(x[static_cast<std::size_t>(j)]);
       for (int j = 0; j < ns; ++j) b.Phi(a, j) = named(s[static_cast<std::size_t>(j)]);
       b.k[static_cast<std::size_t>(a)] = named(k);
+      b.k_map.push_back(std::move(by_row));
     }
     b.steps = *order;
     return true;
@@ -542,6 +549,7 @@ class Recursion {
         for (int t = 0; t < nu; ++t) sum = sum + b.IA(i, t) * b.Phi(t, j);
         U(i, j) = named(sum);
       }
+    b.U = U;
     b.G = Mat(ns, nu);
     b.g = Mat(ns, nc);
     if (ns > 0) {
@@ -561,6 +569,7 @@ class Recursion {
           rhs(i, nu + col) = r;
         }
       }
+      b.D = D;
       Mat x;
       if (!pivot_solve(D, rhs, x, fmt::format("tree recursion: joint of {}", b.name))) {
         why = fmt::format("the joint pivot of body '{}' is not positive definite", b.name);
@@ -739,6 +748,34 @@ class Recursion {
         if (!b.Phi(i, j).e.is_zero()) value += b.Phi(i, j).e * accel_.at(b.joint[static_cast<std::size_t>(j)]);
       define(b.speeds[static_cast<std::size_t>(i)], value);
     }
+  }
+
+  // --- what later solves keep (sym/tree_sweep.hpp) -----------------------------------------
+
+  std::shared_ptr<const TreeFactors> factors() const {
+    auto exprs = [](const Mat& a) {
+      std::vector<GiNaC::ex> e;
+      for (const Q& q : a.q) e.push_back(q.e);
+      return e;
+    };
+    auto tree = std::make_shared<TreeFactors>();
+    for (const Body& b : bodies_) {
+      TreeFactors::Body f;
+      f.speeds = b.speeds;
+      f.joint = b.joint;
+      f.parent = b.parent == kGround ? -1 : b.parent;
+      f.free_root = b.free_root;
+      f.T = exprs(b.T);
+      f.Phi = exprs(b.Phi);
+      f.IA = exprs(b.IA);
+      f.U = exprs(b.U);
+      f.D = exprs(b.D);
+      f.G = exprs(b.G);
+      f.substitutions = b.k_map;
+      tree->bodies.push_back(std::move(f));
+    }
+    tree->order = order_;
+    return tree;
   }
 
   // --- the multipliers, leaves to root -----------------------------------------------------

@@ -188,3 +188,23 @@ TEST_CASE("generate --derivatives and --outputs: the derivatives with or without
   CHECK(h.find("int rhs(") == std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("generate: a tree's rhs_jacobian by the implicit form, a loop's by forward mode", "[cli]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fresh_dir("implicit_jacobian");
+  auto doc = [&](const std::string& name, const char* options) {
+    fs::remove_all(dir / name);
+    const auto r = run(kMbsc + " generate " + model((name + ".mbs").c_str()) + " --outputs rhs_jacobian " + options + " -o " +
+                       quote(dir.string()));
+    INFO(name << " " << options << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    std::ifstream in(dir / name / (name + ".hpp"));
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  // The tree recursion's rhs (--solver sparse on a joint-coordinate arm): the implicit form.
+  CHECK(doc("three_r_arm_joint", "--solver sparse").find("implicit form") != std::string::npos);
+  // The dense rhs, and a loop's recursion: forward mode over the rhs's steps.
+  CHECK(doc("three_r_arm_joint", "--solver dense").find("implicit form") == std::string::npos);
+  CHECK(doc("four_bar", "--solver sparse").find("implicit form") == std::string::npos);
+  fs::remove_all(dir);
+}

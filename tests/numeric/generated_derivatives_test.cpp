@@ -17,6 +17,7 @@
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/linear_model.hpp"
 #include "arm_lin_d/arm_lin_d.hpp"
+#include "arm3_tree_d/arm3_tree_d.hpp"
 #include "arm_torques_min_d/arm_torques_min_d.hpp"
 #include "dc_motor_d/dc_motor_d.hpp"
 #include "dc_motor_mult_d/dc_motor_mult_d.hpp"
@@ -34,6 +35,7 @@
 #include "parallelogram_red_mult_d/parallelogram_red_mult_d.hpp"
 #include "rolling_disc_d/rolling_disc_d.hpp"
 #include "slider_crank_3d_d/slider_crank_3d_d.hpp"
+#include "sph_tree_d/sph_tree_d.hpp"
 #include "ssd_d/ssd_d.hpp"
 #include "two_inputs_d/two_inputs_d.hpp"
 #include "wbj_d/wbj_d.hpp"
@@ -51,10 +53,43 @@ TEST_CASE("generated derivatives agree with central differences", "[derivatives]
                           MBSC_DERIVATIVE_MODEL(humanoid_tree_d), MBSC_DERIVATIVE_MODEL(rolling_disc_d), MBSC_DERIVATIVE_MODEL(slider_crank_3d_d), MBSC_DERIVATIVE_MODEL(ssd_d),
                           MBSC_DERIVATIVE_MODEL(wbj_d),     MBSC_DERIVATIVE_MODEL(dc_motor_d),      MBSC_DERIVATIVE_MODEL(dc_motor_mult_d),
                           MBSC_DERIVATIVE_MODEL(two_inputs_d), MBSC_DERIVATIVE_MODEL(lever_input_d),
-                          MBSC_DERIVATIVE_MODEL(arm_torques_min_d)};
+                          MBSC_DERIVATIVE_MODEL(arm_torques_min_d),
+                          MBSC_DERIVATIVE_MODEL(arm3_tree_d),     MBSC_DERIVATIVE_MODEL(sph_tree_d)};
   std::mt19937 rng(20261206);
   for (int trial = 0; trial < 3; ++trial)
     for (const DerivativeModel& m : models) mbsc_test::check_derivatives(m, rng);
+}
+
+// The implicit form (the tree recursion's rhs: residual partials solved with its pivots)
+// and forward mode through the dense rhs are two derivations of the same Jacobian: the
+// 3R arm in joint coordinates generated both ways agrees to rounding at any state.
+TEST_CASE("the implicit form agrees with forward mode through the dense rhs", "[derivatives]") {
+  namespace Tree = mbsc_gen::arm3_tree_d;
+  namespace Dense = mbsc_gen::arm_lin_d;
+  static_assert(Tree::kNx == Dense::kNx && Tree::kNin == Dense::kNin, "one model, one layout");
+  for (int i = 0; i < Tree::kNx; ++i) REQUIRE(std::string(Tree::kStateNames[i]) == Dense::kStateNames[i]);
+  const std::vector<double> p(Tree::kParamDefaults, Tree::kParamDefaults + Tree::kNp);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> d(-1.5, 1.5);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> x(Tree::kNx), u(static_cast<std::size_t>(Tree::kNin));
+    for (double& e : x) e = d(rng);
+    for (double& e : u) e = d(rng);
+    const double* up = u.empty() ? nullptr : u.data();
+    const std::size_t n = static_cast<std::size_t>(Tree::kNx * (Tree::kNx + Tree::kNin));
+    std::vector<double> Jt(n), Jd(n);
+    REQUIRE(Tree::rhs_jacobian(0.0, x.data(), up, p.data(), Jt.data()) == 0);
+    REQUIRE(Dense::rhs_jacobian(0.0, x.data(), up, p.data(), Jd.data()) == 0);
+    double size = 1.0;
+    for (double v : Jd) size = std::max(size, std::abs(v));
+    int moving = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      INFO("entry " << k);
+      CHECK(std::abs(Jt[k] - Jd[k]) <= 1e-12 * size);
+      moving += Jd[k] != 0.0;
+    }
+    CHECK(moving > Tree::kNx);  // more than the identity block: the dynamics' own entries
+  }
 }
 
 TEST_CASE("a minimum-norm multiplier solve: rhs_jacobian returns 4 and NaN, the rhs works", "[derivatives]") {

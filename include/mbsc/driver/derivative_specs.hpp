@@ -5,6 +5,7 @@
 /// functions already built (sym/forward_derivative.hpp).
 #include <vector>
 
+#include "mbsc/driver/residual_jacobian.hpp"
 #include "mbsc/ir/function_spec.hpp"
 #include "mbsc/model/model.hpp"
 #include "mbsc/sym/eom.hpp"
@@ -16,8 +17,9 @@ namespace mbsc::driver {
 /// both row-major, from `rhs` (the spec rhs emits, with its friction closure). With
 /// `max_ops` > 0, a Jacobian whose entries alone (a few operations each) would exceed it
 /// is not derived: the function is written undefined (GenerateOptions::rhs_jacobian_max_ops).
+/// With `residual` (a tree's rhs), by the implicit form (driver/residual_jacobian.hpp).
 ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal,
-                                   const ir::FunctionSpec& rhs, long max_ops = 0);
+                                   const ir::FunctionSpec& rhs, long max_ops = 0, const TreeResidual* residual = nullptr);
 
 /// inverse_dynamics_jacobian(t, x, zdot, p, OUT): OUT = (du/dx, kNin x kNx, then
 /// du/dzdot, kNin x kNdof), both row-major, from `inverse_dynamics`.
@@ -26,6 +28,7 @@ ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym
 
 /// Appends the derivatives asked for to `specs`, each taken of its function there.
 void add_derivative_specs(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal, bool rhs_jacobian,
-                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, std::vector<ir::FunctionSpec>& specs);
+                          bool inverse_dynamics_jacobian, long rhs_jacobian_max_ops, const TreeResidual* residual,
+                          std::vector<ir::FunctionSpec>& specs);
 
 }  // namespace mbsc::driver

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/driver/residual_jacobian.hpp"
 #include "mbsc/emit/generated_model.hpp"
 #include "mbsc/ir/function_spec.hpp"
 #include "mbsc/model/model.hpp"
@@ -159,8 +160,11 @@ GiNaC::ex finalize(const model::Model& m, const sym::Eom& eom, const GiNaC::ex& 
 /// The FunctionSpecs of the requested functions and their input bindings.
 /// With `minimal` (--state minimal) every function first rebuilds the coordinates and
 /// speeds that are not in the state.
+/// With `residual`, an rhs made by a tree recursion with no loop also fills it (the
+/// implicit form of rhs_jacobian, driver/residual_jacobian.hpp); it stays empty otherwise.
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
-                                             Diagnostics& diags, const sym::MinimalState* minimal = nullptr);
+                                             Diagnostics& diags, const sym::MinimalState* minimal = nullptr,
+                                             std::optional<TreeResidual>* residual = nullptr);
 std::vector<ir::Binding> bindings(const model::Model& m, const sym::Eom& eom, const sym::MinimalState* minimal = nullptr);
 
 /// The `conditioning` function of an rhs: the rcond of every block the rhs solves that

@@ -31,6 +31,10 @@ struct NotDifferentiable : std::runtime_error {
 /// derivatives d(outputs)/d(block), row-major (outputs x block size), the blocks one
 /// after the other. The name, documentation and shape are left to the caller.
 /// abs(a) is differentiated as sign(a) a' (0 at a = 0) and the sign function as 0.
-ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks);
+/// `held` symbols are defined by steps of `f` but taken as constants (their tangent is
+/// zero): partial derivatives, as the implicit form of rhs_jacobian needs. Steps that no
+/// output's tangent reads are kept for their values and not differentiated.
+ir::FunctionSpec forward_derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
+                                    const std::vector<GiNaC::symbol>& held = {});
 
 }  // namespace mbsc::sym

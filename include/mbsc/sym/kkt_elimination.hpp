@@ -16,6 +16,7 @@
 /// articulated inertia or its constraint's counterpart. Closed loops add fill where the
 /// loops are (docs/formulation.md, "O(N) right-hand side").
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@
 #include "mbsc/model/model.hpp"
 #include "mbsc/sym/kkt_system.hpp"
 #include "mbsc/sym/probe.hpp"
+#include "mbsc/sym/tree_sweep.hpp"
 
 namespace mbsc::sym {
 
@@ -47,6 +49,8 @@ struct KktElimination {
   int blocks = 0;       // pivot blocks eliminated
   int largest = 0;      // size of the largest pivot block
   long fill = 0;        // block pairs coupled by the elimination that were not coupled before
+  /// A tree recursion with no loop: its pivots, for more right-hand sides (sym/tree_sweep.hpp).
+  std::shared_ptr<const TreeFactors> tree;
 };
 
 /// Eliminates the system with constraint right-hand sides `c` (A q1' = c): fewest
