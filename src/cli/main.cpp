@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "mbsc/diag/name_suggestions.hpp"
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/driver/import_command.hpp"
@@ -104,7 +105,7 @@ bool split_name_expr(const std::vector<std::string>& items, const char* flag,
       std::cerr << "mbsc: error: " << flag << " expects NAME=EXPR, got '" << mbsc::printable(item) << "'\n";
       return false;
     }
-    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+    out.emplace_back(mbsc::declared_name(item.substr(0, eq)), item.substr(eq + 1));
   }
   return true;
 }
@@ -261,7 +262,12 @@ int main(int argc, char** argv) {
   r->add_option("--set", run.sets, "a parameter's value for this run: name=value (repeatable)");
   r->add_option("--init", run.inits,
                 "an initial coordinate or speed: name=value (repeatable); the rest follows by assembly");
-  r->add_option("--input", run_inputs, "an input as an expression of t and the parameters: name=EXPR (repeatable)");
+  r->add_option("--input", run_inputs,
+                "an input as an expression of t and the parameters, name=EXPR, or from a CSV column interpolated in t, "
+                "name=@FILE[:COLUMN] (the column 'name' by default; FILE has a column 't') (repeatable)");
+  r->add_option("--input-interpolation", run.input_interpolation, "how a table input is interpolated: linear or cubic")
+      ->check(CLI::IsMember({"linear", "cubic"}))
+      ->capture_default_str();
   r->add_option("-o,--out", run.csv, "CSV file (default: <model name>.csv; - for standard output)");
   r->add_option("--columns", run_columns, "CSV columns (default: t, every coordinate and speed, outputs, inputs, energy)");
   r->add_option("--plot", run.plot, "also plot to FILE.svg or FILE.png (gnuplot)");

@@ -70,8 +70,36 @@ std::optional<std::string> closest_name(const std::string& written, const std::v
 }
 
 std::string did_you_mean(const std::string& written, const std::vector<std::string>& candidates) {
-  const auto best = closest_name(written, candidates);
-  return best ? " (did you mean '" + *best + "'?)" : std::string();
+  if (const auto best = closest_name(written, candidates)) return " (did you mean '" + *best + "'?)";
+  // A name written without the subsystem it belongs to: "theta" for "load.theta".
+  std::vector<std::string> within;
+  for (const auto& c : candidates)
+    if (!written.empty() && c.size() > written.size() + 1 && c.compare(c.size() - written.size(), written.size(), written) == 0 &&
+        c[c.size() - written.size() - 1] == '.')
+      within.push_back("'" + c + "'");
+  if (within.empty() || within.size() > 6) return "";
+  std::string options = within[0];
+  for (std::size_t i = 1; i < within.size(); ++i) options += (i + 1 == within.size() ? " or " : ", ") + within[i];
+  return " (did you mean " + options + "?)";
+}
+
+std::string declared_name(const std::string& written) {
+  // name[3] is how a loop's instance is written in the model; the language declares it
+  // as name_3 (docs/language.md, "Repeated structure").
+  std::string out;
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    if (written[i] == '[' && i > 0 && written[i - 1] != '.' && written[i - 1] != '[') {
+      const std::size_t close = written.find(']', i);
+      const std::string index = close == std::string::npos ? "" : written.substr(i + 1, close - i - 1);
+      if (!index.empty() && index.find_first_not_of("0123456789") == std::string::npos) {
+        out += "_" + index;
+        i = close;
+        continue;
+      }
+    }
+    out += written[i];
+  }
+  return out;
 }
 
 std::string list_names(const std::vector<std::string>& names) {

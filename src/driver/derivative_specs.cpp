@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <optional>
+
 #include "mbsc/driver/pipeline.hpp"
 #include "mbsc/sym/forward_derivative.hpp"
 
@@ -36,8 +38,15 @@ ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::ve
   if (max_ops > 0 && 4 * entries > max_ops)
     return undefined(fmt::format("{} entries, more than the {} operations this compile allows", entries, max_ops));
   try {
-    ir::FunctionSpec d = residual ? implicit_rhs_jacobian(f, *residual, blocks) : sym::forward_derivative(f, blocks);
-    if (residual) {
+    // The implicit form where the rhs is a tree's; forward mode through the rhs where it
+    // is not, or where the implicit form does not apply to the rhs's outputs.
+    std::optional<ir::FunctionSpec> implicit;
+    if (residual) try {
+        implicit = implicit_rhs_jacobian(f, *residual, blocks);
+      } catch (const sym::NotDifferentiable&) {
+      }
+    ir::FunctionSpec d = implicit ? std::move(*implicit) : sym::forward_derivative(f, blocks);
+    if (implicit) {
       const auto at = shell.doc.rfind("; forward-mode derivatives of rhs");
       if (at != std::string::npos)
         shell.doc.replace(at, std::string::npos, ";\nimplicit form: the residual's forward-mode derivatives solved with the tree recursion's pivots");

@@ -404,9 +404,11 @@ std::vector<ir::Define> dependency_order(std::vector<ir::Define> defines) {
 
 }  // namespace
 
+namespace {
+
 // The residual of the system the tree recursion solved, with the multipliers defined
 // (the implicit form of rhs_jacobian); nullopt when the recursion with multipliers fails.
-static std::optional<TreeResidual> tree_residual(const model::Model& m, const sym::Eom& eom, const sym::KktSystem& sys,
+std::optional<TreeResidual> tree_residual(const model::Model& m, const sym::Eom& eom, const sym::KktSystem& sys,
                                           const std::vector<GiNaC::ex>& c, const std::vector<GiNaC::symbol>& lambda,
                                           const std::function<std::vector<ir::Step>(std::vector<ir::Step>)>& with_rebuild,
                                           const std::function<GiNaC::ex(const GiNaC::ex&)>& fin) {
@@ -435,6 +437,8 @@ static std::optional<TreeResidual> tree_residual(const model::Model& m, const sy
   for (const auto& l : lambda) r.held.push_back(l);
   return r;
 }
+
+}  // namespace
 
 std::vector<ir::FunctionSpec> function_specs(const model::Model& m, const sym::Eom& eom, const GenerateOptions& opt,
                                              Diagnostics& diags, const sym::MinimalState* minimal,
@@ -719,7 +723,8 @@ std::optional<emit::GeneratedModel> generate(const model::Model& m, const sym::E
     for (const char* own : {"multipliers", "reaction_forces"})
       if (opt.functions.count(own))
         diags.error(SourcePos{m.name_pos.file, 0, 0}, fmt::format("--outputs {}: only --formulation multipliers has multipliers", own));
-    if (!diags.has_errors()) specs = function_specs(m, eom, built, diags, ms, &residual);
+    // The residual only where the implicit rhs_jacobian is taken (it reruns the recursion).
+    if (!diags.has_errors()) specs = function_specs(m, eom, built, diags, ms, asked("rhs_jacobian") ? &residual : nullptr);
   }
   if (diags.has_errors()) return std::nullopt;
   std::optional<std::vector<ir::Step>> friction_closure;

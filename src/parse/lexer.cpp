@@ -236,6 +236,12 @@ bool is_statement_keyword(const std::string& word) {
 
 std::vector<std::string> statement_keyword_list() { return {statement_keywords.begin(), statement_keywords.end()}; }
 
+std::vector<std::string> keyword_list() {
+  std::vector<std::string> all = statement_keyword_list();
+  all.insert(all.end(), other_keywords.begin(), other_keywords.end());
+  return all;
+}
+
 bool is_keyword(const std::string& word) {
   if (is_statement_keyword(word)) return true;
   for (const char* k : other_keywords)

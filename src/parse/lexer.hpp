@@ -54,6 +54,9 @@ bool is_statement_keyword(const std::string& word);
 /// Every statement keyword, in a fixed order (for "did you mean" suggestions).
 std::vector<std::string> statement_keyword_list();
 
+/// Every keyword, statement keywords first (docs/language_syntax.md lists them all).
+std::vector<std::string> keyword_list();
+
 /// How a token is named in "found ..." parts of messages: "newline", "end of file",
 /// "'theta'", "keyword 'mass'", "number '1.5'", "string \"a.mbs\"", "')'".
 std::string describe(const Token& tok);

@@ -149,6 +149,12 @@ class Expander {
         i = close + 1;
         continue;
       }
+      if (tok.kind == TokenKind::LBracket && i > 0 && t_[i - 1].kind == TokenKind::Keyword) {
+        // `body mass[i]`: the name is a keyword, which an index does not make a name.
+        diags_.error(t_[i - 1].pos, fmt::format("'{}' is a keyword and cannot be used as a name, indexed or not",
+                                                t_[i - 1].text));
+        return false;
+      }
       if (tok.kind == TokenKind::LBracket || tok.kind == TokenKind::RBracket) {
         diags_.error(tok.pos, fmt::format("'{}' belongs after a name, as in crank[i]", tok.text));
         return false;

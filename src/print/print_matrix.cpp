@@ -298,7 +298,7 @@ class Intermediates {
 /// The "where" list under printed equations.
 std::string where_text(const std::vector<Intermediate>& where, const Intermediates& all, bool latex) {
   if (where.empty()) return "";
-  std::string out = latex ? "" : "  where (evaluated in this order)\n";
+  std::string out = latex ? "" : "  where (evaluated in this order; --expand writes the closed form instead)\n";
   std::vector<LatexEquation> equations;  // LaTeX: the closed forms, in one align*
   for (size_t i = 0; i < where.size(); ++i) {
     const auto& w = where[i];

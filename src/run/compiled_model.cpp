@@ -261,6 +261,22 @@ std::string input_expression_cpp(const model::Model& m, const std::string& text,
   return model::option_expression_cpp(text, cpp_names);
 }
 
+// An input is a function of t: when the expression read a coordinate or a speed, say how
+// state feedback is written instead (docs/running.md, "Inputs").
+static std::string state_feedback_hint(const model::Model& m, const std::string& error) {
+  auto named = [&](const std::string& n) { return error.find("unknown name '" + n + "'") != std::string::npos; };
+  std::string state;
+  for (const auto& c : m.coords)
+    if (state.empty() && named(c.name)) state = c.name;
+  for (const auto& v : m.speeds)
+    if (state.empty() && named(v.name)) state = v.name;
+  if (state.empty()) return "";
+  return fmt::format("; '{}' is part of the state, and an input is a function of t only: feed the state back in the "
+                     "model, where forces may read it (a joint's `force -k*{}`, or a `force` statement), with the gain "
+                     "a parameter",
+                     state, state);
+}
+
 std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const model::Model& m,
                                              const std::vector<std::string>& sources, std::ostream& err, int& exit_code) {
   exit_code = 1;
@@ -280,7 +296,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     std::string error;
     const std::string cpp = input_expression_cpp(m, text, error);
     if (cpp.empty()) {
-      err << "mbsc: error: --input " << printable(name) << ": " << error << "\n";
+      err << "mbsc: error: --input " << printable(name) << ": " << error << state_feedback_hint(m, error) << "\n";
       return nullptr;
     }
     inputs_body += fmt::format("  u[{}] = {};\n", index, cpp);

@@ -29,7 +29,8 @@ bool CsvTable::open(const std::string& path, const std::vector<std::string>& col
 
 void CsvTable::row(const std::vector<double>& values) {
   std::string line;
-  for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format(i ? ",{}" : "{}", values[i]);
+  // -0 is written as 0: a reader (or a diff) need not tell the two zeros apart.
+  for (std::size_t i = 0; i < values.size(); ++i) line += fmt::format(i ? ",{}" : "{}", values[i] == 0.0 ? 0.0 : values[i]);
   line += '\n';
   if (to_stdout_) {
     std::fwrite(line.data(), 1, line.size(), stdout);
@@ -58,7 +59,8 @@ std::string CsvTable::keep() {
 bool choose_columns(const std::vector<std::string>& available, const std::vector<std::string>& wanted,
                     std::vector<int>& indices, std::string& error) {
   indices.clear();
-  for (const auto& w : wanted) {
+  for (const auto& written : wanted) {
+    const std::string w = declared_name(written);
     int found = -1;
     for (std::size_t i = 0; i < available.size(); ++i)
       if (available[i] == w) found = static_cast<int>(i);

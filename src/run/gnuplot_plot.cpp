@@ -4,6 +4,9 @@
 
 #include <filesystem>
 #include <fmt/format.h>
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
 #include <fstream>
 
 #include "mbsc/diag/diagnostics.hpp"
@@ -80,6 +83,36 @@ bool render(const std::string& script_body, const std::string& format, int width
   return true;
 }
 
+// The smallest and largest finite value of each column of the CSV (after its header).
+std::vector<std::pair<double, double>> column_ranges(const std::string& csv, std::size_t columns) {
+  std::vector<std::pair<double, double>> range(columns, {INFINITY, -INFINITY});
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);  // the header
+  while (std::getline(in, line)) {
+    std::size_t start = 0;
+    for (std::size_t c = 0; c < columns; ++c) {
+      const std::size_t comma = line.find(',', start);
+      const double v = std::strtod(line.c_str() + start, nullptr);
+      if (std::isfinite(v)) range[c] = {std::min(range[c].first, v), std::max(range[c].second, v)};
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return range;
+}
+
+// A column that is constant to about the ninth digit (a conserved quantity, a coordinate
+// that a constraint holds): gnuplot would stretch the rounding noise over the panel and
+// label every tick 1.000000000; it is drawn in a band of 1e-6 of its size instead.
+std::string y_range(const std::pair<double, double>& r) {
+  if (!(r.first <= r.second)) return "set autoscale y\nset format y '% h'\n";
+  const double size = std::max(std::abs(r.first), std::abs(r.second));
+  if (r.second - r.first > 1e-9 * size && r.second - r.first > 1e-300) return "set autoscale y\nset format y '% h'\n";
+  const double mid = 0.5 * (r.first + r.second), half = std::max(1e-6 * size, 1e-12);
+  return fmt::format("set yrange [{:.17g}:{:.17g}]\nset format y '%.7g'\n", mid - half, mid + half);
+}
+
 }  // namespace
 
 std::string plot_format(const std::string& image) {
@@ -100,9 +133,11 @@ bool plot_columns(const std::string& csv, const std::vector<std::string>& names,
   std::string data;
   if (!data_file_name(csv, data, error)) return false;
   const int n = static_cast<int>(ycols.size());
+  const auto ranges = column_ranges(csv, names.size());
   std::string s = "set datafile separator ','\nset grid\nunset key\n";
   s += fmt::format("set multiplot layout {},1 title {}\n", n, quoted(title));
   for (int k = 0; k < n; ++k) {
+    s += y_range(ranges[static_cast<std::size_t>(ycols[static_cast<std::size_t>(k)])]);
     s += fmt::format("set ylabel {}\n", quoted(names[static_cast<std::size_t>(ycols[static_cast<std::size_t>(k)])]));
     s += k == n - 1 ? fmt::format("set xlabel {}\n", quoted(names[static_cast<std::size_t>(xcol)])) : "unset xlabel\n";
     s += fmt::format("plot {} using {}:{} every ::1 with lines lw 1.5\n", data, xcol + 1,

@@ -43,7 +43,9 @@ struct SampledMotion {
   std::vector<std::array<double, 3>> values;
 };
 
-std::string number_text(double v) { return fmt::format("{:.17g}", v); }
+/// As `mbsc run`'s CSV (run/csv_table.hpp): the shortest text that reads back to the same
+/// double, and 0 for -0.
+std::string number_text(double v) { return fmt::format("{}", v == 0.0 ? 0.0 : v); }
 
 /// The first friction joint that the solved sample holds at rest: slide rate v = 0 and
 /// its rate v' = 0, v' by a central difference along the state's rates (the motion).

@@ -31,7 +31,7 @@ namespace mbsc::run {
 
 namespace {
 
-std::string num(double v) { return fmt::format("{:.17g}", v); }
+std::string num(double v) { return fmt::format("{:.17g}", v == 0.0 ? 0.0 : v); }  // -0 as 0
 
 // Matrix rows x cols (row-major) as text with aligned columns.
 std::string matrix_text(const std::vector<double>& M, int rows, int cols, const std::vector<std::string>& row_names,
@@ -207,6 +207,20 @@ int run_linearize(const LinearizeArgs& a, std::ostream& out, std::ostream& err) 
   const auto eig = eigenvalues_without_cyclic(A, ns, cyclic);
   std::vector<std::string> cyclic_names;
   for (int i : cyclic) cyclic_names.push_back(names[static_cast<std::size_t>(i)]);
+  if (!a.find.empty()) {
+    // A steady motion that --find landed on may be an unstable one (a pendulum upright):
+    // say so, and how to ask for another.
+    double largest = 0.0, size = 0.0;
+    for (const auto& l : eig) {
+      largest = std::max(largest, l.real());
+      size = std::max(size, std::abs(l));
+    }
+    if (largest > 1e-9 * std::max(1.0, size))
+      err << fmt::format("mbsc: note: the steady motion found is unstable (an eigenvalue with real part {:.6g}); "
+                         "--find starts from the model's initial values and --init, so give a guess near the one "
+                         "you want (--init NAME=VALUE) to find another\n",
+                         largest);
+  }
 
   // The second-order form, and its split in v and g.
   std::vector<int> coords;

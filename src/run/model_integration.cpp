@@ -13,10 +13,11 @@ namespace mbsc::run {
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
                       runtime::SimulationOptions sim, const Observer& observe, bool continuation,
-                      NewtonJacobian newton) {
+                      NewtonJacobian newton, const InputFunction& inputs) {
   // The loop owns what the rhs goes through: the inputs at t and the independent set.
-  runtime::ModelDynamics dynamics(model.table(), p,
-                                  [&model, &p](double t, double* u) { return model.inputs(t, p.data(), u); });
+  runtime::ModelDynamics dynamics(model.table(), p, [&model, &p, &inputs](double t, double* u) {
+    return inputs ? inputs(t, u) : model.inputs(t, p.data(), u);
+  });
   if (continuation) dynamics.continue_through_rank_loss();
   sim.crossing.rtol = options.rtol;  // the extrapolation across a pose of rank loss meets the run's tolerances
   sim.crossing.atol = options.atol;

@@ -21,12 +21,14 @@
 #include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
+#include "mbsc/run/input_table.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/run_accuracy.hpp"
 #include "mbsc/run/run_setup.hpp"
+#include "mbsc/run/start_check.hpp"
 #include "mbsc/runtime/simulate.hpp"
 
 namespace fs = std::filesystem;
@@ -116,10 +118,35 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   if (!check_outputs({{"-o", csv_path}, {"--plot", a.plot}}, sources, error)) return fail(error);
   if (!a.plot.empty() && !gnuplot_available(error)) return fail("--plot: " + error);
 
+  // Inputs from tables (--input NAME=@FILE[:COLUMN]) are read here and set over what the
+  // compiled inputs function gives; the expressions are compiled into it.
+  std::map<std::string, std::string> input_expressions;
+  std::vector<std::pair<std::size_t, InputTable>> tables;  // (index into u, its table)
+  for (const auto& [name, text] : a.inputs) {
+    if (!is_input_table(text)) {
+      input_expressions[name] = text;
+      continue;
+    }
+    const auto in = std::find_if(m->inputs.begin(), m->inputs.end(), [&](const auto& i) { return i.name == name; });
+    if (in == m->inputs.end()) {
+      std::string known;
+      for (const auto& i : m->inputs) known += (known.empty() ? "" : ", ") + i.name;
+      return fail(fmt::format("--input: the model has no input named '{}' ({})", printable(name),
+                              known.empty() ? "it has no inputs" : "its inputs: " + known));
+    }
+    InputTable table;
+    const auto how = a.input_interpolation == "cubic" ? InputTable::Interpolation::Cubic : InputTable::Interpolation::Linear;
+    if (!table.read(name, text, how, error) || !table.covers(0.0, a.t_end, error)) {
+      err << error << "\n";
+      return 1;
+    }
+    tables.emplace_back(static_cast<std::size_t>(in - m->inputs.begin()), std::move(table));
+  }
+
   CompileRequest req;
   req.model_path = a.model;
   req.multipliers = a.multipliers;
-  req.input_expressions = a.inputs;
+  req.input_expressions = input_expressions;
   req.cache_dir = a.cache_dir;
   req.work = a.work;
   req.minimal_state = a.minimal_state;
@@ -149,6 +176,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   if (!parameter_values(T, sets, p, error)) return fail(error);
   std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
   compiled->inputs(0.0, p.data(), u.data());
+  for (const auto& [k, table] : tables) u[k] = table.at(0.0);
   InitialState init;
   if (!initial_state(*m, TA, p, u, inits, 0.0, init, error)) return fail(error);
   std::vector<double> x0 = init.x;
@@ -165,6 +193,11 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
         << "; the run may leave the intended branch (give more coordinates with --init)\n";
   for (const auto& q : init.normalized)
     err << "mbsc: note: the quaternion " << q << " starts off unit norm; it was divided by its norm\n";
+  // A start where the rhs is not finite is named before anything runs or is written.
+  if (!rhs_finite_at_start(*m, T, TA, 0.0, x0, init.x, u, p, error)) {
+    err << error << "\n";
+    return 1;
+  }
 
   // ---- columns ----
   std::vector<std::string> available = {"t"};
@@ -226,7 +259,11 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   so.rtol = a.rtol;
   so.atol = a.atol;
   so.h = a.h > 0 ? a.h : (a.integrator == "rk4" ? dt_out / 10 : 0.0);
-  auto input_fn = [&](double t, double* uu) { return compiled->inputs(t, p.data(), uu); };
+  auto input_fn = [&](double t, double* uu) {
+    const int status = compiled->inputs(t, p.data(), uu);
+    for (const auto& [k, table] : tables) uu[k] = table.at(t);
+    return status;
+  };
   runtime::SimulationOptions sim;
   sim.t0 = 0.0;
   sim.t_end = a.t_end;
@@ -288,7 +325,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // The time budget covers the whole command: the run stops where it runs out.
   sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
   watch.note("integrating", "model " + m->name);
-  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation, newton);
+  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation, newton, input_fn);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();

@@ -55,7 +55,7 @@ bool parse_assignments(const std::vector<std::string>& items, const std::string&
       error = fmt::format("{} expects name=value, got '{}'", flag, printable(item));
       return false;
     }
-    const std::string name = item.substr(0, eq);
+    const std::string name = declared_name(item.substr(0, eq));
     double v = 0;
     std::string why;
     if (!model::option_value(item.substr(eq + 1), names, what, v, why)) {
@@ -85,8 +85,10 @@ bool check_names(const model::Model& m, const std::map<std::string, double>& set
       error = structural ? fmt::format("--set: '{}' sets how many bodies the model's loops make; it is fixed when the "
                                        "model is read (change its default in the model)",
                                        printable(name))
-                         : fmt::format("--set: the model has no parameter named '{}'{}", printable(name),
-                                       did_you_mean(name, params));
+                         : fmt::format("--set: the model has no parameter named '{}'{} ({})", printable(name),
+                                       did_you_mean(name, params),
+                                       params.empty() ? "it has no run-time parameters"
+                                                      : "its parameters: " + list_names(params));
       return false;
     }
   for (const auto& [name, value] : inits)

@@ -85,11 +85,10 @@ class ForwardMode {
       }
       const auto& s = std::get<ir::Solve>(f_.steps[i]);
       bool any = false;
-      for (const auto& x : s.X) {
-        if (held_.count(x)) throw std::logic_error("forward_derivative: a held symbol is a solve's unknown");
-        any = any || read.count(x) > 0;
-      }
+      for (const auto& x : s.X) any = any || read.count(x) > 0;
       if (!any) continue;
+      for (const auto& x : s.X)
+        if (held_.count(x)) throw NotDifferentiable("a held symbol that a solve defines");
       needed[i] = 1;
       for (const auto* entries : {&s.A, &s.B})
         for (const auto& e : *entries) symbols_of(e, read, seen);

@@ -85,4 +85,17 @@ TEST_CASE("docs/language.md quotes the messages mbsc prints", "[cli][docs]") {
     CHECK(r.output.find(q.message) != std::string::npos);
     CHECK(doc.find(q.message) != std::string::npos);
   }
+  // A warning (exit 0): the shipped gantry crane with a massless cart.
+  const auto r = run(std::string(MBSC_BINARY) + " check " + quote(root + "/models/gantry_crane.mbs") + " --freeze M=0");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  const std::string warning =
+      "models/gantry_crane.mbs:14:28: warning: the reduced mass matrix is positive definite at a generic configuration "
+      "but singular at the reference configuration";
+  const std::string culprits = "there the motion along v, w moves only bodies without inertia, 'cart' (mass 0, with "
+                               "--freeze M=0: cart.u) and 'load' (inertia 0: load.w)";
+  CHECK(r.output.find(culprits) != std::string::npos);
+  CHECK(r.output.find(warning.substr(warning.find(":14:28:"))) != std::string::npos);
+  CHECK(doc.find(warning) != std::string::npos);
+  CHECK(doc.find(culprits) != std::string::npos);
 }

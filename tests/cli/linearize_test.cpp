@@ -196,3 +196,24 @@ TEST_CASE("mbsc linearize: bad input is exit 1 with a message naming the problem
   CHECK(std::regex_search(r.output, std::regex(R"(cross_slide\.mbs:\d+:\d+: error: .*Coulomb friction)")));
   CHECK(!fs::exists(out));
 }
+
+TEST_CASE("mbsc linearize --find: an unstable steady motion is noted, a stable one is not", "[cli][run][linearize]") {
+  const fs::path& dir = shared_dir();
+  const std::string crane = quote(kSource + "/models/gantry_crane.mbs");
+  auto find = [&](const std::string& guess) {
+    return run(kMbsc + " linearize " + crane + " --find theta --steady w --init theta=" + guess + " --cache-dir " +
+               quote((dir / "cache").string()));
+  };
+  // From 3 rad the load's equilibrium found is upright (theta = pi): unstable.
+  auto r = find("3");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("steady motion: theta = 3.14159265358979") != std::string::npos);
+  CHECK(r.output.find("note: the steady motion found is unstable") != std::string::npos);
+  // From 0.2 rad: hanging, stable, no note.
+  r = find("0.2");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("steady motion: theta = ") != std::string::npos);
+  CHECK(r.output.find("unstable") == std::string::npos);
+}

@@ -4,6 +4,7 @@
 // from --init, and every bad input of issue 10 (exit 1, nothing written) or numerical
 // failure (exit 2, the rows up to it kept in a temporary file the message names).
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -154,7 +155,8 @@ TEST_CASE("mbsc run: bad input is exit 1 with nothing written", "[cli][run]") {
     std::string args, expect;
   } cases[] = {
       {"--init arm.thx=1", "no coordinate or speed named 'arm.thx' (did you mean 'arm.th'?)"},
-      {"--set ll=1", "no parameter named 'll' (did you mean 'l'?)"},
+      {"--set ll=1", "no parameter named 'll' (did you mean 'l'?) (its parameters: l, m and g)"},
+      {"--init th=1", "no coordinate or speed named 'th' (did you mean 'arm.th'?)"},
       {"--init b.x=5", "position constraint"},  // |b| = 5 on a rod of 1.5
       {"--set l=abc", "--set l"},
       {"--integrator dopri", "unknown method 'dopri' (did you mean 'dopri5'?)"},
@@ -566,5 +568,111 @@ TEST_CASE("mbsc run --newton-jacobian: the generated Jacobian gives the differen
   }
   r = run(run_in(dir, "run " + model + " --integrator bdf --newton-jacobian exact"));
   CHECK(r.exit_code == 1);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run --input NAME=@FILE: the torques mbsc inverse wrote drive the arm back along its motion",
+          "[cli][run]") {
+  const fs::path dir = fresh_dir("run_table_input");
+  const std::string model = quote(std::string(MBSC_SOURCE_DIR) + "/models/spatial_arm.mbs");
+  const std::string torques = (dir / "torques.csv").string();
+  // The motion, its torques by inverse dynamics, then the forward run fed with them.
+  auto r = run(run_in(dir, "inverse " + model + " --prescribe 'q1=0.8*sin(t)' --prescribe 'q2=2.6+0.4*(1-cos(2*t))' "
+                               "--t-end 3 --dt-out 0.01 -o " + quote(torques)));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  double error[2] = {0, 0};
+  const char* how[2] = {"linear", "cubic"};
+  for (int k = 0; k < 2; ++k) {
+    const fs::path out = dir / (std::string(how[k]) + ".csv");
+    r = run(run_in(dir, "run " + model + " --input tau1=@" + quote(torques) + " --input tau2=@" + quote(torques) +
+                            ":tau2 --input-interpolation " + how[k] +
+                            " --init w1=0.8 --t-end 3 --dt-out 0.01 --rtol 1e-10 --atol 1e-12 -o " + quote(out.string())));
+    INFO(how[k] << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    const Csv c = read_csv(out);
+    REQUIRE(c.rows.size() == 301);
+    for (const auto& row : c.rows) {
+      const double t = row[static_cast<std::size_t>(c.col("t"))];
+      const double e1 = std::abs(row[static_cast<std::size_t>(c.col("q1"))] - 0.8 * std::sin(t));
+      const double e2 = std::abs(row[static_cast<std::size_t>(c.col("q2"))] - (2.6 + 0.4 * (1 - std::cos(2 * t))));
+      error[k] = std::max({error[k], e1, e2});
+      // The input columns are the table's values at the output times (its knots).
+      if (row == c.rows.back()) {
+        const Csv table = read_csv(torques);
+        CHECK(std::abs(row[static_cast<std::size_t>(c.col("tau2"))] -
+                       table.rows.back()[static_cast<std::size_t>(table.col("tau2"))]) < 1e-12);
+      }
+    }
+  }
+  // Linear interpolation is second order in the table's step, the cubic spline fourth.
+  CHECK(error[0] < 1e-3);
+  CHECK(error[1] < 1e-6);
+  CHECK(error[1] < error[0] / 100);
+
+  // Bad tables: a positioned error, exit 1, no CSV.
+  write(dir / "bad_number.csv", "t,tau1\n0,1\n0.5,x1\n");
+  write(dir / "not_increasing.csv", "t,tau1\n0,1\n0.5,2\n0.5,3\n");
+  write(dir / "short.csv", "t,tau1\n0,1\n0.5,2\n");
+  write(dir / "no_t.csv", "time,tau1\n0,1\n1,2\n");
+  const std::string csv = quote((dir / "x.csv").string());
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--input tau1=@" + quote((dir / "bad_number.csv").string()), "bad_number.csv:3:5: error: 'x1' in column 'tau1' is not a finite number"},
+      {"--input tau1=@" + quote((dir / "not_increasing.csv").string()), "not_increasing.csv:4:1: error: the times must increase"},
+      {"--input tau1=@" + quote((dir / "short.csv").string()), "covers t = 0 .. 0.5, and the run needs t = 0 .. 1"},
+      {"--input tau1=@" + quote((dir / "no_t.csv").string()), "no_t.csv:1:1: error: the table for --input tau1 has no column 't'"},
+      {"--input tau1=@" + quote(torques) + ":tau9", "has no column 'tau9' (its columns: upper.x"},
+      {"--input tau1=@" + quote((dir / "missing.csv").string()), "--input tau1: cannot read the table"},
+      {"--input tau3=@" + quote(torques), "the model has no input named 'tau3' (its inputs: tau1, tau2)"},
+      {"--input tau1=@" + quote(torques) + " --input-interpolation spline", "--input-interpolation"},
+      {"--input tau1=-10*w1", "'w1' is part of the state, and an input is a function of t only"},
+  };
+  for (const auto& c : cases) {
+    r = run(run_in(dir, "run " + model + " -o " + csv + " --t-end 1 " + c.args));
+    INFO(c.args << "\n" << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find(c.expect) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "x.csv"));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run: names as the model writes them, loop instances included", "[cli][run]") {
+  const fs::path dir = fresh_dir("run_written_names");
+  write(dir / "blocks.mbs",
+        "model blocks\nparameter k = 10, m = 1\nfor i = 1 to 2 {\n  body blk[i] : particle2d { mass m }\n}\n"
+        "spring s blk[1] blk[2] stiffness k\ninitial blk[2].x = 1\n");
+  const fs::path out = dir / "o.csv";
+  const auto r = run(run_in(dir, "run " + quote((dir / "blocks.mbs").string()) + " --init 'blk[1].x=0.5' --t-end 1 "
+                                 "--columns 't,blk[1].x,blk[2].x' -o " + quote(out.string())));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Csv c = read_csv(out);
+  REQUIRE(c.header == std::vector<std::string>{"t", "blk_1.x", "blk_2.x"});
+  CHECK(c.rows.front()[1] == 0.5);
+  CHECK(c.rows.front()[2] == 1.0);
+  // The spring pulls them together and keeps their mass centre: (0.5 + 1) / 2.
+  for (const auto& row : c.rows) CHECK(std::abs((row[1] + row[2]) / 2 - 0.75) < 1e-7);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc run: a start where the rhs is not finite names the force and writes nothing", "[cli][run]") {
+  const fs::path dir = fresh_dir("run_start_nan");
+  // Two blocks at one point, a spring with a rest length between them: its direction is 0/0.
+  write(dir / "pair.mbs", "model pair\nparameter k = 10, m = 1\nbody a : particle2d { mass m }\n"
+                          "body b : particle2d { mass m }\nspring s a b stiffness k length 1\n");
+  const fs::path out = dir / "o.csv";
+  auto r = run(run_in(dir, "run " + quote((dir / "pair.mbs").string()) + " --t-end 1 -o " + quote(out.string())));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("pair.mbs:5:1: error: the rhs is not finite at the start (t = 0): the force of 'spring s a b "
+                      "stiffness k length 1' on") != std::string::npos);
+  CHECK(r.output.find(" steps (") == std::string::npos);  // no summary of a run that did not start
+  CHECK_FALSE(fs::exists(out));
+  // Apart, it runs.
+  r = run(run_in(dir, "run " + quote((dir / "pair.mbs").string()) + " --init b.x=0.5 --t-end 1 -o " + quote(out.string())));
+  CHECK(r.exit_code == 0);
   fs::remove_all(dir);
 }

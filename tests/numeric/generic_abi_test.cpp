@@ -51,6 +51,8 @@
 #include "whipple_bicycle/whipple_bicycle.hpp"
 #include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
 #include "whitworth/whitworth.hpp"
+#include "gantry_crane/gantry_crane.hpp"
+#include "spatial_arm/spatial_arm.hpp"
 
 MBSC_GENERIC_MODEL(chaplygin_sleigh);
 MBSC_GENERIC_MODEL(double_pendulum);
@@ -87,6 +89,8 @@ MBSC_GENERIC_MODEL(three_rrr);
 MBSC_GENERIC_MODEL(whipple_bicycle);
 MBSC_GENERIC_MODEL(whipple_bicycle_joints);
 MBSC_GENERIC_MODEL(whitworth);
+MBSC_GENERIC_MODEL(gantry_crane);
+MBSC_GENERIC_MODEL(spatial_arm);
 
 using mbsc_test::Arguments;
 using mbsc_test::call;
@@ -327,7 +331,7 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
   int shipped = 0;
   for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(MBSC_SOURCE_DIR) / "models"))
     shipped += e.path().extension() == ".mbs";
-  REQUIRE(shipped == 28);
+  REQUIRE(shipped == 30);
   std::mt19937 rng(20261201);
   for (int trial = 0; trial < 3; ++trial) {
     check_model<chaplygin_sleigh_abi>(rng);
@@ -359,6 +363,8 @@ TEST_CASE("one generic harness compiles and runs against every shipped model", "
     check_model<whipple_bicycle_abi>(rng);
     check_model<whipple_bicycle_joints_abi>(rng);
     check_model<whitworth_abi>(rng);
+    check_model<gantry_crane_abi>(rng);
+    check_model<spatial_arm_abi>(rng);
   }
 }
 

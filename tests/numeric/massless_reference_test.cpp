@@ -12,7 +12,7 @@
 
 #include "../cli/run_command.hpp"
 #include "test_support.hpp"
-#include "gantry_crane/gantry_crane.hpp"
+#include "gantry_cable/gantry_cable.hpp"
 #include "gantry_massless_cart/gantry_massless_cart.hpp"
 #include "gantry_massless_cart_mult/gantry_massless_cart_mult.hpp"
 #include "massless_rod_and_flywheel/massless_rod_and_flywheel.hpp"
@@ -51,7 +51,7 @@ Checked check(const std::string& model, const std::string& flags) {
 }  // namespace
 
 TEST_CASE("massless warning at the reference configuration exactly when the rhs fails there", "[numeric][massless]") {
-  namespace G = mbsc_gen::gantry_crane;
+  namespace G = mbsc_gen::gantry_cable;
   namespace GC = mbsc_gen::gantry_massless_cart;
   namespace MR = mbsc_gen::massless_rod_pendulum;
   struct Case {
@@ -89,7 +89,7 @@ TEST_CASE("massless warning: the tolerance follows M's scale", "[numeric][massle
   // The same crane in micro units (masses in the nanogram range, a 1 mm cable): M's
   // entries are ~1e-15, far below any absolute tolerance. A massive cart is still
   // regular (no warning, rhs status 0) and a massless one still singular (warning, 1).
-  namespace G = mbsc_gen::gantry_crane;
+  namespace G = mbsc_gen::gantry_cable;
   for (const double cart : {1e-8, 0.0}) {
     std::vector<double> p(G::kParamDefaults, G::kParamDefaults + G::kNp);
     p[static_cast<std::size_t>(index_of(G::kParamNames, G::kNp, "M"))] = cart;

@@ -82,6 +82,10 @@
 #include "whipple_bicycle_joints/whipple_bicycle_joints.hpp"
 #include "whipple_bicycle_joints_mult/whipple_bicycle_joints_mult.hpp"
 #include "whitworth/whitworth.hpp"
+#include "gantry_crane/gantry_crane.hpp"
+#include "gantry_crane_mult/gantry_crane_mult.hpp"
+#include "spatial_arm/spatial_arm.hpp"
+#include "spatial_arm_mult/spatial_arm_mult.hpp"
 #include "whitworth_mult/whitworth_mult.hpp"
 
 using mbsc::runtime::AssemblyModel;
@@ -464,6 +468,20 @@ std::vector<Case> shipped_models() {
                    {{"q1_dot", 1.0, 1.0}, {"q2_dot", -0.5, 1.0}, {"q3_dot", 0.5, 1.0}},
                    {},
                    {}});
+  // The tutorial's gantry crane (a force on the cart) and spatial arm (a torque at each
+  // joint): joint coordinates place the bodies, so the guesses only start assembly.
+  cases.push_back({PAIR(gantry_crane),
+                   {{"load.x", 0.3}, {"load.y", -0.95}, {"load.theta", 0.3}},
+                   {{"x", 0.2, 0.5}, {"theta", 0.3, 0.5}},
+                   {{"v", 0.5, 1.0}, {"w", -0.3, 1.0}},
+                   {1.5},
+                   {}});
+  cases.push_back({PAIR(spatial_arm),
+                   {{"upper.z", 0.25}, {"fore.x", 0.15}, {"fore.z", 0.24}},
+                   {{"q1", 0.3, 0.5}, {"q2", 2.6, 0.4}},
+                   {{"w1", 0.5, 1.0}, {"w2", -0.3, 1.0}},
+                   {0.3, -0.5},
+                   {}});
   // Whitworth quick-return: the thesis's configuration at crank = pi/4 (guesses from
   // tests/numeric/shipped_planar_test.cpp).
   cases.push_back({PAIR(whitworth),
@@ -648,7 +666,7 @@ TEST_CASE("every shipped model: complement and multipliers agree (states 1e-9, t
   for (const Case& c : cases) tabled.push_back(c.pair.name);
   std::sort(shipped.begin(), shipped.end());
   std::sort(tabled.begin(), tabled.end());
-  REQUIRE(shipped.size() == 28);
+  REQUIRE(shipped.size() == 30);
   REQUIRE(tabled == shipped);
   unsigned seed = 101;
   for (const Case& c : cases) {

@@ -202,6 +202,22 @@ TEST_CASE("simulate: output times, failures with their samples, bad setups", "[n
   r = rt::simulate(model, "euler", so, opt, x0, {}, F::kParamDefaults);
   CHECK(r.status == rt::SimulationResult::Status::BadSetup);
   CHECK(r.message.find("dop853") != std::string::npos);
+
+  // A consistent start has no warning; one off a position constraint names the row that
+  // is off the most and by how much (the run goes on).
+  r = rt::simulate(model, "dopri5", so, opt, x0, {}, F::kParamDefaults);
+  CHECK(r.warnings.empty());
+  std::vector<double> g(static_cast<std::size_t>(F::kNposc));
+  auto off = x0;
+  off[ix("crank.theta")] += 0.05;
+  REQUIRE(F::position_constraints(0.0, off.data(), nullptr, F::kParamDefaults, g.data()) == 0);
+  std::size_t worst = 0;
+  for (std::size_t i = 1; i < g.size(); ++i)
+    if (std::abs(g[i]) > std::abs(g[worst])) worst = i;
+  r = rt::simulate(model, "dopri5", so, opt, off, {}, F::kParamDefaults);
+  REQUIRE(r.warnings.size() == 1);
+  CHECK(r.warnings[0].find(std::string("off position constraint '") + F::kPositionConstraintNames[worst] + "'") !=
+        std::string::npos);
 }
 
 TEST_CASE("simulate: the four-bar through its toggles stays on the physical branch", "[numeric][simulate][partition]") {

@@ -53,7 +53,7 @@ TEST_CASE("print --expand: h in closed form instead of through e_ and r_", "[pri
   // The three-link arm keeps its recurrences (the double pendulum's are inlined when
   // derived: docs/formulation.md, step 6, small nodes).
   const std::string named = print("three_r_arm.mbs", "--what h");
-  at(named, "  where (evaluated in this order)\n");
+  at(named, "  where (evaluated in this order; --expand writes the closed form instead)\n");
   at(named, "  r_link1_u = ");
   const std::string closed = print("three_r_arm.mbs", "--what h --expand");
   CHECK(closed.find("where") == std::string::npos);

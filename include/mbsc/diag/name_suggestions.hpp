@@ -24,8 +24,14 @@ std::size_t typo_distance_limit(std::size_t length);
 /// does not depend on anything but the two inputs. `written` itself is never suggested.
 std::optional<std::string> closest_name(const std::string& written, const std::vector<std::string>& candidates);
 
-/// " (did you mean 'm3'?)" for the closest candidate, or "" when none is close.
+/// " (did you mean 'm3'?)" for the closest candidate; when none is close, the candidates
+/// that end in "." + written (" (did you mean 'load.theta'?)" for "theta"; several as
+/// "'cart.u' or 'load.u'"); "" otherwise.
 std::string did_you_mean(const std::string& written, const std::vector<std::string>& candidates);
+
+/// A name as a command line may write it, as the model declares it: every "[N]" (a
+/// loop's index, N digits) after a name becomes "_N", so "blk[1].x" is "blk_1.x".
+std::string declared_name(const std::string& written);
 
 /// "a, b and c" (or "a" or "a and b"), for "known kinds: ..." lists.
 std::string list_names(const std::vector<std::string>& names);

@@ -30,11 +30,15 @@ enum class NewtonJacobian {
   Sundials,     // SUNDIALS' own difference quotients
 };
 
+/// The inputs at t (status as the generated `inputs`).
+using InputFunction = std::function<int(double t, double* u)>;
+
 /// `integrator` must be one of available_integrators(); `continuation` evaluates the rhs
 /// through the runtime's BranchContinuation (through rank loss of the constraints).
+/// `inputs`: the inputs the rhs reads (default: the compiled model's `inputs`).
 Integration integrate(const CompiledModel& model, const std::vector<double>& p, const std::vector<double>& x0,
                       const std::string& integrator, const runtime::StepperOptions& options,
                       runtime::SimulationOptions sim, const Observer& observe, bool continuation = false,
-                      NewtonJacobian newton = NewtonJacobian::Generated);
+                      NewtonJacobian newton = NewtonJacobian::Generated, const InputFunction& inputs = {});
 
 }  // namespace mbsc::run

@@ -27,7 +27,8 @@ struct RunArgs {
   std::string solver = "auto";    // --solver auto|dense|sparse (as for generate)
   std::vector<std::string> sets;  // --set name=value
   std::vector<std::string> inits; // --init name=value
-  std::map<std::string, std::string> inputs;  // --input name=EXPR
+  std::map<std::string, std::string> inputs;  // --input name=EXPR or name=@FILE[:COLUMN]
+  std::string input_interpolation = "linear";  // --input-interpolation: a table's, linear|cubic
   std::string csv;                // -o (default: <model name>.csv)
   std::vector<std::string> columns;       // --columns (default: t, the state, outputs, energy)
   std::string plot;               // --plot file.svg|png

@@ -192,6 +192,10 @@ struct SimulationResult {
   double energy_drift = 0.0;           // max |E(t) - E(t0)| over accepted steps
   double energy_relative_drift = 0.0;  // energy_drift / max(|E(t0)|, |T(t0)|, |V(t0)|)
   std::vector<PartitionSwitch> switches;
+  /// What the run went on with but the caller should know: a starting state off the
+  /// position constraints (the integration keeps the offset; runtime/assemble.hpp
+  /// completes a consistent state).
+  std::vector<std::string> warnings;
   bool ok() const { return status == Status::Ok; }
 };
 
@@ -304,6 +308,22 @@ inline SimulationResult simulate(ModelDynamics& dyn, Stepper& stepper, const Sim
                   std::string("the initial value of '") + m.state_names[bad] + "' is not finite");
 
   const bool constrained = m.nposc > 0 || m.nc > 0;
+  if (m.full_state_layout() && m.nposc > 0) {
+    // A start off the position constraints: the run keeps the offset (or the projection
+    // moves the start), so say which row and by how much.
+    std::vector<double> g(static_cast<std::size_t>(m.nposc));
+    if (m.position_constraints(o.t0, x0.data(), dyn.inputs(), dyn.params(), g.data()) == 0) {
+      std::size_t worst = 0;
+      for (std::size_t i = 1; i < g.size(); ++i)
+        if (std::abs(g[i]) > std::abs(g[worst])) worst = i;
+      double scale = 1.0;
+      for (int i = 0; i < m.nq; ++i) scale = std::max(scale, std::abs(x0[static_cast<std::size_t>(i)]));
+      if (std::abs(g[worst]) > 1e-6 * scale)
+        res.warnings.push_back(std::string("the initial state is off position constraint '") +
+                               m.position_constraint_names[worst] + "' by " + std::to_string(g[worst]) +
+                               " (assemble a consistent state first: runtime/assemble.hpp)");
+    }
+  }
   const bool project_on = constrained && m.full_state_layout() &&
                           (o.projection == SimulationOptions::Projection::On ||
                            o.projection == SimulationOptions::Projection::Auto);

@@ -22,8 +22,9 @@ namespace mbsc::sym {
 /// What the recursion keeps for later solves: per body, the matrices of its sweeps as the
 /// expressions (or named intermediates) the generated code already computes.
 struct TreeFactors {
-  /// Row `row` gives the body's speed `a`: u_a' = c_row * inverse + sum_l w_l u_l' over
-  /// the body's own speeds solved before (`own`: l, w_l) and parent and joint terms (T, Phi).
+  /// Row `row` gives the body's speed at position `a` (in Body::speeds); its share of
+  /// k is k_a = c_row * inverse + sum_l w_l k_l over the body's speeds solved before it
+  /// (`own`: position l, w_l). The parent's and joint's terms are in T and Phi.
   struct Substitution {
     int a = 0;
     int row = 0;

@@ -173,3 +173,16 @@ TEST_CASE("the banded distance agrees with the whole table, and so does the sugg
     REQUIRE(closest_name(a, {b}).has_value() == close);
   }
 }
+
+TEST_CASE("names: a name without its subsystem, and an indexed name as written", "[names]") {
+  const std::vector<std::string> state{"cart.x", "cart.u", "load.theta", "load.u", "x"};
+  CHECK(mbsc::did_you_mean("theta", state) == " (did you mean 'load.theta'?)");
+  CHECK(mbsc::did_you_mean("u", state) == " (did you mean 'cart.u' or 'load.u'?)");
+  CHECK(mbsc::did_you_mean("heta", state).empty());  // a suffix of a name, not of a component
+  CHECK(mbsc::did_you_mean("xx", state) == " (did you mean 'x'?)");  // a typo first
+  CHECK(mbsc::declared_name("blk[1].x") == "blk_1.x");
+  CHECK(mbsc::declared_name("a[2][13].w") == "a_2_13.w");
+  CHECK(mbsc::declared_name("m") == "m");
+  CHECK(mbsc::declared_name("a[i].x") == "a[i].x");  // not an index: left for the error to show
+  CHECK(mbsc::declared_name("[1]") == "[1]");
+}

@@ -2,6 +2,10 @@
 // Unit tests of the model-language lexer (a private header of src/parse).
 #include <catch2/catch.hpp>
 
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -130,4 +134,26 @@ TEST_CASE("lexer: strings refuse control characters; a byte-order mark is skippe
   CHECK(dump(lex("\xEF\xBB\xBFmodel m", "f")) == "kw:model@1:1 id:m@1:7 END@1:8");
   // Only at the very start: elsewhere it is an unexpected character.
   CHECK(dump(lex("m \xEF\xBB\xBF", "f")).find("bad:unexpected character") != std::string::npos);
+}
+
+TEST_CASE("lexer: docs/language_syntax.md lists every keyword", "[lexer]") {
+  std::ifstream in(std::string(MBSC_SOURCE_DIR) + "/docs/language_syntax.md");
+  REQUIRE(in);
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The fenced block after "**Keywords**": its words, and nothing but keywords in it.
+  const auto heading = doc.find("**Keywords**");
+  REQUIRE(heading != std::string::npos);
+  const auto open = doc.find("```\n", heading), close = doc.find("```", open + 4);
+  REQUIRE(close != std::string::npos);
+  std::istringstream block(doc.substr(open + 4, close - open - 4));
+  std::set<std::string> listed;
+  for (std::string w; block >> w;) {
+    INFO("listed as a keyword: " << w);
+    CHECK(mbsc::parse::is_keyword(w));
+    listed.insert(w);
+  }
+  for (const std::string& k : mbsc::parse::keyword_list()) {
+    INFO("keyword missing from the list: " << k);
+    CHECK(listed.count(k) == 1);
+  }
 }
