@@ -75,8 +75,10 @@ symbolized "$BUILD/build.log" cmake --build "$BUILD" -j"$(nproc)"
 # and `mbsc run` itself in `run_command`), and urdf_robots (four real robots imported and
 # checked: TALOS's check derives every function of a 50-joint humanoid, 20 s in Release and
 # minutes at -O0 under ASan; the import code runs here on the small URDFs of the `cli` entry
-# and in the URDF fuzz target).
+# and in the URDF fuzz target), and tutorial (docs/tutorial.md's commands as written: its
+# time is g++ compiling the tutorial's models and app, which the sanitizers do not
+# instrument; the same commands run here in `run_command`, `linearize` and `cli`).
 symbolized "$BUILD/ctest.log" ctest --test-dir "$BUILD" --output-on-failure --no-tests=error -j"$(nproc)" \
-  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale|determinism|determinism_tricycle|run_shipped|urdf_robots)$'
+  -E '^(latex|print|pendulum_1000_periods_test|rank_loss_chain40_test|linearize_symbolic_bicycle|linearize_tricycle|front_end_scale|determinism|determinism_tricycle|run_shipped|urdf_robots|tutorial)$'
 # The fuzzer symbolizes as it goes (its reports are rare and come with the input).
 ASAN_OPTIONS=$CHECKS FUZZ_SECONDS=${FUZZ_SECONDS:-60} BUILD="$BUILD" bash scripts/fuzz.sh

@@ -138,7 +138,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 // printing the lines the tutorial shows after it, in order (`…` inside a line stands for
 // any text, a line that is only `…` for any lines); every `mbs` block quotes the model
 // file named just before it, line for line.
-TEST_CASE("docs/tutorial.md: every command runs and prints what the tutorial shows", "[docs]") {
+TEST_CASE("docs/tutorial.md: every command runs and prints what the tutorial shows", "[tutorial]") {
   const fs::path root(MBSC_SOURCE_DIR);
   const std::vector<std::string> doc = lines_of(slurp(root / "docs" / "tutorial.md"));
   const fs::path dir = mbsc_test::fresh_dir("tutorial");
