@@ -9,7 +9,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+
+#include "mbsc/diag/diagnostics.hpp"
 
 namespace mbsc::run {
 
@@ -41,7 +44,9 @@ bool InputTable::read(const std::string& name, const std::string& spec, Interpol
   std::string path = spec.substr(1);
   column_ = name;
   const std::size_t colon = path.rfind(':');
-  if (colon != std::string::npos && path.find('/', colon) == std::string::npos) {
+  std::error_code ec;
+  if (colon != std::string::npos && path.find('/', colon) == std::string::npos &&
+      !std::filesystem::is_regular_file(path, ec)) {  // a file whose name holds ':' is read whole
     column_ = path.substr(colon + 1);
     path = path.substr(0, colon);
   }
@@ -68,6 +73,7 @@ bool InputTable::read(const std::string& name, const std::string& spec, Interpol
     return false;
   }
   if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a byte-order mark (spreadsheet exports)
   const auto header = fields(line);
   int t_col = -1, v_col = -1;
   for (std::size_t i = 0; i < header.size(); ++i) {
@@ -104,9 +110,10 @@ bool InputTable::read(const std::string& name, const std::string& spec, Interpol
       char* end = nullptr;
       errno = 0;
       values[k] = std::strtod(text.c_str(), &end);
-      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(values[k]) || errno == ERANGE) {
-        error = fmt::format("{}:{}:{}: error: '{}' in column '{}' is not a finite number", path, line_no, col, text,
-                            header[static_cast<std::size_t>(cols[k])].first);
+      // (An underflow to a subnormal number sets ERANGE too; it is a number, and kept.)
+      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(values[k])) {
+        error = fmt::format("{}:{}:{}: error: '{}' in column '{}' is not a finite number", printable(path), line_no, col,
+                            printable(text.substr(0, 40)), printable(header[static_cast<std::size_t>(cols[k])].first));
         return false;
       }
     }
@@ -152,6 +159,7 @@ bool InputTable::covers(double t0, double t1, std::string& error) const {
 }
 
 double InputTable::at(double t) const {
+  if (std::isnan(t)) return NAN;
   if (t <= t_.front()) return v_.front();
   if (t >= t_.back()) return v_.back();
   const std::size_t i = static_cast<std::size_t>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1;

@@ -674,5 +674,14 @@ TEST_CASE("mbsc run: a start where the rhs is not finite names the force and wri
   // Apart, it runs.
   r = run(run_in(dir, "run " + quote((dir / "pair.mbs").string()) + " --init b.x=0.5 --t-end 1 -o " + quote(out.string())));
   CHECK(r.exit_code == 0);
+  // An input that is not finite at t = 0 is the cause itself (no force judged with it).
+  fs::remove(out);
+  r = run(run_in(dir, "run " + quote(std::string(MBSC_SOURCE_DIR) + "/models/gantry_crane.mbs") +
+                          " --input 'F=1/t' --t-end 1 -o " + quote(out.string())));
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("the rhs is not finite at the start (t = 0): the input 'F' is inf there") != std::string::npos);
+  CHECK(r.output.find("internal error") == std::string::npos);
+  CHECK_FALSE(fs::exists(out));
   fs::remove_all(dir);
 }

@@ -54,3 +54,20 @@ TEST_CASE("input table: linear data is exact, sin(t) to each method's order", "[
   // At the knots both give the table's values.
   CHECK(std::abs(b.at(2.0) - std::sin(2.0)) < 1e-12);
 }
+
+TEST_CASE("input table: a byte-order mark, subnormal values, a file name with ':'", "[input_table]") {
+  const auto dir = std::filesystem::temp_directory_path() / "mbsc_table_edges";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "a:b.csv").string();
+  {
+    std::ofstream out(path);
+    out << "\xEF\xBB\xBFt,u\n0,1e-310\n1,2\n";
+  }
+  InputTable table;
+  std::string error;
+  REQUIRE(table.read("u", "@" + path, InputTable::Interpolation::Linear, error));
+  CHECK(table.column() == "u");
+  CHECK(table.at(0.0) == 1e-310);
+  CHECK(std::isnan(table.at(std::nan(""))));
+  std::filesystem::remove_all(dir);
+}
