@@ -127,7 +127,8 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
       input_expressions[name] = text;
       continue;
     }
-    const auto in = std::find_if(m->inputs.begin(), m->inputs.end(), [&](const auto& i) { return i.name == name; });
+    const std::string input = name;  // (a structured binding is not captured before C++20)
+    const auto in = std::find_if(m->inputs.begin(), m->inputs.end(), [&](const auto& i) { return i.name == input; });
     if (in == m->inputs.end()) {
       std::string known;
       for (const auto& i : m->inputs) known += (known.empty() ? "" : ", ") + i.name;
