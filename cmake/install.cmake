@@ -15,6 +15,10 @@ install(TARGETS mbsc EXPORT mbscTargets RUNTIME DESTINATION ${CMAKE_INSTALL_BIND
 install(TARGETS mbsc_runtime EXPORT mbscTargets)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/include/mbsc/runtime DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mbsc
         FILES_MATCHING PATTERN "*.hpp")
+# The FMI functions of exported FMUs (also inside each FMU's sources/), for importers and
+# for building an FMU's sources by hand.
+install(DIRECTORY ${CMAKE_SOURCE_DIR}/include/mbsc/fmi DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/mbsc
+        FILES_MATCHING PATTERN "*.h" PATTERN "*.hpp")
 install(EXPORT mbscTargets NAMESPACE mbsc:: DESTINATION ${MBSC_CMAKE_DIR})
 
 configure_package_config_file(${CMAKE_SOURCE_DIR}/cmake/mbscConfig.cmake.in ${CMAKE_BINARY_DIR}/mbscConfig.cmake

@@ -9,6 +9,7 @@
 #include "mbsc/diag/diagnostics.hpp"
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/driver/import_command.hpp"
+#include "mbsc/fmu/fmu_export.hpp"
 #include "mbsc/parse/parse.hpp"
 #include "mbsc/run/bench_command.hpp"
 #include "mbsc/run/eig_command.hpp"
@@ -214,6 +215,19 @@ int main(int argc, char** argv) {
               "also write OUT/<name>/<name>.py: a ctypes + numpy module over the extern \"C\" functions (README, \"Using it\")");
   g->add_flag("--force", gen.force,
               "write into OUT/<name> even when mbsc did not write that folder (only its own files are replaced)");
+  int fmi_version = 0;
+  std::string fmi_kind = "both";
+  g->add_option("--fmi", fmi_version,
+                "also write OUT/<name>/<name>.fmu, a Functional Mock-up Unit of FMI 2.0 or 3.0 for Modelica tools, "
+                "Simulink and other importers (docs/fmi.md): modelDescription.xml, a binary for this machine (compiled "
+                "with $CXX) and the sources")
+      ->check(CLI::IsMember({2, 3}))
+      ->type_name("2|3");
+  g->add_option("--fmi-kind", fmi_kind,
+                "with --fmi: me (model exchange: the importer integrates the derivatives), cs (co-simulation: the FMU "
+                "integrates its own steps) or both")
+      ->check(CLI::IsMember({"me", "cs", "both"}))
+      ->default_val("both");
   g->add_option("--depfile", gen.depfile,
                 "also write a make-style depfile: the generated files depend on the model and every file it includes")
       ->type_name("FILE");
@@ -506,6 +520,25 @@ int main(int argc, char** argv) {
     gen.multipliers = formulation == "multipliers";
     gen.work = gen_work.args();
     if (!add_freezes(freeze, gen.frozen)) return 1;
+    if (fmi_version == 0 && g->count("--fmi-kind") > 0) {
+      std::cerr << "mbsc: error: --fmi-kind needs --fmi 2 or --fmi 3\n";
+      return 1;
+    }
+    if (fmi_version != 0) {
+      if (!gen.functions.empty()) {
+        std::cerr << "mbsc: error: --fmi needs every function of the model (its FMI calls use rhs, the constraints, "
+                     "outputs and more): leave out --outputs\n";
+        return 1;
+      }
+      mbsc::fmu::FmuOptions fmu;
+      fmu.version = fmi_version;
+      fmu.model_exchange = fmi_kind != "cs";
+      fmu.co_simulation = fmi_kind != "me";
+      gen.extra_outputs = [fmu, &gen](const mbsc::driver::GenerateArgs::Made& made,
+                                      std::vector<mbsc::driver::OutputFile>& files, std::ostream& err) {
+        return mbsc::fmu::add_fmu(fmu, gen, made, files, err);
+      };
+    }
     return mbsc::driver::run_generate(gen, std::cout, std::cerr);
   };
   // The stages report what a user did wrong as diagnostics; what escapes them is ours.

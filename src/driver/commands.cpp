@@ -399,6 +399,8 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   const std::string& name = g->name;
   std::vector<OutputFile> outputs = {{name + ".hpp", files.header}, {name + ".cpp", files.source}};
   if (a.python) outputs.push_back({name + ".py", python});
+  if (a.extra_outputs)
+    if (const int code = a.extra_outputs({*m, sources, *g, files}, outputs, err); code != 0) return code;
   const std::string final_dir = (fs::path(a.out_dir.empty() ? "." : a.out_dir) / name).string();
   std::string error;
   StagedFile depfile;  // staged once the output folder's checks pass, moved into place once it is written
@@ -412,8 +414,10 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     return 1;
   }
   if (a.work.quiet) return 0;  // --quiet: nothing on success (mbsc_add_model's builds)
-  out << fmt::format("wrote {}/{}.hpp{} ({} dof;", printable(final_dir), name,
-                     a.python ? fmt::format(", {}.cpp and {}.py", name, name) : fmt::format(" and {}.cpp", name), eom->ndof());
+  std::string written;  // "a.hpp and a.cpp", "a.hpp, a.cpp and a.py"
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    written += (i == 0 ? "" : i + 1 == outputs.size() ? " and " : ", ") + outputs[i].name;
+  out << fmt::format("wrote {}/{} ({} dof;", printable(final_dir), written, eom->ndof());
   for (const auto& f : g->functions) out << fmt::format(" {} {} ops", f.name, f.ops.total());
   out << ")\n";
   return 0;

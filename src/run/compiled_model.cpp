@@ -46,13 +46,6 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-/// The compiler: $MBSC_CXX, else $CXX, else c++.
-std::string compiler() {
-  for (const char* var : {"MBSC_CXX", "CXX"})
-    if (const char* v = std::getenv(var); v && *v) return v;
-  return "c++";
-}
-
 /// The mbsc binary itself (size and time), so that a rebuilt mbsc does not load objects
 /// an older one generated.
 std::string self_identity() {
@@ -206,26 +199,7 @@ bool build_entry(const CompileRequest& req, const CacheFolder& cache, const std:
   cmd.insert(cmd.end(), {"-o", "lib.so", stem + ".cpp", "shim.cpp"});
   const ProcessResult cc = run_process(cmd, options);
   ::close(folder);
-  if (cc.timed_out) {
-    err << fmt::format("mbsc: error: the C++ compiler '{}' was stopped when the time budget of {:g} s ran out (it "
-                       "covers the whole command; raise it with --budget SECONDS)\n",
-                       printable(cxx), req.work.budget.seconds);
-    return false;
-  }
-  if (cc.exit_code != 0) {
-    const bool memory = cc.output.find("memory exhausted") != std::string::npos ||
-                        cc.output.find("Cannot allocate memory") != std::string::npos ||
-                        cc.output.find("out of memory") != std::string::npos || cc.output.find("bad_alloc") != std::string::npos;
-    if (memory)
-      err << fmt::format("mbsc: error: the C++ compiler '{}' ran out of the memory budget of {} MiB on the generated "
-                         "code (raise it with --max-memory MIB):\n{}",
-                         printable(cxx), req.work.budget.memory_mib, compiler_lines(cc.output));
-    else
-      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}{}):\n{}",
-                         printable(cxx), cc.exit_code, cc.spawn_error.empty() ? "" : ", " + cc.spawn_error,
-                         compiler_lines(cc.output));
-    return false;
-  }
+  if (!compiler_succeeded(cxx, cc, req.work.budget, err)) return false;
   if (!work->publish(stem, entry, key, error)) {
     err << "mbsc: error: " << error << "\n";
     return false;
@@ -277,6 +251,37 @@ static std::string state_feedback_hint(const model::Model& m, const std::string&
                      state, state);
 }
 
+bool compiler_succeeded(const std::string& cxx, const ProcessResult& cc, const driver::WorkBudget& budget,
+                        std::ostream& err) {
+  if (cc.timed_out) {
+    err << fmt::format("mbsc: error: the C++ compiler '{}' was stopped when the time budget of {:g} s ran out (it "
+                       "covers the whole command; raise it with --budget SECONDS)\n",
+                       printable(cxx), budget.seconds);
+    return false;
+  }
+  if (cc.exit_code != 0) {
+    const bool memory = cc.output.find("memory exhausted") != std::string::npos ||
+                        cc.output.find("Cannot allocate memory") != std::string::npos ||
+                        cc.output.find("out of memory") != std::string::npos || cc.output.find("bad_alloc") != std::string::npos;
+    if (memory)
+      err << fmt::format("mbsc: error: the C++ compiler '{}' ran out of the memory budget of {} MiB on the generated "
+                         "code (raise it with --max-memory MIB):\n{}",
+                         printable(cxx), budget.memory_mib, compiler_lines(cc.output));
+    else
+      err << fmt::format("mbsc: error: the C++ compiler failed on the generated code ({}, exit code {}{}):\n{}",
+                         printable(cxx), cc.exit_code, cc.spawn_error.empty() ? "" : ", " + cc.spawn_error,
+                         compiler_lines(cc.output));
+    return false;
+  }
+  return true;
+}
+
+std::string cxx_compiler() {
+  for (const char* var : {"MBSC_CXX", "CXX"})
+    if (const char* v = std::getenv(var); v && *v) return v;
+  return "c++";
+}
+
 std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const model::Model& m,
                                              const std::vector<std::string>& sources, std::ostream& err, int& exit_code) {
   exit_code = 1;
@@ -302,7 +307,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     inputs_body += fmt::format("  u[{}] = {};\n", index, cpp);
   }
   // ---- the key ----
-  const std::string cxx = compiler();
+  const std::string cxx = cxx_compiler();
   const std::vector<std::string> flags = {"-std=c++17", "-O2", "-fPIC", "-shared"};
   ProcessResult version = run_process({cxx, "--version"}, "", 30);
   if (version.timed_out) {

@@ -67,7 +67,8 @@ run("cmake --install" COMMAND ${CMAKE_COMMAND} --install ${MBSC_BUILD_DIR} --pre
 file(RENAME "${root}/installed" "${prefix}")
 foreach(f bin/mbsc include/mbsc/runtime/rk4.hpp include/mbsc/runtime/assemble.hpp
           include/mbsc/runtime/least_squares.hpp include/mbsc/runtime/partition_selector.hpp
-          include/mbsc/runtime/simulate.hpp include/mbsc/runtime/projection.hpp include/mbsc/runtime/make_stepper.hpp)
+          include/mbsc/runtime/simulate.hpp include/mbsc/runtime/projection.hpp include/mbsc/runtime/make_stepper.hpp
+          include/mbsc/fmi/fmi2_functions.h include/mbsc/fmi/fmi3_exports.hpp include/mbsc/fmi/fmu_instance.hpp)
   if(NOT EXISTS "${prefix}/${f}")
     fail("the install has no ${f}")
   endif()

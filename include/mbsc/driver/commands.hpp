@@ -2,13 +2,23 @@
 #pragma once
 /// The CLI subcommands. Each returns the process exit code: 0 ok, 1 user error
 /// (diagnostics printed to stderr), 2 internal error.
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "mbsc/driver/output_folder.hpp"
 #include "mbsc/driver/work_monitor.hpp"
+
+namespace mbsc::model {
+struct Model;
+}
+namespace mbsc::emit {
+struct GeneratedModel;
+struct GeneratedFiles;
+}  // namespace mbsc::emit
 
 namespace mbsc::driver {
 
@@ -61,6 +71,17 @@ struct GenerateArgs {
   bool rhs_jacobian = false;        // also rhs_jacobian alone, capped (GenerateOptions::rhs_jacobian)
   long rhs_jacobian_max_ops = 0;
   WorkArgs work;
+  /// What run_generate made, for `extra_outputs`.
+  struct Made {
+    const model::Model& model;
+    const std::vector<std::string>& sources;  // the model's file and those it includes
+    const emit::GeneratedModel& generated;
+    const emit::GeneratedFiles& files;
+  };
+  /// Called once the C++ is emitted, before anything is written: adds files to write
+  /// with the others, all or nothing (generate --fmi adds NAME.fmu: src/fmu). Returns 0,
+  /// or the exit code with its messages on `err`.
+  std::function<int(const Made&, std::vector<OutputFile>&, std::ostream& err)> extra_outputs;
 };
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err);
 

@@ -18,6 +18,7 @@
 
 #include "mbsc/driver/commands.hpp"
 #include "mbsc/model/model.hpp"
+#include "mbsc/run/process.hpp"
 #include "mbsc/runtime/model_table.hpp"
 
 namespace mbsc::run {
@@ -71,6 +72,14 @@ class CompiledModel {
   bool from_cache_ = false;
   std::string folder_;
 };
+
+/// The C++ compiler mbsc runs: $MBSC_CXX, else $CXX, else c++.
+std::string cxx_compiler();
+
+/// Whether the compiler run `cc` succeeded; else the reason (the budget's time or memory
+/// ran out, or the compiler's own messages) on `err`.
+bool compiler_succeeded(const std::string& cxx, const ProcessResult& cc, const driver::WorkBudget& budget,
+                        std::ostream& err);
 
 /// Loads `m` (already read from req.model_path, with `sources` the files it read),
 /// deriving, generating and compiling it first unless the cache has it. On failure the
