@@ -137,10 +137,16 @@ bool compile_fmu(const driver::GenerateArgs& a, const std::string& name,
   options.working_folder = folder;
   options.memory_mib = a.work.budget.memory_mib;
   options.timeout_seconds = std::max(1.0, a.work.budget.seconds_left());
+  // The C++ runtime linked in and every symbol but the FMI functions kept local (the
+  // version script): the binary loads into hosts that bring a libstdc++ of their own.
+  {
+    std::ofstream map(dir / "exports.map");
+    map << "{\n  global: fmi2*; fmi3*;\n  local: *;\n};\n";
+  }
   const std::string cxx = run::cxx_compiler();
   const run::ProcessResult cc =
-      run::run_process({cxx, "-std=c++17", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-I.", "-o", name + ".so",
-                        name + ".cpp", name + "_fmu.cpp"},
+      run::run_process({cxx, "-std=c++17", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-static-libstdc++",
+                        "-static-libgcc", "-Wl,--version-script=exports.map", "-I.", "-o", name + ".so", name + ".cpp", name + "_fmu.cpp"},
                        options);
   ::close(folder);
   if (!run::compiler_succeeded(cxx, cc, a.work.budget, err)) return false;
@@ -190,6 +196,8 @@ int add_fmu(const FmuOptions& o, const driver::GenerateArgs& a, const driver::Ge
                               a.multipliers ? "multipliers" : "complement", a.minimal_state ? ", minimal state" : "");
   const long nx = int_constant(g, "kNx");
   d.nq = static_cast<int>(int_constant(g, "kNq"));
+  d.assembles = int_constant(g, "kNq") == int_constant(g, "kNqFull") && int_constant(g, "kNu") == int_constant(g, "kNuFull") &&
+                (int_constant(g, "kNposc") > 0 || int_constant(g, "kNc") > 0);
   d.states = names(g, "kStateNames", nx);
   d.inputs = names(g, "kInputNames", int_constant(g, "kNin"));
   d.params = names(g, "kParamNames", int_constant(g, "kNp"));

@@ -51,9 +51,11 @@ std::vector<Variable> variables(const FmuDescription& d) {
   const int first_state = static_cast<int>(v.size());
   for (int i = 0; i < L.nx; ++i) {
     const std::size_t k = static_cast<std::size_t>(i);
-    v.push_back({d.states[k], L.state(i), "local", "continuous", d.given[k] ? "exact" : "approx", true, d.start[k], -1,
+    const bool solved = d.assembles && !d.given[k];
+    v.push_back({d.states[k], L.state(i), "local", "continuous", solved ? "approx" : "exact", true, d.start[k], -1,
                  std::string(i < d.nq ? "coordinate" : "speed") +
-                     (d.given[k] ? " (the model's initial value)" : " (solved from the constraints at the start)")});
+                     (solved ? " (solved from the constraints at the start)"
+                             : d.given[k] ? " (the model's initial value)" : "")});
   }
   for (int i = 0; i < L.nx; ++i)
     v.push_back({"der(" + d.states[static_cast<std::size_t>(i)] + ")", L.derivative(i), "local", "continuous",

@@ -7,6 +7,7 @@
 ///   const mbsc::fmi::FmuModel& mbsc_fmu_model();
 /// and MBSC_FMU_MODEL_EXCHANGE / MBSC_FMU_CO_SIMULATION (1 for the kinds it exports).
 /// No exception leaves a function: each one's body is guarded and a throw is fmi2Fatal.
+#include <cstring>
 #include <new>
 #include <string>
 
@@ -40,7 +41,10 @@ fmi2Status guarded(fmi2Component c, Body body) {
   try {
     return static_cast<fmi2Status>(body(component(c)->instance));
   } catch (const std::exception& e) {
-    component(c)->instance.log(kFatal, "logError", std::string("internal error: ") + e.what());
+    try {
+      component(c)->instance.log(kFatal, "logError", std::string("internal error: ") + e.what());
+    } catch (...) {
+    }
     return fmi2Fatal;
   } catch (...) {
     return fmi2Fatal;
@@ -77,15 +81,16 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
   const fmi2CallbackLogger logger = functions ? functions->logger : nullptr;
   const fmi2ComponentEnvironment env = functions ? functions->componentEnvironment : nullptr;
   const char* name = instanceName ? instanceName : "";
-  auto refuse = [&](const std::string& why) -> fmi2Component {
-    if (logger) logger(env, name, fmi2Error, "logError", "%s", why.c_str());
+  auto refuse = [&](const char* why) -> fmi2Component {
+    if (logger) logger(env, name, fmi2Error, "logError", "%s", why);
     return nullptr;
   };
-  if (!fmuGUID || std::string(fmuGUID) != mbsc_fmu_model().token)
+  if (!fmuGUID || std::strcmp(fmuGUID, mbsc_fmu_model().token) != 0)
     return refuse("the guid given is not this FMU's (modelDescription.xml and the binary are from different exports)");
   if ((fmuType == fmi2ModelExchange && !MBSC_FMU_MODEL_EXCHANGE) || (fmuType == fmi2CoSimulation && !MBSC_FMU_CO_SIMULATION))
     return refuse(fmuType == fmi2ModelExchange ? "this FMU was exported for co-simulation only (--fmi-kind cs)"
                                                : "this FMU was exported for model exchange only (--fmi-kind me)");
+  if (fmuType != fmi2ModelExchange && fmuType != fmi2CoSimulation) return refuse("unknown fmuType");
   try {
     auto* c = new mbsc::fmi::fmi2::Component(
         fmuType == fmi2ModelExchange ? FmuInstance::Kind::ModelExchange : FmuInstance::Kind::CoSimulation, name, logger,
@@ -101,10 +106,7 @@ void fmi2FreeInstance(fmi2Component c) { delete mbsc::fmi::fmi2::component(c); }
 
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance, fmi2Real startTime,
                                fmi2Boolean, fmi2Real) {
-  return guarded(c, [&](FmuInstance& i) {
-    i.setup(toleranceDefined != fmi2False, tolerance, startTime);
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.setup(toleranceDefined != fmi2False, tolerance, startTime); });
 }
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
   return guarded(c, [](FmuInstance& i) { return i.enter_initialization(); });
@@ -159,8 +161,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate* state) {
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
   return guarded(c, [&](FmuInstance& i) {
     if (!state) return mbsc::fmi::kError;
-    i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
-    return mbsc::fmi::kOK;
+    return i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
   });
 }
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate* state) {
@@ -183,7 +184,8 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte b
   return guarded(c, [&](FmuInstance& i) {
     if (!state || !bytes) return mbsc::fmi::kError;
     const auto data = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state));
-    if (data.size() != size) return i.fail("the buffer for the serialized state has the wrong size");
+    if (data.size() != size)
+      return i.refuse("serialize into a buffer of " + std::to_string(size) + " bytes", std::to_string(data.size()));
     std::memcpy(bytes, data.data(), size);
     return mbsc::fmi::kOK;
   });
@@ -193,7 +195,7 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size
     if (!bytes || !state) return mbsc::fmi::kError;
     FmuInstance::Snapshot s;
     if (!i.deserialize(reinterpret_cast<const unsigned char*>(bytes), size, s))
-      return i.fail("the serialized state is not one of this FMU's");
+      return i.refuse("restore these bytes", "bytes serialized by this FMU");
     delete static_cast<FmuInstance::Snapshot*>(*state);
     *state = new FmuInstance::Snapshot(std::move(s));
     return mbsc::fmi::kOK;

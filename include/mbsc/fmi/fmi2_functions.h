@@ -65,6 +65,58 @@ typedef struct {
   fmi2Real nextEventTime;
 } fmi2EventInfo;
 
+/* An FMU compiled into its importer from sources names its functions with the prefix
+ * FMI2_FUNCTION_PREFIX (the model identifier and '_'), as the standard provides: defined,
+ * every function below is declared and defined under the prefixed name. */
+#ifdef FMI2_FUNCTION_PREFIX
+#define MBSC_FMI2_PASTE(a, b) a##b
+#define MBSC_FMI2_NAME(a, b) MBSC_FMI2_PASTE(a, b)
+#define fmi2GetTypesPlatform MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetTypesPlatform)
+#define fmi2GetVersion MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetVersion)
+#define fmi2SetDebugLogging MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetDebugLogging)
+#define fmi2Instantiate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2Instantiate)
+#define fmi2FreeInstance MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2FreeInstance)
+#define fmi2SetupExperiment MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetupExperiment)
+#define fmi2EnterInitializationMode MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2EnterInitializationMode)
+#define fmi2ExitInitializationMode MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2ExitInitializationMode)
+#define fmi2Terminate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2Terminate)
+#define fmi2Reset MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2Reset)
+#define fmi2GetReal MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetReal)
+#define fmi2GetInteger MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetInteger)
+#define fmi2GetBoolean MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetBoolean)
+#define fmi2GetString MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetString)
+#define fmi2SetReal MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetReal)
+#define fmi2SetInteger MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetInteger)
+#define fmi2SetBoolean MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetBoolean)
+#define fmi2SetString MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetString)
+#define fmi2GetFMUstate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetFMUstate)
+#define fmi2SetFMUstate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetFMUstate)
+#define fmi2FreeFMUstate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2FreeFMUstate)
+#define fmi2SerializedFMUstateSize MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SerializedFMUstateSize)
+#define fmi2SerializeFMUstate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SerializeFMUstate)
+#define fmi2DeSerializeFMUstate MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2DeSerializeFMUstate)
+#define fmi2GetDirectionalDerivative MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetDirectionalDerivative)
+#define fmi2EnterEventMode MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2EnterEventMode)
+#define fmi2NewDiscreteStates MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2NewDiscreteStates)
+#define fmi2EnterContinuousTimeMode MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2EnterContinuousTimeMode)
+#define fmi2CompletedIntegratorStep MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2CompletedIntegratorStep)
+#define fmi2SetTime MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetTime)
+#define fmi2SetContinuousStates MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetContinuousStates)
+#define fmi2GetDerivatives MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetDerivatives)
+#define fmi2GetEventIndicators MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetEventIndicators)
+#define fmi2GetContinuousStates MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetContinuousStates)
+#define fmi2GetNominalsOfContinuousStates MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetNominalsOfContinuousStates)
+#define fmi2SetRealInputDerivatives MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2SetRealInputDerivatives)
+#define fmi2GetRealOutputDerivatives MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetRealOutputDerivatives)
+#define fmi2DoStep MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2DoStep)
+#define fmi2CancelStep MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2CancelStep)
+#define fmi2GetStatus MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetStatus)
+#define fmi2GetRealStatus MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetRealStatus)
+#define fmi2GetIntegerStatus MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetIntegerStatus)
+#define fmi2GetBooleanStatus MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetBooleanStatus)
+#define fmi2GetStringStatus MBSC_FMI2_NAME(FMI2_FUNCTION_PREFIX, fmi2GetStringStatus)
+#endif
+
 /* Common to both kinds. */
 MBSC_FMI2_EXPORT const char* fmi2GetTypesPlatform(void);
 MBSC_FMI2_EXPORT const char* fmi2GetVersion(void);

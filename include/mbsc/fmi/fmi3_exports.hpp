@@ -8,6 +8,7 @@
 /// and MBSC_FMU_MODEL_EXCHANGE / MBSC_FMU_CO_SIMULATION (1 for the kinds it exports).
 /// Every variable is a Float64; scheduled execution, clocks and the typed accessors of
 /// other types answer with an error. No exception leaves a function.
+#include <cstring>
 #include <new>
 #include <string>
 
@@ -37,7 +38,10 @@ fmi3Status guarded(fmi3Instance c, Body body) {
   try {
     return static_cast<fmi3Status>(body(component(c)->instance));
   } catch (const std::exception& e) {
-    component(c)->instance.log(kFatal, "logError", std::string("internal error: ") + e.what());
+    try {
+      component(c)->instance.log(kFatal, "logError", std::string("internal error: ") + e.what());
+    } catch (...) {
+    }
     return fmi3Fatal;
   } catch (...) {
     return fmi3Fatal;
@@ -57,7 +61,7 @@ inline fmi3Instance instantiate(FmuInstance::Kind kind, fmi3String token, fmi3Bo
     if (logger) logger(env, fmi3Error, "logError", why);
     return nullptr;
   };
-  if (!token || std::string(token) != mbsc_fmu_model().token)
+  if (!token || std::strcmp(token, mbsc_fmu_model().token) != 0)
     return refuse("the instantiation token is not this FMU's (modelDescription.xml and the binary are from different "
                   "exports)");
   if (kind == FmuInstance::Kind::ModelExchange && !MBSC_FMU_MODEL_EXCHANGE)
@@ -96,9 +100,13 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String, fmi3String instantiationTo
   return mbsc::fmi::fmi3::instantiate(FmuInstance::Kind::ModelExchange, instantiationToken, loggingOn, env, logMessage);
 }
 fmi3Instance fmi3InstantiateCoSimulation(fmi3String, fmi3String instantiationToken, fmi3String, fmi3Boolean,
-                                         fmi3Boolean loggingOn, fmi3Boolean, fmi3Boolean, const fmi3ValueReference[],
-                                         size_t, fmi3InstanceEnvironment env, fmi3LogMessageCallback logMessage,
-                                         fmi3IntermediateUpdateCallback) {
+                                         fmi3Boolean loggingOn, fmi3Boolean eventModeUsed, fmi3Boolean,
+                                         const fmi3ValueReference[], size_t, fmi3InstanceEnvironment env,
+                                         fmi3LogMessageCallback logMessage, fmi3IntermediateUpdateCallback) {
+  if (eventModeUsed) {
+    if (logMessage) logMessage(env, fmi3Error, "logError", "this FMU has no event mode in co-simulation (hasEventMode is false)");
+    return nullptr;
+  }
   return mbsc::fmi::fmi3::instantiate(FmuInstance::Kind::CoSimulation, instantiationToken, loggingOn, env, logMessage);
 }
 fmi3Instance fmi3InstantiateScheduledExecution(fmi3String, fmi3String, fmi3String, fmi3Boolean, fmi3Boolean,
@@ -113,7 +121,7 @@ void fmi3FreeInstance(fmi3Instance c) { delete mbsc::fmi::fmi3::component(c); }
 fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean, fmi3Float64) {
   return guarded(c, [&](FmuInstance& i) {
-    i.setup(toleranceDefined, tolerance, startTime);
+    if (const auto s = i.setup(toleranceDefined, tolerance, startTime); s != mbsc::fmi::kOK) return s;
     return i.enter_initialization();
   });
 }
@@ -201,8 +209,7 @@ fmi3Status fmi3GetFMUState(fmi3Instance c, fmi3FMUState* state) {
 fmi3Status fmi3SetFMUState(fmi3Instance c, fmi3FMUState state) {
   return guarded(c, [&](FmuInstance& i) {
     if (!state) return mbsc::fmi::kError;
-    i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
-    return mbsc::fmi::kOK;
+    return i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
   });
 }
 fmi3Status fmi3FreeFMUState(fmi3Instance c, fmi3FMUState* state) {
@@ -225,7 +232,8 @@ fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState state, fmi3Byte by
   return guarded(c, [&](FmuInstance& i) {
     if (!state || !bytes) return mbsc::fmi::kError;
     const auto data = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state));
-    if (data.size() != size) return i.fail("the buffer for the serialized state has the wrong size");
+    if (data.size() != size)
+      return i.refuse("serialize into a buffer of " + std::to_string(size) + " bytes", std::to_string(data.size()));
     std::memcpy(bytes, data.data(), size);
     return mbsc::fmi::kOK;
   });
@@ -234,7 +242,7 @@ fmi3Status fmi3DeserializeFMUState(fmi3Instance c, const fmi3Byte bytes[], size_
   return guarded(c, [&](FmuInstance& i) {
     if (!bytes || !state) return mbsc::fmi::kError;
     FmuInstance::Snapshot s;
-    if (!i.deserialize(bytes, size, s)) return i.fail("the serialized state is not one of this FMU's");
+    if (!i.deserialize(bytes, size, s)) return i.refuse("restore these bytes", "bytes serialized by this FMU");
     delete static_cast<FmuInstance::Snapshot*>(*state);
     *state = new FmuInstance::Snapshot(std::move(s));
     return mbsc::fmi::kOK;

@@ -10,25 +10,30 @@
 /// first (kStateNames order), then their derivatives, the inputs, the parameters, the
 /// outputs, and last the time (FMI 3.0's independent variable).
 ///
-/// Initialization assembles the state as `mbsc run` does: the entries the model's
-/// `initial` statements give, and those the importer set before leaving initialization
-/// mode, are kept; the other coordinates and speeds are solved from the constraints
-/// (runtime/assemble.hpp). Model exchange: after a completed integrator step whose
-/// constraint residuals exceed the tolerance the FMU asks for a step event, in which it
-/// projects the state back onto the constraints (runtime/projection.hpp).
+/// Initialization assembles the state as `mbsc run` does (runtime/assemble.hpp): the
+/// entries the model's `initial` statements give (initial="exact") are kept, with the
+/// values the importer set; the others (initial="approx") are solved from the
+/// constraints, what the importer set for them serving as the first guess. It happens
+/// once per change, when initialization mode ends or an initial unknown is read in it.
+/// Model exchange: between the importer's steps the FMU re-selects the independent
+/// speeds (models with `alternative` sets), and asks for a step event where the
+/// constraint residuals or a unit quaternion's norm drifted beyond the tolerance; in the
+/// event it projects the state back (runtime/projection.hpp) and normalizes.
 /// Co-simulation: each doStep integrates with the runtime's simulation loop
-/// (runtime/simulate.hpp: an embedded Runge-Kutta method, projection, re-selection of the
-/// independent speeds), inputs held constant over the step.
+/// (runtime/simulate.hpp: an embedded Runge-Kutta method, projection, unit quaternions,
+/// re-selection of the independent speeds), inputs held constant over the step.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 #include "mbsc/runtime/assemble.hpp"
 #include "mbsc/runtime/model_table.hpp"
+#include "mbsc/runtime/partition_selector.hpp"
 #include "mbsc/runtime/projection.hpp"
 #include "mbsc/runtime/simulate.hpp"
 
@@ -67,72 +72,61 @@ class FmuInstance {
   /// Messages to the importer: (status, category, text).
   using Log = std::function<void(Status, const char*, const std::string&)>;
 
-  FmuInstance(const FmuModel& m, Kind kind, Log log) : m_(m), kind_(kind), log_(std::move(log)) { reset(); }
+  FmuInstance(const FmuModel& m, Kind kind, Log log)
+      : m_(m), kind_(kind), log_(std::move(log)),
+        selector_(runtime::PartitionFunctions{m.table.npartitions, m.table.rhs_partition, m.table.conditioning_partition}) {
+    reset();
+  }
 
   const FmuModel& model() const { return m_; }
   Kind kind() const { return kind_; }
   Mode mode() const { return mode_; }
   void set_logging(bool on) { logging_ = on; }
 
-  /// Back to the state right after instantiation.
+  /// Back to the state right after instantiation (also from a failure).
   void reset() {
     const auto& T = m_.table;
     x_.assign(m_.start, m_.start + T.nx);
     u_.assign(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
     p_.assign(T.param_defaults, T.param_defaults + T.np);
-    set_by_user_.assign(static_cast<std::size_t>(T.nx), false);
     t_ = 0.0;
     rtol_ = 1e-6;
-    project_next_ = false;
+    event_pending_ = false;
+    assembled_ = false;
     dirty_ = true;
+    selector_.set_active(0);
     mode_ = Mode::Instantiated;
   }
 
-  void setup(bool tolerance_defined, double tolerance, double start_time) {
+  /// The experiment's tolerance and start time (FMI 2.0: after instantiation only).
+  Status setup(bool tolerance_defined, double tolerance, double start_time) {
+    if (mode_ != Mode::Instantiated) return refuse("set up the experiment", "after instantiation or reset");
+    if (!std::isfinite(start_time)) return refuse("start at a time that is not finite", "at a finite time");
     if (tolerance_defined && tolerance > 0 && std::isfinite(tolerance)) rtol_ = tolerance;
     t_ = start_time;
     dirty_ = true;
+    return kOK;
   }
   Status enter_initialization() {
     if (mode_ != Mode::Instantiated) return refuse("enter initialization mode", "after instantiation or reset");
     mode_ = Mode::Initialization;
     return kOK;
   }
-  /// Assembles the state (see the file's comment), checks the rhs there, then enters
-  /// event mode (model exchange) or step mode (co-simulation).
+  /// Assembles the state (see the file's comment) unless done since the last change,
+  /// checks the rhs there, then enters event mode (model exchange) or step mode
+  /// (co-simulation).
   Status exit_initialization() {
     if (mode_ != Mode::Initialization) return refuse("exit initialization mode", "in initialization mode");
-    const auto& T = m_.table;
-    if (T.full_state_layout() && (T.nposc > 0 || T.nc > 0)) {
-      runtime::AssemblyModel am{T.nq,
-                                T.nu,
-                                T.nposc,
-                                T.nc,
-                                T.nposc > 0 ? T.position_constraints : nullptr,
-                                T.nposc > 0 ? T.position_jacobian : nullptr,
-                                T.velocity_constraints,
-                                T.constraint_jacobian,
-                                T.position_constraint_names,
-                                T.constraint_names,
-                                T.state_names,
-                                m_.quaternion_indices,
-                                m_.nquaternions};
-      std::vector<bool> given_q(static_cast<std::size_t>(T.nq)), given_u(static_cast<std::size_t>(T.nu));
-      for (int i = 0; i < T.nx; ++i) {
-        const bool g = m_.given[i] != 0 || set_by_user_[static_cast<std::size_t>(i)];
-        if (i < T.nq) given_q[static_cast<std::size_t>(i)] = g;
-        else given_u[static_cast<std::size_t>(i - T.nq)] = g;
-      }
-      const runtime::AssemblyResult a = runtime::assemble(am, t_, x_, given_q, given_u, u_.data(), p_.data());
-      if (!a.ok()) return fail("the initial state is inconsistent: " + a.message);
-      if (a.near_singular) log(kWarning, "logWarning", "the initial state is " + a.message);
-    }
+    if (!ensure_assembled()) return kError;
+    if (reselects()) selector_.update(t_, x_.data(), u_.data(), p_.data());  // the start may be singular for set 0
     dirty_ = true;
     if (!evaluate()) return fail("at the start (t = " + number(t_) + "): " + failure_);
     mode_ = kind_ == Kind::ModelExchange ? Mode::Event : Mode::Step;
     return kOK;
   }
   Status terminate() {
+    if (mode_ == Mode::Failed || mode_ == Mode::Instantiated || mode_ == Mode::Terminated)
+      return refuse("terminate", "after initialization, before a failure");
     mode_ = Mode::Terminated;
     return kOK;
   }
@@ -140,6 +134,9 @@ class FmuInstance {
   // ---- values ----
   Status get_real(const unsigned* vr, std::size_t n, double* values) {
     const FmuLayout L = m_.layout();
+    // In initialization mode the initial unknowns (the states assembly solves, the
+    // derivatives, the outputs) are those of the assembled state.
+    if (mode_ == Mode::Initialization && !ensure_assembled()) return kError;
     for (std::size_t k = 0; k < n; ++k) {
       const unsigned r = vr[k];
       if (r < L.derivative(0)) values[k] = x_[r];
@@ -155,26 +152,26 @@ class FmuInstance {
     return kOK;
   }
   Status set_real(const unsigned* vr, std::size_t n, const double* values) {
+    if (mode_ == Mode::Failed || mode_ == Mode::Terminated) return refuse("set a value", "before termination or a failure");
     const FmuLayout L = m_.layout();
     const bool before_start = mode_ == Mode::Instantiated || mode_ == Mode::Initialization;
     for (std::size_t k = 0; k < n; ++k) {
       const unsigned r = vr[k];
       const double v = values[k];
-      if (!std::isfinite(v)) return fail("the value set for '" + name_of(r) + "' is not finite");
+      if (r >= L.count()) return unknown(r);
+      if (!std::isfinite(v)) return refuse("set '" + name_of(r) + "' to a value that is not finite", "to finite values");
       if (r < L.derivative(0)) {
         if (!before_start) return refuse("set the state variable '" + name_of(r) + "'", "before initialization ends");
         x_[r] = v;
-        set_by_user_[r] = true;
       } else if (r >= L.input(0) && r < L.param(0)) {
         u_[r - L.input(0)] = v;
       } else if (r >= L.param(0) && r < L.output(0)) {
         if (!before_start) return refuse("set the parameter '" + name_of(r) + "'", "before initialization ends (it is fixed)");
         p_[r - L.param(0)] = v;
-      } else if (r < L.count()) {
-        return refuse("set '" + name_of(r) + "'", "never: it is calculated");
       } else {
-        return unknown(r);
+        return refuse("set '" + name_of(r) + "'", "never: it is calculated");
       }
+      if (before_start) assembled_ = false;
       dirty_ = true;
     }
     return kOK;
@@ -182,23 +179,30 @@ class FmuInstance {
 
   // ---- model exchange ----
   Status set_time(double t) {
+    if (!in_model_exchange({Mode::Event, Mode::Continuous}, "set the time")) return kError;
+    if (!std::isfinite(t)) return refuse("set a time that is not finite", "finite times");
     t_ = t;
     dirty_ = true;
     return kOK;
   }
   Status set_states(const double* x, std::size_t n) {
-    if (n != x_.size()) return fail("expected " + std::to_string(x_.size()) + " states, got " + std::to_string(n));
+    if (!in_model_exchange({Mode::Event, Mode::Continuous}, "set the continuous states")) return kError;
+    if (n != x_.size()) return refuse("set " + std::to_string(n) + " states", std::to_string(x_.size()) + " at once");
     std::copy(x, x + n, x_.begin());
     dirty_ = true;
     return kOK;
   }
-  Status get_states(double* x, std::size_t n) const {
-    if (n != x_.size()) return kError;
+  Status get_states(double* x, std::size_t n) {
+    if (n != x_.size()) return refuse("get " + std::to_string(n) + " states", std::to_string(x_.size()) + " at once");
+    if (mode_ == Mode::Initialization && !ensure_assembled()) return kError;
     std::copy(x_.begin(), x_.end(), x);
     return kOK;
   }
   Status get_derivatives(double* xdot, std::size_t n) {
-    if (n != x_.size()) return fail("expected " + std::to_string(x_.size()) + " derivatives, got " + std::to_string(n));
+    if (n != x_.size()) return refuse("get " + std::to_string(n) + " derivatives", std::to_string(x_.size()) + " at once");
+    if (mode_ == Mode::Instantiated || mode_ == Mode::Failed)
+      return refuse("get the derivatives", "after entering initialization, before a failure");
+    if (mode_ == Mode::Initialization && !ensure_assembled()) return kError;
     if (!evaluate()) return fail("at t = " + number(t_) + ": " + failure_);
     std::copy(xdot_.begin(), xdot_.end(), xdot);
     return kOK;
@@ -208,31 +212,45 @@ class FmuInstance {
     return kOK;
   }
   Status enter_event_mode() {
+    if (!in_model_exchange({Mode::Event, Mode::Continuous}, "enter event mode")) return kError;
     mode_ = Mode::Event;
     return kOK;
   }
   Status enter_continuous_time_mode() {
+    if (!in_model_exchange({Mode::Event}, "enter continuous-time mode")) return kError;
     mode_ = Mode::Continuous;
     return kOK;
   }
-  /// A step event where the constraints drifted beyond the tolerance (full state only).
+  /// Between the importer's steps: re-selects the independent speeds (no event: the
+  /// state is unchanged), and asks for a step event where the constraints drifted beyond
+  /// the tolerance or a unit quaternion's norm left 1 by more.
   Status completed_integrator_step(bool& enter_event_mode) {
     enter_event_mode = false;
-    if (!projects()) return kOK;
-    double position = 0, velocity = 0;
-    if (!runtime::constraint_residuals(m_.table, t_, x_.data(), u_.data(), p_.data(), position, velocity))
-      return fail("the constraint residuals are not finite at t = " + number(t_));
-    const double scale = 1.0 + max_abs(x_);
-    if (position > rtol_ * scale || velocity > rtol_ * scale) project_next_ = enter_event_mode = true;
+    if (!in_model_exchange({Mode::Continuous}, "complete an integrator step")) return kError;
+    if (reselects() && selector_.update(t_, x_.data(), u_.data(), p_.data()) == 0) dirty_ = true;
+    const double tolerance = rtol_ * (1.0 + max_abs(x_));
+    if (projects()) {
+      double position = 0, velocity = 0;
+      if (!runtime::constraint_residuals(m_.table, t_, x_.data(), u_.data(), p_.data(), position, velocity))
+        return fail("the constraint residuals are not finite at t = " + number(t_));
+      if (position > tolerance || velocity > tolerance) event_pending_ = true;
+    }
+    for (int b = 0; b < m_.nquaternions; ++b)
+      if (std::fabs(quaternion_norm(b) - 1.0) > rtol_) event_pending_ = true;
+    enter_event_mode = event_pending_;
     return kOK;
   }
-  /// Event iteration: the projection asked for by completed_integrator_step.
+  /// Event iteration: the projection (and normalization) completed_integrator_step asked for.
   Status update_discrete_states(bool& values_changed) {
     values_changed = false;
-    if (!project_next_) return kOK;
-    project_next_ = false;
-    const runtime::ProjectionReport r = runtime::project(m_.table, t_, x_, u_.data(), p_.data());
-    if (!r.ok()) return fail("the projection onto the constraints failed at t = " + number(t_) + ": " + r.message);
+    if (!in_model_exchange({Mode::Event}, "update the discrete states")) return kError;
+    if (!event_pending_) return kOK;
+    event_pending_ = false;
+    if (projects()) {
+      const runtime::ProjectionReport r = runtime::project(m_.table, t_, x_, u_.data(), p_.data());
+      if (!r.ok()) return fail("the projection onto the constraints failed at t = " + number(t_) + ": " + r.message);
+    }
+    if (!normalize_quaternions()) return kError;
     dirty_ = true;
     values_changed = true;
     return kOK;
@@ -241,16 +259,18 @@ class FmuInstance {
   // ---- co-simulation ----
   /// Integrates from t to t + h (t must be this instance's time).
   Status do_step(double t, double h) {
-    if (mode_ != Mode::Step) return refuse("take a step", "in step mode (after initialization)");
-    if (!(h > 0) || !std::isfinite(h)) return fail("the communication step " + number(h) + " is not positive");
-    if (std::fabs(t - t_) > 1e-9 * std::max(1.0, std::fabs(t_)))
-      return fail("doStep at t = " + number(t) + " but the FMU is at t = " + number(t_));
+    if (kind_ != Kind::CoSimulation || mode_ != Mode::Step)
+      return refuse("take a step", "in co-simulation's step mode (after initialization)");
+    if (!(h > 0) || !std::isfinite(h)) return refuse("take the communication step " + number(h), "positive steps");
+    if (!std::isfinite(t) || std::fabs(t - t_) > 1e-9 * std::max(1.0, std::fabs(t_)))
+      return refuse("step from t = " + number(t), "from the FMU's time t = " + number(t_));
     const auto& T = m_.table;
     const std::vector<double> u = u_;
     runtime::ModelDynamics dyn(T, p_, [&u](double, double* out) {
       std::copy(u.begin(), u.end(), out);
       return 0;
     });
+    dyn.selector() = selector_;  // the independent set goes on from the last step
     runtime::StepperOptions so;
     so.rtol = rtol_;
     so.atol = rtol_ * 1e-3;
@@ -265,6 +285,7 @@ class FmuInstance {
     if (!r.ok()) return fail("the step from t = " + number(t_) + " failed: " + r.message);
     x_ = r.x;
     t_ = t_ + h;
+    selector_ = dyn.selector();
     dirty_ = true;
     return kOK;
   }
@@ -273,69 +294,92 @@ class FmuInstance {
   // ---- snapshots (get/set/serialize FMU state) ----
   struct Snapshot {
     std::vector<double> x, u, p;
-    std::vector<bool> set_by_user;
     double t, rtol;
     Mode mode;
-    bool project_next;
+    Kind kind;
+    bool event_pending, assembled;
+    int partition;
   };
-  Snapshot snapshot() const { return {x_, u_, p_, set_by_user_, t_, rtol_, mode_, project_next_}; }
-  void restore(const Snapshot& s) {
+  Snapshot snapshot() const {
+    return {x_, u_, p_, t_, rtol_, mode_, kind_, event_pending_, assembled_, selector_.active()};
+  }
+  Status restore(const Snapshot& s) {
+    if (s.kind != kind_ || s.x.size() != x_.size() || s.u.size() != u_.size() || s.p.size() != p_.size())
+      return refuse("restore a state of another instance kind or model", "states of this FMU and kind");
     x_ = s.x;
     u_ = s.u;
     p_ = s.p;
-    set_by_user_ = s.set_by_user;
     t_ = s.t;
     rtol_ = s.rtol;
     mode_ = s.mode;
-    project_next_ = s.project_next;
+    event_pending_ = s.event_pending;
+    assembled_ = s.assembled;
+    selector_.set_active(s.partition);
     dirty_ = true;
+    return kOK;
   }
   /// A snapshot as bytes: a tag, the sizes, then every number (the layout of this
   /// model's build only; a different model's bytes are refused by the tag and sizes).
   std::vector<unsigned char> serialize(const Snapshot& s) const {
-    std::vector<double> v = {kTag, static_cast<double>(s.x.size()), static_cast<double>(s.u.size()),
-                             static_cast<double>(s.p.size()), s.t, s.rtol, static_cast<double>(static_cast<int>(s.mode)),
-                             s.project_next ? 1.0 : 0.0};
+    std::vector<double> v = {kTag,
+                             static_cast<double>(s.x.size()),
+                             static_cast<double>(s.u.size()),
+                             static_cast<double>(s.p.size()),
+                             s.t,
+                             s.rtol,
+                             static_cast<double>(static_cast<int>(s.mode)),
+                             static_cast<double>(static_cast<int>(s.kind)),
+                             s.event_pending ? 1.0 : 0.0,
+                             s.assembled ? 1.0 : 0.0,
+                             static_cast<double>(s.partition)};
     v.insert(v.end(), s.x.begin(), s.x.end());
     v.insert(v.end(), s.u.begin(), s.u.end());
     v.insert(v.end(), s.p.begin(), s.p.end());
-    for (bool b : s.set_by_user) v.push_back(b ? 1.0 : 0.0);
     std::vector<unsigned char> bytes(v.size() * sizeof(double));
     std::memcpy(bytes.data(), v.data(), bytes.size());
     return bytes;
   }
+  /// The snapshot `bytes` hold, or false when they are not one of this FMU's (the tag,
+  /// the sizes, the mode and kind, finite numbers).
   bool deserialize(const unsigned char* bytes, std::size_t size, Snapshot& s) const {
+    constexpr std::size_t kHead = 11;
     const std::size_t nx = x_.size(), nu = u_.size(), np = p_.size();
-    const std::size_t count = 8 + 2 * nx + nu + np;
+    const std::size_t count = kHead + nx + nu + np;
     if (size != count * sizeof(double)) return false;
     std::vector<double> v(count);
     std::memcpy(v.data(), bytes, size);
+    for (double e : v)
+      if (!std::isfinite(e)) return false;
+    const auto in = [&](std::size_t i, double lo, double hi) { return v[i] >= lo && v[i] <= hi && v[i] == std::floor(v[i]); };
     if (v[0] != kTag || v[1] != static_cast<double>(nx) || v[2] != static_cast<double>(nu) ||
-        v[3] != static_cast<double>(np) || v[6] < 0 || v[6] > static_cast<double>(static_cast<int>(Mode::Failed)))
+        v[3] != static_cast<double>(np) || !(v[5] > 0) || !in(6, 0, static_cast<int>(Mode::Failed)) || !in(7, 0, 1) ||
+        !in(10, 0, std::max(0, m_.table.npartitions - 1)))
       return false;
     s.t = v[4];
     s.rtol = v[5];
     s.mode = static_cast<Mode>(static_cast<int>(v[6]));
-    s.project_next = v[7] != 0;
-    std::size_t at = 8;
+    s.kind = static_cast<Kind>(static_cast<int>(v[7]));
+    s.event_pending = v[8] != 0;
+    s.assembled = v[9] != 0;
+    s.partition = static_cast<int>(v[10]);
+    std::size_t at = kHead;
     s.x.assign(v.begin() + static_cast<long>(at), v.begin() + static_cast<long>(at + nx));
     at += nx;
     s.u.assign(v.begin() + static_cast<long>(at), v.begin() + static_cast<long>(at + nu));
     at += nu;
     s.p.assign(v.begin() + static_cast<long>(at), v.begin() + static_cast<long>(at + np));
-    at += np;
-    s.set_by_user.assign(nx, false);
-    for (std::size_t i = 0; i < nx; ++i) s.set_by_user[i] = v[at + i] != 0;
     return true;
   }
 
-  /// Logs an error and fails the instance (every later call but free and reset is refused).
+  /// Logs an error and fails the instance: every later call but reset, free, getting
+  /// values and FMU states is refused.
   Status fail(const std::string& message) {
     log(kError, "logError", message);
     mode_ = Mode::Failed;
     return kError;
   }
-  /// A call the standard does not allow in this mode: an error, the instance unharmed.
+  /// A call the standard does not allow now, or a bad argument: an error, the instance
+  /// unharmed.
   Status refuse(const std::string& what, const std::string& when) {
     log(kError, "logError", "cannot " + what + " now: only " + when);
     return kError;
@@ -345,11 +389,83 @@ class FmuInstance {
   }
 
  private:
-  static constexpr double kTag = 20260301.0;  // marks a serialized mbsc FMU state
+  static constexpr double kTag = 20261206.0;  // marks a serialized mbsc FMU state (format 2)
 
+  /// Whether the state has constraints to assemble and project onto (the full state).
   bool projects() const {
     const auto& T = m_.table;
     return T.full_state_layout() && (T.nposc > 0 || T.nc > 0);
+  }
+  bool reselects() const {
+    const auto& T = m_.table;
+    return T.npartitions > 1 && T.rhs_partition && T.conditioning_partition;
+  }
+  bool in_model_exchange(std::initializer_list<Mode> modes, const char* what) {
+    bool ok = kind_ == Kind::ModelExchange;
+    if (ok) {
+      ok = false;
+      for (Mode m : modes) ok = ok || m == mode_;
+    }
+    if (!ok) refuse(what, "in model exchange's event or continuous-time mode, as the standard orders the calls");
+    return ok;
+  }
+  double quaternion_norm(int b) const {
+    double n2 = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double e = x_[static_cast<std::size_t>(m_.quaternion_indices[4 * b + k])];
+      n2 += e * e;
+    }
+    return std::sqrt(n2);
+  }
+  /// Divides each unit quaternion of the state by its norm; one that is all zero fails.
+  bool normalize_quaternions() {
+    for (int b = 0; b < m_.nquaternions; ++b) {
+      const double n = quaternion_norm(b);
+      if (!(n > 0) || !std::isfinite(n)) {
+        fail(std::string("the unit quaternion of '") + m_.table.state_names[m_.quaternion_indices[4 * b]] +
+             "' is zero or not finite: no rotation");
+        return false;
+      }
+      for (int k = 0; k < 4; ++k) x_[static_cast<std::size_t>(m_.quaternion_indices[4 * b + k])] /= n;
+    }
+    return true;
+  }
+  /// The start the values set so far give: quaternions made unit, then (full state with
+  /// constraints) the coordinates and speeds the model does not give solved from the
+  /// constraints, the others' values kept. Once per change.
+  bool ensure_assembled() {
+    if (assembled_) return true;
+    if (!normalize_quaternions()) return false;
+    if (projects()) {
+      const auto& T = m_.table;
+      runtime::AssemblyModel am{T.nq,
+                                T.nu,
+                                T.nposc,
+                                T.nc,
+                                T.nposc > 0 ? T.position_constraints : nullptr,
+                                T.nposc > 0 ? T.position_jacobian : nullptr,
+                                T.velocity_constraints,
+                                T.constraint_jacobian,
+                                T.position_constraint_names,
+                                T.constraint_names,
+                                T.state_names,
+                                m_.quaternion_indices,
+                                m_.nquaternions};
+      std::vector<bool> given_q(static_cast<std::size_t>(T.nq)), given_u(static_cast<std::size_t>(T.nu));
+      for (int i = 0; i < T.nx; ++i) {
+        if (i < T.nq) given_q[static_cast<std::size_t>(i)] = m_.given[i] != 0;
+        else given_u[static_cast<std::size_t>(i - T.nq)] = m_.given[i] != 0;
+      }
+      const runtime::AssemblyResult a = runtime::assemble(am, t_, x_, given_q, given_u, u_.data(), p_.data());
+      if (!a.ok()) {
+        fail("the initial state is inconsistent: " + a.message);
+        return false;
+      }
+      if (a.near_singular) log(kWarning, "logWarning", "the initial state is " + a.message);
+    }
+    assembled_ = true;
+    dirty_ = true;
+    return true;
   }
   static double max_abs(const std::vector<double>& v) {
     double m = 0;
@@ -370,25 +486,28 @@ class FmuInstance {
     if (r < L.output(0)) return T.param_names[r - L.param(0)];
     if (r < L.time()) return T.output_names[r - L.output(0)];
     if (r == L.time()) return "time";
-    return "#" + std::to_string(r);
+    return "value reference " + std::to_string(r);
   }
   Status unknown(unsigned r) {
     log(kError, "logError", "no variable has the value reference " + std::to_string(r));
     return kError;
   }
-  /// The derivatives and outputs at the current (t, x, u, p), once per change.
+  /// The derivatives and outputs at the current (t, x, u, p), once per change, through
+  /// the active independent set.
   bool evaluate() {
     if (!dirty_) return true;
     const auto& T = m_.table;
     xdot_.assign(static_cast<std::size_t>(T.nx), 0.0);
     y_.assign(static_cast<std::size_t>(std::max(1, T.ny)), 0.0);
-    if (const int s = T.rhs(t_, x_.data(), u_.data(), p_.data(), xdot_.data()); s != 0) {
+    const int s = reselects() ? selector_.rhs(t_, x_.data(), u_.data(), p_.data(), xdot_.data())
+                              : T.rhs(t_, x_.data(), u_.data(), p_.data(), xdot_.data());
+    if (s != 0) {
       failure_ = "the rhs failed: " + std::string(runtime::rhs_status_meaning(s));
       return false;
     }
     if (T.ny > 0) {
-      if (const int s = T.outputs(t_, x_.data(), u_.data(), p_.data(), y_.data()); s != 0) {
-        failure_ = "the outputs failed: " + std::string(runtime::rhs_status_meaning(s));
+      if (const int so = T.outputs(t_, x_.data(), u_.data(), p_.data(), y_.data()); so != 0) {
+        failure_ = "the outputs failed: " + std::string(runtime::rhs_status_meaning(so));
         return false;
       }
     }
@@ -402,9 +521,9 @@ class FmuInstance {
   bool logging_ = false;
   Mode mode_ = Mode::Instantiated;
   std::vector<double> x_, u_, p_, xdot_, y_;
-  std::vector<bool> set_by_user_;
   double t_ = 0.0, rtol_ = 1e-6;
-  bool dirty_ = true, project_next_ = false;
+  bool dirty_ = true, event_pending_ = false, assembled_ = false;
+  runtime::PartitionSelector selector_;
   std::string failure_;
 };
 

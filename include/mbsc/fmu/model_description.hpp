@@ -5,7 +5,8 @@
 /// references are FmuLayout's (include/mbsc/fmi/fmu_instance.hpp):
 ///
 ///   states x          local, continuous; initial exact where the model's `initial`
-///                     fixes them, approx where assembly solves them from the constraints
+///                     fixes them or nothing is assembled, approx where assembly solves
+///                     them from the constraints
 ///   der(x)            local, continuous, calculated; `derivative` names the state
 ///   inputs            input, continuous, start 0
 ///   parameters        parameter, fixed, exact, start the model's default
@@ -28,6 +29,9 @@ struct FmuDescription {
   std::string description;        // of the model (its file)
   std::string generation_tool;    // "mbsc 0.1.0"
   int nq = 0;                     // the states' first nq entries are coordinates, the rest speeds
+  /// Whether the FMU assembles its start from the constraints (the full state of a model
+  /// with constraints: FmuInstance's rule); else every state's start is exact.
+  bool assembles = false;
   std::vector<std::string> states;
   std::vector<double> start;
   std::vector<bool> given;

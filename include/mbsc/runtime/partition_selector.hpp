@@ -71,6 +71,10 @@ class PartitionSelector {
   }
 
   int active() const { return active_; }
+  /// Makes partition k active (a restored snapshot's); out of range is ignored.
+  void set_active(int k) {
+    if (k >= 0 && k < f_.count) active_ = k;
+  }
   /// The active partition's reciprocal condition number at the last update.
   double rcond() const { return rcond_; }
   int switches() const { return switches_; }
