@@ -228,7 +228,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t3 = x[14]*x[14];
   const double t4 = -t3*c0*p[1];
   const double t5 = -s2*t0*p[0];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       -p[1]*s0, s1*p[2],
       c0*p[1], -p[2]*c1};
@@ -287,7 +287,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t0 = x[11]*x[11];
   const double t1 = x[17]*x[17];
   const double t2 = x[14]*x[14];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       -p[1]*s0, s1*p[2],
       c0*p[1], -p[2]*c1};
@@ -316,7 +316,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t1 = x[17]*x[17];
   const double t2 = x[14]*x[14];
   const double t3 = -t2*c0*p[1];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       -p[1]*s0, s1*p[2],
       c0*p[1], -p[2]*c1};
@@ -605,7 +605,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t6 = x[17]*x[17];
   const double t7 = x[14]*x[14];
   const double t8 = p[0]*c2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       t0, t1,
       t2, t3};
@@ -616,7 +616,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
       t2, t3};

@@ -123,7 +123,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 6 state-free pivots",
+    "subsystem 'four_bar': dependent block B*, core left by 6 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.3, 1.0, 0.8, 0.9, 9.81, 0.3, 1.0, 0.8, 0.0};

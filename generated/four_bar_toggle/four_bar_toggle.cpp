@@ -230,7 +230,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t1 = x[11]*x[11];
   const double t2 = x[17]*x[17];
   const double t3 = t0*p[1]*s0;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       p[1]*s0, -s1*p[2],
       -c0*p[1], p[2]*c1};
@@ -289,7 +289,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t0 = x[14]*x[14];
   const double t1 = x[11]*x[11];
   const double t2 = x[17]*x[17];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       p[1]*s0, -s1*p[2],
       -c0*p[1], p[2]*c1};
@@ -318,7 +318,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t1 = x[11]*x[11];
   const double t2 = x[17]*x[17];
   const double t3 = t0*p[1]*s0;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       p[1]*s0, -s1*p[2],
       -c0*p[1], p[2]*c1};
@@ -607,7 +607,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t6 = x[11]*x[11];
   const double t7 = x[17]*x[17];
   const double t8 = -p[0]*c2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       t0, t1,
       t2, t3};
@@ -618,7 +618,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
       t2, t3};
@@ -658,7 +658,7 @@ int rhs_alt1(double /*t*/, const double* x, const double* /*u*/, const double* p
   const double t4 = -t3*p[2]*c2;
   const double t5 = t0*p[1]*s1;
   const double t6 = -t3*s2*p[2];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       s0*p[0], p[1]*s1,
       -p[0]*c0, -c1*p[1]};
@@ -725,7 +725,7 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
   const double t6 = x[11]*x[11];
   const double t7 = x[17]*x[17];
   const double t8 = p[2]*c2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       t0, t1,
       t2, t3};
@@ -736,7 +736,7 @@ int conditioning_alt1(double /*t*/, const double* x, const double* /*u*/, const 
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
       t2, t3};
@@ -774,7 +774,7 @@ int rhs_alt2(double /*t*/, const double* x, const double* /*u*/, const double* p
   const double t2 = x[11]*x[11];
   const double t3 = x[17]*x[17];
   const double t4 = t0*p[1]*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       s0*p[0], -s1*p[2],
       -p[0]*c0, p[2]*c1};
@@ -842,7 +842,7 @@ int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const 
   const double t6 = x[11]*x[11];
   const double t7 = x[17]*x[17];
   const double t8 = -c2*p[1];
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_0[4] = {
       t0, t1,
       t2, t3};
@@ -853,7 +853,7 @@ int conditioning_alt2(double /*t*/, const double* x, const double* /*u*/, const 
     const double in_[12] = {p[0], p[1], p[2], p[5], p[6], p[7], x[2], x[5], x[8], x[11], x[14], x[17]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots
   double A_1[4] = {
       t0, t1,
       t2, t3};

@@ -127,7 +127,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank.w", "rocker.w", "coupler.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 6 state-free pivots",
+    "subsystem 'four_bar_toggle': dependent block B*, core left by 6 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.6, 0.6, 0.9, 1.0, 9.81, 0.6, 0.6, 0.9};

@@ -219,7 +219,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t15 = -t14*p[0]*c5;
   const double t16 = -c2*p[1]*t7;
   const double t17 = -s2*p[1]*t7;
-  // solve A_0 X = B_0 (6x6, 2 columns): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  // solve A_0 X = B_0 (6x6, 2 columns): subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots
   double A_0[36] = {
       p[1]*s0, 0.0, 0.0, -p[0]*s1, 0.0, 0.0,
       -c0*p[1], 0.0, 0.0, c1*p[0], 0.0, 0.0,
@@ -348,7 +348,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t4 = x[38]*x[38];
   const double t5 = x[32]*x[32];
   const double t6 = x[41]*x[41];
-  // solve A_0 X = B_0 (6x6, 2 columns): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  // solve A_0 X = B_0 (6x6, 2 columns): subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots
   double A_0[36] = {
       p[1]*s0, 0.0, 0.0, -p[0]*s1, 0.0, 0.0,
       -c0*p[1], 0.0, 0.0, c1*p[0], 0.0, 0.0,
@@ -408,7 +408,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t10 = x[32]*x[32];
   const double t11 = x[41]*x[41];
   const double t12 = -t11*p[0]*c5;
-  // solve A_0 X = B_0 (6x6, 2 columns): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  // solve A_0 X = B_0 (6x6, 2 columns): subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots
   double A_0[36] = {
       p[1]*s0, 0.0, 0.0, -p[0]*s1, 0.0, 0.0,
       -c0*p[1], 0.0, 0.0, c1*p[0], 0.0, 0.0,
@@ -1038,7 +1038,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t22 = x[38]*x[38];
   const double t23 = x[32]*x[32];
   const double t24 = x[41]*x[41];
-  // solve A_0 X = B_0 (6x6, 2 columns): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  // solve A_0 X = B_0 (6x6, 2 columns): subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots
   double A_0[36] = {
       t0, 0.0, 0.0, t1, 0.0, 0.0,
       t2, 0.0, 0.0, t3, 0.0, 0.0,
@@ -1057,7 +1057,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[18] = {p[0], p[1], p[3], p[4], x[2], x[5], x[8], x[11], x[14], x[17], x[20], x[23], x[26], x[29], x[32], x[35], x[38], x[41]};
     return all_finite(A_0, 36) && all_finite(in_, 18) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (6x6): subsystem '<top>': dependent block B*, core left by 14 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (6x6): subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots
   double A_1[36] = {
       t0, 0.0, 0.0, t1, 0.0, 0.0,
       t2, 0.0, 0.0, t3, 0.0, 0.0,

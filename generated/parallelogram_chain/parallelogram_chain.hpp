@@ -197,7 +197,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank_0.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 14 state-free pivots",
+    "subsystem 'parallelogram_chain': dependent block B*, core left by 14 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.5, 0.3, 9.81, 0.3, 0.5};

@@ -239,7 +239,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double c1 = std::cos(t0);
   const double t1 = p[2] - p[3];
   const double t2 = c1*t1;
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       c1*p[2]};
   double B_0[3] = {
@@ -296,7 +296,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double c0 = std::cos(t0);
   const double t1 = p[2] - p[3];
   const double t2 = c0*t1;
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       c0*p[2]};
   double B_0[3] = {
@@ -330,7 +330,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double c1 = std::cos(t0);
   const double t1 = p[2] - p[3];
   const double t2 = c1*t1;
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       c1*p[2]};
   double B_0[3] = {
@@ -478,7 +478,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t2 = p[2] - p[3];
   const double t3 = c0*t2;
   const double t4 = -c0*p[3];
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       t1};
   double B_0[3] = {
@@ -487,7 +487,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[9] = {p[0], p[1], p[2], p[3], p[5], x[6], x[9], x[12], x[13]};
     return all_finite(A_0, 1) && all_finite(in_, 9) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots
   double A_1[1] = {
       t1};
   double G_1[2] = {

@@ -106,7 +106,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"dtheta, D.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 4 state-free pivots",
+    "subsystem 'ring_disc': dependent block B*, core left by 4 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.67, 0.08, 1.0, 0.3, 9.8, 0.9272952180016122};

@@ -259,7 +259,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t2 = x[0] - x[3];
   const double t3 = x[10] - x[7];
   const double t4 = x[6] - x[9];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'ring_disc_joints': dependent block B*, core left by 2 state-free pivots
   double A_0[4] = {
       2.0*x[3] - 2.0*x[0], 2.0*x[4] - 2.0*x[1],
       -t0*t1, -t2*t1};
@@ -304,7 +304,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t2 = x[0] - x[3];
   const double t3 = x[10] - x[7];
   const double t4 = x[6] - x[9];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'ring_disc_joints': dependent block B*, core left by 2 state-free pivots
   double A_0[4] = {
       2.0*x[3] - 2.0*x[0], 2.0*x[4] - 2.0*x[1],
       -t0*t1, -t2*t1};
@@ -332,7 +332,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t2 = x[0] - x[3];
   const double t3 = x[10] - x[7];
   const double t4 = x[6] - x[9];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'ring_disc_joints': dependent block B*, core left by 2 state-free pivots
   double A_0[4] = {
       2.0*x[3] - 2.0*x[0], 2.0*x[4] - 2.0*x[1],
       -t0*t1, -t2*t1};
@@ -503,7 +503,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t8 = x[10] - x[7];
   const double t9 = x[6] - x[9];
   const double t10 = -p[2]*(t2*t3 + 1.0);
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'ring_disc_joints': dependent block B*, core left by 2 state-free pivots
   double A_0[4] = {
       t0, t1,
       t4, t6};
@@ -514,7 +514,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[12] = {p[0], p[1], p[2], p[3], x[0], x[1], x[3], x[4], x[6], x[7], x[9], x[10]};
     return all_finite(A_0, 4) && all_finite(in_, 12) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 2 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'ring_disc_joints': dependent block B*, core left by 2 state-free pivots
   double A_1[4] = {
       t0, t1,
       t4, t6};

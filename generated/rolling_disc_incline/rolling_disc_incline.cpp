@@ -405,7 +405,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t148 = -x[4]*t15;
   const double t149 = -t15*x[6];
   const double t150 = 0.25*t145;
-  // solve A_0 X = B_0 (2x2, 4 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (2x2, 4 columns): subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots
   double A_0[4] = {
       (s0*t6 + 2.0*t8*c0)*t15*t17, 2.0*t12*((t18*c0*c0) + s0)*t15*t17,
       -2.0*t12*t15*t17, t24*t25*t28 - t29*t28};
@@ -613,7 +613,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t143 = -x[3]*t15;
   const double t144 = -x[4]*t15;
   const double t145 = -t15*x[6];
-  // solve A_0 X = B_0 (2x2, 4 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (2x2, 4 columns): subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots
   double A_0[4] = {
       (s0*t6 + 2.0*t8*c0)*t15*t17, 2.0*t12*((t18*c0*c0) + s0)*t15*t17,
       -2.0*t12*t15*t17, t24*t25*t28 - t29*t28};
@@ -799,7 +799,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t147 = -x[3]*t15;
   const double t148 = -x[4]*t15;
   const double t149 = -t15*x[6];
-  // solve A_0 X = B_0 (2x2, 4 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (2x2, 4 columns): subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots
   double A_0[4] = {
       (s0*t6 + 2.0*t8*c0)*t15*t17, 2.0*t12*((t18*c0*c0) + s0)*t15*t17,
       -2.0*t12*t15*t17, t24*t25*t28 - t29*t28};
@@ -1282,7 +1282,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t153 = -x[3]*t15;
   const double t154 = -x[4]*t15;
   const double t155 = -t15*x[6];
-  // solve A_0 X = B_0 (2x2, 4 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (2x2, 4 columns): subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots
   double A_0[4] = {
       t18, t20,
       t21, t33};
@@ -1293,7 +1293,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[14] = {p[0], p[2], p[3], p[4], x[3], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12]};
     return all_finite(A_0, 4) && all_finite(in_, 14) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots
   double A_1[4] = {
       t18, t20,
       t21, t33};

@@ -100,7 +100,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"coin.wx, coin.wy, coin.wz"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 1 state-free pivots",
+    "subsystem 'rolling_disc_incline': dependent block B*, core left by 1 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {2.0, 9.81, 0.25, 0.05, 0.2};

@@ -203,7 +203,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   const double c1 = std::cos(x[2]);
   const double t0 = x[10]*x[10];
   const double t1 = x[13]*x[13];
-  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_0[1] = {
       -c0*p[1]};
   double B_0[2] = {
@@ -254,7 +254,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double c0 = std::cos(x[5]);
   const double s1 = std::sin(x[2]);
   const double c1 = std::cos(x[2]);
-  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_0[1] = {
       -c0*p[1]};
   double B_0[2] = {
@@ -280,7 +280,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double c1 = std::cos(x[2]);
   const double t0 = x[10]*x[10];
   const double t1 = x[13]*x[13];
-  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_0[1] = {
       -c0*p[1]};
   double B_0[2] = {
@@ -309,7 +309,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
   const double c1 = std::cos(x[2]);
   const double t0 = x[10]*x[10];
   const double t1 = x[13]*x[13];
-  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_0[1] = {
       -c0*p[1]};
   double B_0[2] = {
@@ -554,7 +554,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double c1 = std::cos(x[2]);
   const double t0 = -c0*p[1];
   const double t1 = -p[0]*c1;
-  // solve A_0 X = B_0 (1x1, 2 columns): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // solve A_0 X = B_0 (1x1, 2 columns): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_0[1] = {
       t0};
   double B_0[2] = {
@@ -563,7 +563,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[11] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], x[2], x[5], x[10], x[13]};
     return all_finite(A_0, 1) && all_finite(in_, 11) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 6 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots
   double A_1[1] = {
       t0};
   double G_1[1] = {

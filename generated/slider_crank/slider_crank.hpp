@@ -115,7 +115,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 6 state-free pivots",
+    "subsystem 'slider_crank': dependent block B*, core left by 6 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {

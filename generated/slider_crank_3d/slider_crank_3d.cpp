@@ -258,7 +258,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   const double t63 = t25 + t26;
   const double t64 = t22 + t36;
   const double t65 = t28 - x[4]*x[23];
-  // solve A_0 X = B_0 (4x4, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (4x4, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2
   double A_0[16] = {
       t6, t9, 0.0, 0.0,
       t11, t13, 0.0, 0.0,
@@ -307,7 +307,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   const double t100 = t85 + t96;
   const double t101 = t92 + x[18]*x[35];
   const double t102 = t94 + t83;
-  // solve A_1 X = B_1 (3x3, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2
+  // solve A_1 X = B_1 (3x3, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2
   double A_1[9] = {
       0.0, t72, t75,
       0.0, t77, t79,
@@ -566,7 +566,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t34 = 1.0/(c2*c2);
   const double t35 = x[31]*s2*c0*t34 + s0*s2*x[30]*t34;
   const double t36 = -t3;
-  // solve A_0 X = B_0 (4x4, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (4x4, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2
   double A_0[16] = {
       t2 - t0 + t3 + t4, 2.0*x[4]*x[3] + t5, 0.0, 0.0,
       t5 - 2.0*x[4]*x[3], t6 + t2 + t0 + t3, 0.0, 0.0,
@@ -602,7 +602,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t58 = x[35]*x[17];
   const double t59 = t47 + t48 + t58;
   const double t60 = t50 + t52;
-  // solve A_1 X = B_1 (3x3, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2
+  // solve A_1 X = B_1 (3x3, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2
   double A_1[9] = {
       0.0, t41, 2.0*x[16]*x[17] + t42,
       0.0, t42 - 2.0*x[16]*x[17], t37 + t38 + t39 - t40,
@@ -704,7 +704,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t62 = t25 + t26;
   const double t63 = t22 + t36;
   const double t64 = t28 - x[4]*x[23];
-  // solve A_0 X = B_0 (4x4, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (4x4, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2
   double A_0[16] = {
       t6, t9, 0.0, 0.0,
       t11, t13, 0.0, 0.0,
@@ -753,7 +753,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t99 = t84 + t95;
   const double t100 = t91 + x[18]*x[35];
   const double t101 = t93 + t82;
-  // solve A_1 X = B_1 (3x3, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2
+  // solve A_1 X = B_1 (3x3, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2
   double A_1[9] = {
       0.0, t71, t74,
       0.0, t76, t78,
@@ -1386,7 +1386,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t46 = x[31]*s2*c0*t45 + s0*s2*x[30]*t45;
   const double t47 = -t3;
   const double t48 = -(t47 + t9 + t0 + t1)*p[0];
-  // solve A_0 X = B_0 (4x4, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (4x4, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2
   double A_0[16] = {
       t5, t7, 0.0, 0.0,
       t8, t10, 0.0, 0.0,
@@ -1398,7 +1398,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t35, -t37*(c2*t40*c1*t42 + s2*t38*s1*t42) - 0.5*(2.0*x[25]*x[6]*p[0] + 2.0*x[4]*x[23]*p[0])*t31 - t37*(s2*t38*s1*t39 + c2*t40*t39*c1) - (c2*t44*s1*t39 - t43*s2*t39*c1)*t44 - 0.5*t34*(2.0*x[23]*x[3]*p[0] + 2.0*x[5]*x[25]*p[0]) + 0.5*(2.0*x[23]*x[5]*p[0] - 2.0*x[3]*x[25]*p[0])*t24 - t44*(c2*t44*s1*t42 - t43*s2*c1*t42) + (-(c2*t39*t46*c1 + c2*t43*s1*t39 - t44*s2*t39*c1)*t43) - (c2*t46*c1*t42 - t44*s2*c1*t42 + c2*t43*s1*t42)*t43 + 0.5*(2.0*x[4]*x[25]*p[0] - 2.0*x[23]*x[6]*p[0])*t29,
       t48, s2*p[1]*t43*t43 - c2*t37*t38*p[1] + (t27 + t28)*p[0]*t24 + p[0]*(t22 + t23)*t29 - (t19 + t33)*p[0]*t31 + t34*p[0]*(t25 - x[4]*x[23])};
   if (lu_solve<4, 2>(A_0, B_0) != 0) return all_finite(A_0, 16) && inputs_finite_() ? 1 : 2;
-  // B_1[0] = reciprocal condition number of A_1 (4x4): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2
+  // B_1[0] = reciprocal condition number of A_1 (4x4): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2
   double A_1[16] = {
       t5, t7, 0.0, 0.0,
       t8, t10, 0.0, 0.0,
@@ -1439,7 +1439,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t74 = x[35]*x[17];
   const double t75 = t63 + t64 + t74;
   const double t76 = t66 + t68;
-  // solve A_2 X = B_2 (3x3, 2 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2
+  // solve A_2 X = B_2 (3x3, 2 columns): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2
   double A_2[9] = {
       0.0, t53, t55,
       0.0, t56, t57,
@@ -1449,7 +1449,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       0.0, t65*t59 - t62*t69 - t71*t75 - t73*t76,
       0.0, (t63 + t74)*t73 - t59*(t67 + t68) + (t70 + x[18]*x[35])*t69 + (t72 + t61)*t75};
   if (lu_solve<3, 2>(A_2, B_2) != 0) return all_finite(A_2, 9) && inputs_finite_() ? 1 : 2;
-  // B_3[0] = reciprocal condition number of A_3 (3x3): subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2
+  // B_3[0] = reciprocal condition number of A_3 (3x3): subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2
   double A_3[9] = {
       0.0, t53, t55,
       0.0, t56, t57,

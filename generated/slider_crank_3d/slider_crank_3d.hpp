@@ -190,8 +190,8 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank.wx"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 1 of 2",
-    "subsystem '<top>': dependent block B*, core left by 10 state-free pivots, part 2 of 2",
+    "subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 1 of 2",
+    "subsystem 'slider_crank_3d': dependent block B*, core left by 10 state-free pivots, part 2 of 2",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {

@@ -240,7 +240,7 @@ int rhs(double t, const double* x, const double* /*u*/, const double* p, double*
   const double t5 = std::pow(t1, -2.5);
   const double t6 = t0*t5 - t4;
   const double t7 = 3.0*t0*p[2]*t5 - t4*p[2] + 1.0;
-  // solve A_0 X = B_0 (1x1, 4 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 4 columns): subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       t0 - p[2]*t2 + 1.0};
   double B_0[4] = {
@@ -343,7 +343,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t2 = 1.0/std::sqrt(t1);
   const double t3 = std::pow(t1, -1.5);
   const double t4 = std::pow(t1, -2.5);
-  // solve A_0 X = B_0 (1x1, 4 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 4 columns): subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       t0 - p[2]*t2 + 1.0};
   double B_0[4] = {
@@ -401,7 +401,7 @@ int forcing(double t, const double* x, const double* /*u*/, const double* p, dou
   const double t4 = std::pow(t1, -1.5);
   const double t5 = std::pow(t1, -2.5);
   const double t6 = 3.0*t0*p[2]*t5 - t4*p[2] + 1.0;
-  // solve A_0 X = B_0 (1x1, 4 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 4 columns): subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       t0 - p[2]*t2 + 1.0};
   double B_0[4] = {
@@ -627,7 +627,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t4 = p[2]*std::sqrt(t1);
   const double t5 = std::pow(t1, -1.5);
   const double t6 = std::pow(t1, -2.5);
-  // solve A_0 X = B_0 (1x1, 4 columns): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // solve A_0 X = B_0 (1x1, 4 columns): subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots
   double A_0[1] = {
       t3};
   double B_0[4] = {
@@ -636,7 +636,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[10] = {p[0], p[2], x[3], x[4], x[5], x[6], x[8], x[11], x[12], x[16]};
     return all_finite(A_0, 1) && all_finite(in_, 10) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 4 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots
   double A_1[1] = {
       t3};
   double G_1[3] = {

@@ -113,7 +113,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"ball.wx, ball.wy, ball.wz"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 4 state-free pivots",
+    "subsystem 'sphere_trough': dependent block B*, core left by 4 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {0.05, 9.8, 0.01, 5e-6, 1e4};

@@ -119,7 +119,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
 }
 
 int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_cartesian': dependent block B*
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {
@@ -138,7 +138,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
 }
 
 int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_cartesian': dependent block B*
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {

@@ -232,7 +232,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
     const double in_[8] = {p[0], p[2], x[0], x[1], x[2], x[3], x[4], x[5]};
     return all_finite(in_, 8);
   };
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {
@@ -262,7 +262,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
 }
 
 int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {
@@ -281,7 +281,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
 }
 
 int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots
   double A_0[1] = {
       2.0*x[0]};
   double B_0[3] = {
@@ -391,7 +391,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
   const double t2 = 2.0*x[2];
-  // solve A_0 X = B_0 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // solve A_0 X = B_0 (1x1, 3 columns): subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots
   double A_0[1] = {
       t0};
   double B_0[3] = {
@@ -400,7 +400,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[7] = {p[0], x[0], x[1], x[2], x[3], x[4], x[5]};
     return all_finite(A_0, 1) && all_finite(in_, 7) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem '<top>': dependent block B*, core left by 1 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (1x1): subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots
   double A_1[1] = {
       t0};
   double G_1[2] = {

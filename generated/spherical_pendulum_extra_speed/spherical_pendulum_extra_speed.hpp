@@ -85,7 +85,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"bob.v, bob.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 1 state-free pivots",
+    "subsystem 'spherical_pendulum_extra_speed': dependent block B*, core left by 1 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {1.0, 1.0, 9.81};

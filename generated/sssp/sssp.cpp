@@ -272,7 +272,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t4 = x[18] - x[15];
   const double t5 = x[13] - x[16];
   const double t6 = x[14] - x[17];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2
   double A_0[4] = {
       t0, t1,
       t0 - 2.0*x[3], t1 - 2.0*x[4]};
@@ -281,7 +281,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
       t2 - 2.0*x[5], t3 - 2.0*x[0], 2.0*t4*x[18] - 2.0*t4*x[15] + 2.0*x[13]*t5 - 2.0*x[16]*t5 - 2.0*t6*x[17] + 2.0*t6*x[14]};
   if (lu_solve_2x2<3>(A_0, B_0) != 0) return all_finite(A_0, 4) && inputs_finite_() ? 1 : 2;
   const double t7 = 2.0*(p[0]*p[1]);
-  // solve A_1 X = B_1 (1x1, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 2 of 2
+  // solve A_1 X = B_1 (1x1, 3 columns): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 2 of 2
   double A_1[1] = {
       s0*t7};
   double B_1[3] = {
@@ -348,7 +348,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t3 = x[18] - x[15];
   const double t4 = x[13] - x[16];
   const double t5 = x[14] - x[17];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2
   double A_0[4] = {
       t0, t1,
       t0 - 2.0*x[3], t1 - 2.0*x[4]};
@@ -380,7 +380,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t3 = x[18] - x[15];
   const double t4 = x[13] - x[16];
   const double t5 = x[14] - x[17];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2
   double A_0[4] = {
       t0, t1,
       t0 - 2.0*x[3], t1 - 2.0*x[4]};
@@ -692,7 +692,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t8 = x[18] - x[15];
   const double t9 = x[13] - x[16];
   const double t10 = x[14] - x[17];
-  // solve A_0 X = B_0 (2x2, 3 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2
+  // solve A_0 X = B_0 (2x2, 3 columns): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2
   double A_0[4] = {
       t0, t1,
       t2, t3};
@@ -703,7 +703,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[18] = {p[0], p[1], p[3], p[4], p[5], x[0], x[1], x[2], x[3], x[4], x[5], x[12], x[13], x[14], x[15], x[16], x[17], x[18]};
     return all_finite(A_0, 4) && all_finite(in_, 18) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2
   double A_1[4] = {
       t0, t1,
       t2, t3};
@@ -712,7 +712,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
       t5, t7};
   double B_1[5];
   B_1[0] = rcond_1norm<2, 2, false>(A_1, G_1, B_1 + 1);
-  // B_2[0] = reciprocal condition number of A_2 (1x1): subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 2 of 2
+  // B_2[0] = reciprocal condition number of A_2 (1x1): subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 2 of 2
   double A_2[1] = {
       s0*(2.0*(p[0]*p[1]))};
   double G_2[2] = {

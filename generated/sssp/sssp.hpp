@@ -145,8 +145,8 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"tip1.w, slider.u"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 1 of 2",
-    "subsystem '<top>': dependent block B*, core left by 8 state-free pivots, part 2 of 2",
+    "subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 1 of 2",
+    "subsystem 'sssp': dependent block B*, core left by 8 state-free pivots, part 2 of 2",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {1.0, 2.0, 0.0, 1.0, 2.0, 0.5, 9.81};

@@ -707,7 +707,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t21 = x[38]*x[38];
   const double t22 = x[35]*x[35];
   const double t23 = 2.0*c6;
-  // solve A_0 X = B_0 (4x4, 4 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (4x4, 4 columns): subsystem 'three_rrr': dependent block B*, core left by 8 state-free pivots
   double A_0[16] = {
       t0, 2.0*s1, 0.0, 0.5*t1*c2 + t2,
       t3, -2.0*c1, 0.0, t4 + 0.5*s2*t1,
@@ -823,7 +823,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t30 = -2.0*s5;
   const double t31 = -2.0*c5*t14;
   const double t32 = 2.0*c5;
-  // solve A_0 X = B_0 (4x4, 4 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (4x4, 4 columns): subsystem 'three_rrr': dependent block B*, core left by 8 state-free pivots
   double A_0[16] = {
       t16, 2.0*s2, 0.0, 0.5*t17*c6 + t18,
       t19, -2.0*c2, 0.0, t20 + 0.5*s6*t17,
@@ -919,7 +919,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
   const double t30 = -2.0*s5;
   const double t31 = -2.0*c5*t14;
   const double t32 = 2.0*c5;
-  // solve A_0 X = B_0 (4x4, 4 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (4x4, 4 columns): subsystem 'three_rrr': dependent block B*, core left by 8 state-free pivots
   double A_0[16] = {
       t16, 2.0*s2, 0.0, 0.5*t17*c6 + t18,
       t19, -2.0*c2, 0.0, t20 + 0.5*s6*t17,

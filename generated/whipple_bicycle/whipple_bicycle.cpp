@@ -800,7 +800,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t574 = t246*t563*x[24];
   const double t575 = -t246*x[27]*t560;
   const double t576 = t246*x[46]*x[24]*t122;
-  // solve A_0 X = B_0 (11x11, 4 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots
+  // solve A_0 X = B_0 (11x11, 4 columns): subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots
   double A_0[121] = {
       t11*x[4] + t12*x[3] + t13*x[5] + t14*x[6], t11*x[6] - t13*x[3] - t14*x[4] + t12*x[5], x[13]*t26 - t27*x[11] + x[12]*t28 - x[10]*t29, t30, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
       t37*x[6] - x[3]*t36 + x[5]*t38 + x[4]*t39, x[6]*t39 - x[3]*t38 - x[4]*t37 - t36*x[5], t26*x[11] + x[10]*t28 + t27*x[13] + x[12]*t29, x[13]*t29 - t27*x[12] - t28*x[11] + t26*x[10], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -1628,7 +1628,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t527 = t240*t516*x[24];
   const double t528 = -t240*x[27]*t513;
   const double t529 = t240*x[46]*x[24]*t122;
-  // solve A_0 X = B_0 (11x11, 4 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots
+  // solve A_0 X = B_0 (11x11, 4 columns): subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots
   double A_0[121] = {
       t11*x[4] + t12*x[3] + t13*x[5] + t14*x[6], t11*x[6] - t13*x[3] - t14*x[4] + t12*x[5], x[13]*t26 - t27*x[11] + x[12]*t28 - x[10]*t29, t30, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
       t37*x[6] - x[3]*t36 + x[5]*t38 + x[4]*t39, x[6]*t39 - x[3]*t38 - x[4]*t37 - t36*x[5], t26*x[11] + x[10]*t28 + t27*x[13] + x[12]*t29, x[13]*t29 - t27*x[12] - t28*x[11] + t26*x[10], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -2314,7 +2314,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t563 = t240*t552*x[24];
   const double t564 = -t240*x[27]*t549;
   const double t565 = t240*x[46]*x[24]*t122;
-  // solve A_0 X = B_0 (11x11, 4 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots
+  // solve A_0 X = B_0 (11x11, 4 columns): subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots
   double A_0[121] = {
       t11*x[4] + t12*x[3] + t13*x[5] + t14*x[6], t11*x[6] - t13*x[3] - t14*x[4] + t12*x[5], x[13]*t26 - t27*x[11] + x[12]*t28 - x[10]*t29, t30, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
       t37*x[6] - x[3]*t36 + x[5]*t38 + x[4]*t39, x[6]*t39 - x[3]*t38 - x[4]*t37 - t36*x[5], t26*x[11] + x[10]*t28 + t27*x[13] + x[12]*t29, x[13]*t29 - t27*x[12] - t28*x[11] + t26*x[10], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -4449,7 +4449,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t597 = t287*t586*x[24];
   const double t598 = -t287*x[27]*t583;
   const double t599 = t287*x[46]*x[24]*t135;
-  // solve A_0 X = B_0 (11x11, 4 columns): subsystem '<top>': dependent block B*, core left by 10 state-free pivots
+  // solve A_0 X = B_0 (11x11, 4 columns): subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots
   double A_0[121] = {
       t15, t16, t32, t33, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
       t43, t44, t45, t46, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
@@ -4478,7 +4478,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[57] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14], p[15], p[16], p[17], p[18], p[19], p[20], p[21], p[22], p[23], p[24], p[25], x[3], x[4], x[5], x[6], x[10], x[11], x[12], x[13], x[17], x[18], x[19], x[20], x[24], x[25], x[26], x[27], x[28], x[29], x[31], x[32], x[33], x[37], x[38], x[39], x[43], x[44], x[45], x[46], x[47], x[49], x[50], x[51]};
     return all_finite(A_0, 121) && all_finite(in_, 57) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (11x11): subsystem '<top>': dependent block B*, core left by 10 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (11x11): subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots
   double A_1[121] = {
       t15, t16, t32, t33, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
       t43, t44, t45, t46, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,

@@ -241,7 +241,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"rear_wheel.wy, rear_frame.wx, front_frame.wx"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 10 state-free pivots",
+    "subsystem 'whipple_bicycle': dependent block B*, core left by 10 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {

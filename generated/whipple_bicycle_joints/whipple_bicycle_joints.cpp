@@ -460,7 +460,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   const double t199 = x[33]*c6 - x[35]*s6;
   const double t200 = (R_front_wheel_02*x[41] + x[39]*R_front_wheel_00 + R_front_frame_01*x[40])*p[22] - x[37]*t5;
   const double t201 = -x[33]*s6 - x[35]*c6;
-  // solve A_0 X = B_0 (5x5, 4 columns): subsystem '<top>': dependent block B*, core left by 19 state-free pivots
+  // solve A_0 X = B_0 (5x5, 4 columns): subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots
   double A_0[25] = {
       s5*t6*c4*R_front_frame_21 + t7 - t12*c5 + s2*c3*p[4] - t13*s5*R_front_frame_21*s4 - c3*t14*c2, s2*t16*R_rear_wheel_21 + s2*t17*R_rear_wheel_21 - t18*c2*R_rear_wheel_21 - s2*c3*p[4]*R_rear_wheel_21*t21 + t22*c2*R_rear_wheel_21 - t6*R_front_frame_21*t23*t0 - s5*s4*t12 + t24*t13*R_front_frame_21, 0.0, 0.0, 0.0,
       t27 - t25*s5*c3*t21*t26 - t33*c3*s1*t21 + c1*c3*t21*t38 - t25*s5*c3*t39*t21, t40*p[4]*s0 + t41*t23*t0 + t49*c1*c3*t21 + t59*c3*s1*t21 + c0*p[4]*t60 - t24*t63, -c1*c3*t21, t64, 0.0,
@@ -923,7 +923,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t154 = x[33]*c6 - x[35]*s6;
   const double t155 = (R_front_wheel_02*x[41] + x[39]*R_front_wheel_00 + R_front_frame_01*x[40])*p[22] - x[37]*t5;
   const double t156 = -x[33]*s6 - x[35]*c6;
-  // solve A_0 X = B_0 (5x5, 4 columns): subsystem '<top>': dependent block B*, core left by 19 state-free pivots
+  // solve A_0 X = B_0 (5x5, 4 columns): subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots
   double A_0[25] = {
       s5*t6*c4*R_front_frame_21 + t7 - t11*c5 + s2*c3*p[4] - t12*s5*R_front_frame_21*s4 - c3*t13*c2, s2*t15*R_rear_wheel_21 + s2*t16*R_rear_wheel_21 - t17*c2*R_rear_wheel_21 - s2*c3*p[4]*R_rear_wheel_21*t20 + t21*c2*R_rear_wheel_21 - t6*R_front_frame_21*t22*t0 - s5*s4*t11 + t23*t12*R_front_frame_21, 0.0, 0.0, 0.0,
       t26 - t24*s5*c3*t20*t25 - t32*c3*s1*t20 + c1*c3*t20*t37 - t24*s5*c3*t38*t20, t39*p[4]*s0 + t40*t22*t0 + t48*c1*c3*t20 + t58*c3*s1*t20 + c0*p[4]*t59 - t23*t62, -c1*c3*t20, t63, 0.0,
@@ -1257,7 +1257,7 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   const double t185 = x[33]*c6 - x[35]*s6;
   const double t186 = (R_front_wheel_02*x[41] + x[39]*R_front_wheel_00 + R_front_frame_01*x[40])*p[22] - x[37]*t5;
   const double t187 = -x[33]*s6 - x[35]*c6;
-  // solve A_0 X = B_0 (5x5, 4 columns): subsystem '<top>': dependent block B*, core left by 19 state-free pivots
+  // solve A_0 X = B_0 (5x5, 4 columns): subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots
   double A_0[25] = {
       s5*t6*c4*R_front_frame_21 + t7 - t11*c5 + s2*c3*p[4] - t12*s5*R_front_frame_21*s4 - c3*t13*c2, s2*t15*R_rear_wheel_21 + s2*t16*R_rear_wheel_21 - t17*c2*R_rear_wheel_21 - s2*c3*p[4]*R_rear_wheel_21*t20 + t21*c2*R_rear_wheel_21 - t6*R_front_frame_21*t22*t0 - s5*s4*t11 + t23*t12*R_front_frame_21, 0.0, 0.0, 0.0,
       t26 - t24*s5*c3*t20*t25 - t32*c3*s1*t20 + c1*c3*t20*t37 - t24*s5*c3*t38*t20, t39*p[4]*s0 + t40*t22*t0 + t48*c1*c3*t20 + t58*c3*s1*t20 + c0*p[4]*t59 - t23*t62, -c1*c3*t20, t63, 0.0,
@@ -2432,7 +2432,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t181 = -x[33]*s6 - x[35]*c6;
   const double t182 = -(t89*t23*t0 - t96*t90)*p[22];
   const double t183 = (t90*s4 + t89*c4)*p[22];
-  // solve A_0 X = B_0 (5x5, 4 columns): subsystem '<top>': dependent block B*, core left by 19 state-free pivots
+  // solve A_0 X = B_0 (5x5, 4 columns): subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots
   double A_0[25] = {
       t14, t25, 0.0, 0.0, 0.0,
       t41, t66, t67, t68, 0.0,
@@ -2449,7 +2449,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[50] = {p[0], p[1], p[2], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14], p[15], p[16], p[17], p[18], p[19], p[20], p[21], p[22], p[23], p[24], p[25], x[6], x[7], x[8], x[15], x[16], x[17], x[18], x[19], x[21], x[22], x[23], x[27], x[28], x[29], x[33], x[34], x[35], x[36], x[37], x[39], x[40], x[41], x[42], x[43], x[44]};
     return all_finite(A_0, 25) && all_finite(in_, 50) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (5x5): subsystem '<top>': dependent block B*, core left by 19 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (5x5): subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots
   double A_1[25] = {
       t14, t25, 0.0, 0.0, 0.0,
       t41, t66, t67, t68, 0.0,

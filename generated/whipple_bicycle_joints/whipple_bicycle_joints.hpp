@@ -224,7 +224,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"theta_R_dot, rear_frame.wx, delta_dot"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 19 state-free pivots",
+    "subsystem 'whipple_bicycle_joints': dependent block B*, core left by 19 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {

@@ -229,7 +229,7 @@ int rhs(double /*t*/, const double* x, const double* u, const double* p, double*
   const double t3 = x[18]*x[18];
   const double t4 = x[15]*x[15];
   const double t5 = c2*s1 - c1*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_0[4] = {
       -c0*p[3], t0,
       0.0, 0.5*s1*t1 - 0.5*c1*t2};
@@ -296,7 +296,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   const double t1 = 2.0*x[6] - 2.0*x[9] - s1*p[6] - 2.0*p[9]*s2;
   const double t2 = 2.0*x[8] - 2.0*x[5] + t0 + 2.0*p[9]*c2;
   const double t3 = c2*s1 - c1*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_0[4] = {
       -c0*p[3], t0,
       0.0, 0.5*s1*t1 - 0.5*c1*t2};
@@ -330,7 +330,7 @@ int forcing(double /*t*/, const double* x, const double* u, const double* p, dou
   const double t3 = x[18]*x[18];
   const double t4 = x[15]*x[15];
   const double t5 = c2*s1 - c1*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_0[4] = {
       -c0*p[3], t0,
       0.0, 0.5*s1*t1 - 0.5*c1*t2};
@@ -361,7 +361,7 @@ int inverse_dynamics(double /*t*/, const double* x, const double* zdot, const do
   const double t3 = x[18]*x[18];
   const double t4 = x[15]*x[15];
   const double t5 = c2*s1 - c1*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_0[4] = {
       -c0*p[3], t0,
       0.0, 0.5*s1*t1 - 0.5*c1*t2};
@@ -649,7 +649,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   const double t4 = 0.5*s1*t2 - 0.5*c1*t3;
   const double t5 = p[9]*(c1*c2 + s2*s1);
   const double t6 = c2*s1 - c1*s2;
-  // solve A_0 X = B_0 (2x2, 2 columns): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // solve A_0 X = B_0 (2x2, 2 columns): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_0[4] = {
       t0, t1,
       0.0, t4};
@@ -660,7 +660,7 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
     const double in_[23] = {p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[8], p[9], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[15], x[16], x[17], x[18], x[19], x[20], x[21]};
     return all_finite(A_0, 4) && all_finite(in_, 23) ? 1 : 2;
   }
-  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem '<top>': dependent block B*, core left by 8 state-free pivots
+  // B_1[0] = reciprocal condition number of A_1 (2x2): subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots
   double A_1[4] = {
       t0, t1,
       0.0, t4};

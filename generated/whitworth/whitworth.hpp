@@ -143,7 +143,7 @@ inline constexpr const char* kFullStateNames[] = {
 inline constexpr const char* kPartitionNames[] = {"crank.w"};
 
 inline constexpr const char* kBlockNames[] = {
-    "subsystem '<top>': dependent block B*, core left by 8 state-free pivots",
+    "subsystem 'whitworth': dependent block B*, core left by 8 state-free pivots",
     "reduced mass matrix M z' = h"};
 
 inline constexpr double kParamDefaults[] = {

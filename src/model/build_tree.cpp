@@ -44,7 +44,7 @@ int Builder::declare_node(const std::vector<ast::StatementPtr>& body, const std:
                                     limits::kMaxNodes, prefix));
     return -1;
   }
-  checkpoint("declaring", fmt::format("subsystem '{}'", prefix.empty() ? std::string("<top>") : prefix), pos,
+  checkpoint("declaring", fmt::format("subsystem '{}'", prefix.empty() ? (m_.name.empty() ? std::string("the model") : m_.name) : prefix), pos,
              declared_nodes_, 0);
   Node node;
   node.name = prefix;

@@ -224,8 +224,12 @@ struct Model {
   /// (which branch of a closed loop the run starts on), not a fixed value.
   std::vector<NamedExpr> initial_guesses;
   int root() const { return static_cast<int>(nodes.size()) - 1; }
-  /// A node's name for messages: its dotted path, or "<top>" for the root.
-  std::string label(int n) const { return nodes[n].name.empty() ? "<top>" : nodes[n].name; }
+  /// A node's name for messages: its dotted path; the root is the model itself, named
+  /// as `model NAME` names it.
+  std::string label(int n) const {
+    if (!nodes[n].name.empty()) return nodes[n].name;
+    return name.empty() ? "the model" : name;
+  }
   /// Number of partitions (independent sets) the model declares: 1 + the most
   /// `alternative` statements at any node.
   int partition_count() const {
