@@ -22,9 +22,12 @@ std::vector<GiNaC::symbol> state_symbols(const model::Model& m, const sym::Eom& 
 }
 
 // The derivative of `f` over the blocks, or a function returning 4 (with NaN) where
-// `f` cannot be computed or forward mode cannot differentiate it.
+// `f` cannot be computed or forward mode cannot differentiate it. With a tree's
+// `residual`, the implicit form where it applies; its documentation is then
+// `implicit_doc` instead of the shell's.
 ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::vector<GiNaC::symbol>>& blocks,
-                            ir::FunctionSpec shell, long max_ops = 0, const TreeResidual* residual = nullptr) {
+                            ir::FunctionSpec shell, long max_ops = 0, const TreeResidual* residual = nullptr,
+                            const std::string& implicit_doc = "") {
   std::size_t columns = 0;
   for (const auto& b : blocks) columns += b.size();
   auto undefined = [&](std::string why) {
@@ -46,11 +49,7 @@ ir::FunctionSpec derivative(const ir::FunctionSpec& f, const std::vector<std::ve
       } catch (const sym::NotDifferentiable&) {
       }
     ir::FunctionSpec d = implicit ? std::move(*implicit) : sym::forward_derivative(f, blocks);
-    if (implicit) {
-      const auto at = shell.doc.rfind("; forward-mode derivatives of rhs");
-      if (at != std::string::npos)
-        shell.doc.replace(at, std::string::npos, ";\nimplicit form: the residual's forward-mode derivatives solved with the tree recursion's pivots");
-    }
+    if (implicit) shell.doc = implicit_doc;
     shell.steps = std::move(d.steps);
     shell.outputs = std::move(d.outputs);
     return shell;
@@ -71,11 +70,12 @@ ir::FunctionSpec rhs_jacobian_spec(const model::Model& m, const sym::Eom& eom, c
                                    const ir::FunctionSpec& rhs, long max_ops, const TreeResidual* residual) {
   std::vector<GiNaC::symbol> u;
   for (const auto& in : m.inputs) u.push_back(in.sym);
-  ir::FunctionSpec shell{"rhs_jacobian",
-                         "derivatives of the state derivative: OUT = (J_x = dxdot/dx, kNx x kNx, then J_u = dxdot/du,\n"
-                         "kNx x kNin), both row-major (J_u at OUT + kNx*kNx); forward-mode derivatives of rhs",
-                         "J", "kNx*kNx + kNx*kNin", {}, {}};
-  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell), max_ops, residual);
+  const std::string what =
+      "derivatives of the state derivative: OUT = (J_x = dxdot/dx, kNx x kNx, then J_u = dxdot/du,\n"
+      "kNx x kNin), both row-major (J_u at OUT + kNx*kNx)";
+  ir::FunctionSpec shell{"rhs_jacobian", what + "; forward-mode derivatives of rhs", "J", "kNx*kNx + kNx*kNin", {}, {}};
+  return derivative(rhs, {state_symbols(m, eom, minimal), u}, std::move(shell), max_ops, residual,
+                    what + ";\nimplicit form: the residual's forward-mode derivatives solved with the tree recursion's pivots");
 }
 
 ir::FunctionSpec inverse_dynamics_jacobian_spec(const model::Model& m, const sym::Eom& eom,

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // Generate, compile, cache and load a model for `mbsc run` (include/mbsc/run/compiled_model.hpp).
 #include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/run_setup.hpp"
 
 #include <dlfcn.h>
 #include <sys/stat.h>
@@ -292,10 +293,7 @@ std::unique_ptr<CompiledModel> compile_model(const CompileRequest& req, const mo
     for (std::size_t i = 0; i < m.inputs.size(); ++i)
       if (m.inputs[i].name == name) index = static_cast<int>(i);
     if (index < 0) {
-      std::string known;
-      for (const auto& in : m.inputs) known += (known.empty() ? "" : ", ") + in.name;
-      err << fmt::format("mbsc: error: --input: the model has no input named '{}' ({})\n", printable(name),
-                         known.empty() ? "it has no inputs" : "its inputs: " + known);
+      err << "mbsc: error: " << unknown_input_message(m, name) << "\n";
       return nullptr;
     }
     std::string error;

@@ -129,12 +129,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     }
     const std::string input = name;  // (a structured binding is not captured before C++20)
     const auto in = std::find_if(m->inputs.begin(), m->inputs.end(), [&](const auto& i) { return i.name == input; });
-    if (in == m->inputs.end()) {
-      std::string known;
-      for (const auto& i : m->inputs) known += (known.empty() ? "" : ", ") + i.name;
-      return fail(fmt::format("--input: the model has no input named '{}' ({})", printable(name),
-                              known.empty() ? "it has no inputs" : "its inputs: " + known));
-    }
+    if (in == m->inputs.end()) return fail(unknown_input_message(*m, name));
     InputTable table;
     const auto how = a.input_interpolation == "cubic" ? InputTable::Interpolation::Cubic : InputTable::Interpolation::Linear;
     if (!table.read(name, text, how, error) || !table.covers(0.0, a.t_end, error)) {

@@ -170,6 +170,13 @@ bool unit_quaternions(const model::Model& m, const runtime::ModelTable& t, Initi
 
 }  // namespace
 
+std::string unknown_input_message(const model::Model& m, const std::string& name) {
+  std::string known;
+  for (const auto& in : m.inputs) known += (known.empty() ? "" : ", ") + in.name;
+  return fmt::format("--input: the model has no input named '{}' ({})", printable(name),
+                     known.empty() ? "it has no inputs" : "its inputs: " + known);
+}
+
 bool initial_state(const model::Model& m, const runtime::ModelTable& t, const std::vector<double>& p,
                    const std::vector<double>& u0, const std::map<std::string, double>& inits, double t0,
                    InitialState& out, std::string& error) {

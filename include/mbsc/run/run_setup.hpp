@@ -36,6 +36,10 @@ bool parse_assignments(const std::vector<std::string>& items, const std::string&
 bool check_names(const model::Model& m, const std::map<std::string, double>& sets,
                  const std::map<std::string, double>& inits, bool multipliers, std::string& error);
 
+/// "--input: the model has no input named 'NAME' (its inputs: a, b)" (or "it has no
+/// inputs"): the one message for an --input naming no input of `m`.
+std::string unknown_input_message(const model::Model& m, const std::string& name);
+
 /// kParamDefaults with the --set values; the Baumgarte gains of the multipliers form are
 /// parameters too (baumgarte_alpha, baumgarte_beta). False with `error` naming an
 /// unknown parameter (and the closest known name).
