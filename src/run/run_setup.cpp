@@ -236,19 +236,8 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
   // quaternions kept unit).
   std::vector<int> quaternions;
   for (const auto& e : unit_quaternion_indices(m, t)) quaternions.insert(quaternions.end(), e.begin(), e.end());
-  runtime::AssemblyModel am{t.nq,
-                            t.nu,
-                            t.nposc,
-                            t.nc,
-                            t.nposc > 0 ? t.position_constraints : nullptr,
-                            t.nposc > 0 ? t.position_jacobian : nullptr,
-                            t.velocity_constraints,
-                            t.constraint_jacobian,
-                            t.position_constraint_names,
-                            t.constraint_names,
-                            t.state_names,
-                            quaternions.data(),
-                            static_cast<int>(quaternions.size() / 4)};
+  const runtime::AssemblyModel am =
+      runtime::assembly_model_of(t, quaternions.data(), static_cast<int>(quaternions.size() / 4));
   std::vector<bool> given_q(given.begin(), given.begin() + t.nq), given_u(given.begin() + t.nq, given.end());
   out.assembly = runtime::assemble(am, t0, out.x, given_q, given_u, u0.empty() ? nullptr : u0.data(), p.data());
   if (!out.assembly.ok()) {

@@ -151,54 +151,23 @@ fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference[], size_t nvr
 }
 
 fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate* state) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state) return mbsc::fmi::kError;
-    delete static_cast<FmuInstance::Snapshot*>(*state);
-    *state = new FmuInstance::Snapshot(i.snapshot());
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.get_fmu_state(state); });
 }
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state) return mbsc::fmi::kError;
-    return i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.set_fmu_state(state); });
 }
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate* state) {
-  return guarded(c, [&](FmuInstance&) {
-    if (state) {
-      delete static_cast<FmuInstance::Snapshot*>(*state);
-      *state = nullptr;
-    }
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance&) { return FmuInstance::free_fmu_state(state); });
 }
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t* size) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state || !size) return mbsc::fmi::kError;
-    *size = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state)).size();
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.serialized_size(state, size); });
 }
 fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte bytes[], size_t size) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state || !bytes) return mbsc::fmi::kError;
-    const auto data = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state));
-    if (data.size() != size)
-      return i.refuse("serialize into a buffer of " + std::to_string(size) + " bytes", std::to_string(data.size()));
-    std::memcpy(bytes, data.data(), size);
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.serialize_into(state, reinterpret_cast<unsigned char*>(bytes), size); });
 }
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size, fmi2FMUstate* state) {
   return guarded(c, [&](FmuInstance& i) {
-    if (!bytes || !state) return mbsc::fmi::kError;
-    FmuInstance::Snapshot s;
-    if (!i.deserialize(reinterpret_cast<const unsigned char*>(bytes), size, s))
-      return i.refuse("restore these bytes", "bytes serialized by this FMU");
-    delete static_cast<FmuInstance::Snapshot*>(*state);
-    *state = new FmuInstance::Snapshot(std::move(s));
-    return mbsc::fmi::kOK;
+    return i.deserialize_into(reinterpret_cast<const unsigned char*>(bytes), size, state);
   });
 }
 fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference[], size_t, const fmi2ValueReference[],

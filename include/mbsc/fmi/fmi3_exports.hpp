@@ -199,56 +199,25 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance c, fmi3ValueReference, size_
 }
 
 fmi3Status fmi3GetFMUState(fmi3Instance c, fmi3FMUState* state) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state) return mbsc::fmi::kError;
-    delete static_cast<FmuInstance::Snapshot*>(*state);
-    *state = new FmuInstance::Snapshot(i.snapshot());
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.get_fmu_state(state); });
 }
 fmi3Status fmi3SetFMUState(fmi3Instance c, fmi3FMUState state) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state) return mbsc::fmi::kError;
-    return i.restore(*static_cast<const FmuInstance::Snapshot*>(state));
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.set_fmu_state(state); });
 }
 fmi3Status fmi3FreeFMUState(fmi3Instance c, fmi3FMUState* state) {
-  return guarded(c, [&](FmuInstance&) {
-    if (state) {
-      delete static_cast<FmuInstance::Snapshot*>(*state);
-      *state = nullptr;
-    }
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance&) { return FmuInstance::free_fmu_state(state); });
 }
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance c, fmi3FMUState state, size_t* size) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state || !size) return mbsc::fmi::kError;
-    *size = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state)).size();
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.serialized_size(state, size); });
 }
 fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState state, fmi3Byte bytes[], size_t size) {
-  return guarded(c, [&](FmuInstance& i) {
-    if (!state || !bytes) return mbsc::fmi::kError;
-    const auto data = i.serialize(*static_cast<const FmuInstance::Snapshot*>(state));
-    if (data.size() != size)
-      return i.refuse("serialize into a buffer of " + std::to_string(size) + " bytes", std::to_string(data.size()));
-    std::memcpy(bytes, data.data(), size);
-    return mbsc::fmi::kOK;
-  });
+  return guarded(c, [&](FmuInstance& i) { return i.serialize_into(state, reinterpret_cast<unsigned char*>(bytes), size); });
 }
 fmi3Status fmi3DeserializeFMUState(fmi3Instance c, const fmi3Byte bytes[], size_t size, fmi3FMUState* state) {
   return guarded(c, [&](FmuInstance& i) {
-    if (!bytes || !state) return mbsc::fmi::kError;
-    FmuInstance::Snapshot s;
-    if (!i.deserialize(bytes, size, s)) return i.refuse("restore these bytes", "bytes serialized by this FMU");
-    delete static_cast<FmuInstance::Snapshot*>(*state);
-    *state = new FmuInstance::Snapshot(std::move(s));
-    return mbsc::fmi::kOK;
+    return i.deserialize_into(reinterpret_cast<const unsigned char*>(bytes), size, state);
   });
 }
-
 fmi3Status fmi3GetDirectionalDerivative(fmi3Instance c, const fmi3ValueReference[], size_t, const fmi3ValueReference[],
                                         size_t, const fmi3Float64[], size_t, fmi3Float64[], size_t) {
   return unsupported(c, "fmi3GetDirectionalDerivative");

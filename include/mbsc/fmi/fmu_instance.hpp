@@ -371,6 +371,46 @@ class FmuInstance {
     return true;
   }
 
+  // ---- FMU states as both C interfaces pass them: opaque pointers to snapshots ----
+  Status get_fmu_state(void** state) const {
+    if (!state) return kError;
+    delete static_cast<Snapshot*>(*state);
+    *state = new Snapshot(snapshot());
+    return kOK;
+  }
+  Status set_fmu_state(const void* state) {
+    if (!state) return refuse("restore a null FMU state", "states the FMU gave");
+    return restore(*static_cast<const Snapshot*>(state));
+  }
+  static Status free_fmu_state(void** state) {
+    if (state) {
+      delete static_cast<Snapshot*>(*state);
+      *state = nullptr;
+    }
+    return kOK;
+  }
+  Status serialized_size(const void* state, std::size_t* size) const {
+    if (!state || !size) return kError;
+    *size = serialize(*static_cast<const Snapshot*>(state)).size();
+    return kOK;
+  }
+  Status serialize_into(const void* state, unsigned char* bytes, std::size_t size) {
+    if (!state || !bytes) return kError;
+    const auto data = serialize(*static_cast<const Snapshot*>(state));
+    if (data.size() != size)
+      return refuse("serialize into a buffer of " + std::to_string(size) + " bytes", std::to_string(data.size()));
+    std::memcpy(bytes, data.data(), size);
+    return kOK;
+  }
+  Status deserialize_into(const unsigned char* bytes, std::size_t size, void** state) {
+    if (!bytes || !state) return kError;
+    Snapshot s;
+    if (!deserialize(bytes, size, s)) return refuse("restore these bytes", "bytes serialized by this FMU");
+    delete static_cast<Snapshot*>(*state);
+    *state = new Snapshot(std::move(s));
+    return kOK;
+  }
+
   /// Logs an error and fails the instance: every later call but reset, free, getting
   /// values and FMU states is refused.
   Status fail(const std::string& message) {
@@ -438,19 +478,7 @@ class FmuInstance {
     if (!normalize_quaternions()) return false;
     if (projects()) {
       const auto& T = m_.table;
-      runtime::AssemblyModel am{T.nq,
-                                T.nu,
-                                T.nposc,
-                                T.nc,
-                                T.nposc > 0 ? T.position_constraints : nullptr,
-                                T.nposc > 0 ? T.position_jacobian : nullptr,
-                                T.velocity_constraints,
-                                T.constraint_jacobian,
-                                T.position_constraint_names,
-                                T.constraint_names,
-                                T.state_names,
-                                m_.quaternion_indices,
-                                m_.nquaternions};
+      const runtime::AssemblyModel am = runtime::assembly_model_of(T, m_.quaternion_indices, m_.nquaternions);
       std::vector<bool> given_q(static_cast<std::size_t>(T.nq)), given_u(static_cast<std::size_t>(T.nu));
       for (int i = 0; i < T.nx; ++i) {
         if (i < T.nq) given_q[static_cast<std::size_t>(i)] = m_.given[i] != 0;

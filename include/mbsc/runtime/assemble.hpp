@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mbsc/runtime/least_squares.hpp"
+#include "mbsc/runtime/model_table.hpp"
 
 namespace mbsc::runtime {
 
@@ -44,6 +45,25 @@ struct AssemblyModel {
   const int* quaternion_indices = nullptr;
   int nquaternions = 0;
 };
+
+/// The AssemblyModel of a model seen through its ModelTable (its full state), with the
+/// state's unit quaternions (4 indices each, e0 first; `quaternion_indices` must outlive
+/// the result).
+inline AssemblyModel assembly_model_of(const ModelTable& t, const int* quaternion_indices, int nquaternions) {
+  return {t.nq,
+          t.nu,
+          t.nposc,
+          t.nc,
+          t.nposc > 0 ? t.position_constraints : nullptr,
+          t.nposc > 0 ? t.position_jacobian : nullptr,
+          t.velocity_constraints,
+          t.constraint_jacobian,
+          t.position_constraint_names,
+          t.constraint_names,
+          t.state_names,
+          quaternion_indices,
+          nquaternions};
+}
 
 struct AssemblyOptions {
   double tolerance = 1e-12;     // on the largest residual, scaled by max(1, |x|)
