@@ -40,7 +40,7 @@ namespace free_body_quaternion {
 namespace {
 
 // True when no entry of v[0..n) is infinite or NaN.
-bool all_finite(const double* v, int n) {
+MBSC_HOST_DEVICE bool all_finite(const double* v, int n) {
   bool special = false;
   for (int i = 0; i < n; ++i) {
     std::uint64_t bits;
@@ -60,7 +60,7 @@ namespace {
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
-int chol_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int chol_solve(double* A, double* B) {
   // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
   // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
@@ -99,7 +99,7 @@ int chol_solve(double* A, double* B) {
 
 }  // namespace
 
-int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = p[3]*x[11] + x[12]*p[7] + x[10]*p[5];
   const double t1 = -x[12]*p[4] - p[7]*x[11] - x[10]*p[6];
   const double t2 = x[11]*p[5] + x[10]*p[2] + x[12]*p[6];
@@ -139,7 +139,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   return 0;
 }
 
-int mass_matrix(double /*t*/, const double* /*x*/, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int mass_matrix(double /*t*/, const double* /*x*/, const double* /*u*/, const double* p, double* OUT) {
   for (int i = 0; i < 36; ++i) OUT[i] = 0.0;  // 24 of the 36 entries are zero
   OUT[0] = p[0];
   OUT[7] = p[0];
@@ -157,7 +157,7 @@ int mass_matrix(double /*t*/, const double* /*x*/, const double* /*u*/, const do
   return 0;
 }
 
-int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   OUT[0] = 0.0;
   OUT[1] = 0.0;
   OUT[2] = -(p[0]*p[1]);
@@ -171,42 +171,42 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int position_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int velocity_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int velocity_constraints(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int constraint_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int constraint_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian_values(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = 0.5*p[0]*x[7]*x[7];
   const double t1 = 0.5*(p[3]*x[11] + x[12]*p[7] + x[10]*p[5])*x[11];
   const double t2 = 0.5*x[8]*x[8]*p[0];
@@ -221,13 +221,13 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   return 0;
 }
 
-int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[6]*x[6] + x[4]*x[4] + x[3]*x[3] + x[5]*x[5];
   if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 
-int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
@@ -245,19 +245,19 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
   return 0;
 }
 
-int conditioning(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int conditioning(double /*t*/, const double* /*x*/, const double* /*u*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: return rhs(t, x, u, p, OUT);
     default: return 3;
   }
 }
 
-int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   // No partition solves a block by LU: nothing can degrade.
   (void)t;
   (void)x;
@@ -270,6 +270,70 @@ int conditioning_partition(int k, double t, const double* x, const double* u, co
     }
     default: return 3;
   }
+}
+
+namespace {
+
+// Column i of a batch array of `rows` values with leading dimension ld (0: one column
+// shared by every instance) into v[0..rows).
+MBSC_HOST_DEVICE void batch_gather(const double* a, int ld, int i, int rows, double* v) {
+  const long long stride = ld > 0 ? ld : 1;
+  const long long column = ld > 0 ? i : 0;
+  for (int k = 0; k < rows; ++k) v[k] = a[k * stride + column];
+}
+
+// An input array of `rows` values can be read for n instances.
+MBSC_HOST_DEVICE bool batch_input_ok(const double* a, int ld, int rows, int n) {
+  return rows == 0 || n == 0 || (a != nullptr && (ld == 0 || ld >= n));
+}
+
+// A batch of n instances can be read and written as `a` describes.
+MBSC_HOST_DEVICE bool batch_layout_ok(int n, const BatchArrays& a, int x_rows, int u_rows, int p_rows, int out_rows) {
+  return n >= 0 && (a.t == nullptr || batch_input_ok(a.t, a.ldt, 1, n)) && batch_input_ok(a.x, a.ldx, x_rows, n) &&
+         batch_input_ok(a.u, a.ldu, u_rows, n) && batch_input_ok(a.p, a.ldp, p_rows, n) &&
+         (out_rows == 0 || n == 0 || (a.out != nullptr && a.ldout >= n));
+}
+
+// v[0..rows) = quiet NaN: what a failed instance shows where its function wrote nothing.
+MBSC_HOST_DEVICE void batch_fill_nan(int rows, double* v) {
+  const std::uint64_t bits = 0x7ff8000000000000u;
+  double nan;
+  std::memcpy(&nan, &bits, sizeof nan);
+  for (int k = 0; k < rows; ++k) v[k] = nan;
+}
+
+// v[0..rows) into column i of a batch array with leading dimension ld.
+MBSC_HOST_DEVICE void batch_scatter(const double* v, int rows, int i, int ld, double* a) {
+  for (int k = 0; k < rows; ++k) a[static_cast<long long>(k) * ld + i] = v[k];
+}
+
+}  // namespace
+
+MBSC_HOST_DEVICE int rhs_at(int i, const BatchArrays& a) {
+  double x[13], out[13];
+  batch_gather(a.x, a.ldx, i, 13, x);
+  const double* p = a.p;
+  double p_i[8];
+  if (a.ldp > 0) {
+    batch_gather(a.p, a.ldp, i, 8, p_i);
+    p = p_i;
+  }
+  batch_fill_nan(13, out);
+  const double t = a.t == nullptr ? 0.0 : a.t[a.ldt > 0 ? i : 0];
+  const int status = rhs(t, x, nullptr, p, out);
+  batch_scatter(out, 13, i, a.ldout, a.out);
+  return status;
+}
+
+MBSC_HOST_DEVICE int rhs_batch(int n, const BatchArrays& a, int* status) {
+  if (!batch_layout_ok(n, a, 13, 0, 8, 13)) return 3;
+  int worst = 0;
+  for (int i = 0; i < n; ++i) {
+    const int code = rhs_at(i, a);
+    if (status != nullptr) status[i] = code;
+    worst = code > worst ? code : worst;
+  }
+  return worst;
 }
 
 }  // namespace free_body_quaternion
@@ -337,4 +401,19 @@ extern "C" int mbsc_free_body_quaternion_rhs_partition(int k, double t, const do
 
 extern "C" int mbsc_free_body_quaternion_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::free_body_quaternion::conditioning_partition(k, t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_free_body_quaternion_rhs_batch(int n, const double* t, int ldt, const double* x, int ldx, const double* u, int ldu, const double* p, int ldp, double* OUT, int ldout, int* status) {
+  mbsc_gen::free_body_quaternion::BatchArrays a;
+  a.t = t;
+  a.ldt = ldt;
+  a.x = x;
+  a.ldx = ldx;
+  a.u = u;
+  a.ldu = ldu;
+  a.p = p;
+  a.ldp = ldp;
+  a.out = OUT;
+  a.ldout = ldout;
+  return mbsc_gen::free_body_quaternion::rhs_batch(n, a, status);
 }

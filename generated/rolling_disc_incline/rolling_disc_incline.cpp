@@ -40,7 +40,7 @@ namespace rolling_disc_incline {
 namespace {
 
 // True when no entry of v[0..n) is infinite or NaN.
-bool all_finite(const double* v, int n) {
+MBSC_HOST_DEVICE bool all_finite(const double* v, int n) {
   bool special = false;
   for (int i = 0; i < n; ++i) {
     std::uint64_t bits;
@@ -60,7 +60,7 @@ namespace {
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
 template <int n, int k>
-int lu_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve(double* A, double* B) {
   // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) {
@@ -119,7 +119,7 @@ namespace {
 // A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
 // machine epsilon mean the solve is numerically singular.
 template <int n, int g, bool spd>
-double rcond_1norm(double* A, const double* G, double* W) {
+MBSC_HOST_DEVICE double rcond_1norm(double* A, const double* G, double* W) {
   if (spd) {
     double dmax = 0.0;
     for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
@@ -175,7 +175,7 @@ namespace {
 // as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
 // template argument, so the loop over B's columns unrolls at every call site.
 template <int k>
-int lu_solve_2x2(const double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve_2x2(const double* A, double* B) {
   double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
   for (int i = 0; i < 4; ++i) {
     const double v = std::fabs(A[i]);
@@ -208,7 +208,7 @@ namespace {
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
-int chol_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int chol_solve(double* A, double* B) {
   // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
   // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
@@ -247,7 +247,7 @@ int chol_solve(double* A, double* B) {
 
 }  // namespace
 
-int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const auto inputs_finite_ = [&]() {
     const double in_[15] = {p[0], p[1], p[2], p[3], p[4], x[3], x[4], x[5], x[6], x[7], x[8], x[9], x[10], x[11], x[12]};
     return all_finite(in_, 15);
@@ -464,7 +464,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   return 0;
 }
 
-int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = x[4]*x[4];
@@ -646,7 +646,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   return 0;
 }
 
-int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = x[4]*x[4];
@@ -822,12 +822,12 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = x[6]*x[6] - x[4]*x[4] - x[5]*x[5] + x[3]*x[3];
@@ -839,7 +839,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = 1.0/std::sqrt(1.0);
@@ -882,7 +882,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = 1.0/std::sqrt(1.0);
@@ -955,7 +955,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
-int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = 1.0/std::sqrt(1.0);
@@ -1027,7 +1027,7 @@ int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   OUT[0] = s0;
@@ -1052,7 +1052,7 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   return 0;
 }
 
-int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   OUT[0] = s0;
@@ -1076,7 +1076,7 @@ int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/,
   return 0;
 }
 
-int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = p[2]*p[2];
   const double t1 = -p[3]*p[3] - 3.0*t0;
   const double t2 = t1*x[11]*x[11];
@@ -1092,7 +1092,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   return 0;
 }
 
-int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = x[6]*x[6];
@@ -1105,7 +1105,7 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
@@ -1123,7 +1123,7 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
   return 0;
 }
 
-int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(p[4]);
   const double c0 = std::cos(p[4]);
   const double t0 = x[4]*x[4];
@@ -1324,14 +1324,14 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   return 0;
 }
 
-int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: return rhs(t, x, u, p, OUT);
     default: return 3;
   }
 }
 
-int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: {
       double rc[2];
@@ -1343,6 +1343,70 @@ int conditioning_partition(int k, double t, const double* x, const double* u, co
     }
     default: return 3;
   }
+}
+
+namespace {
+
+// Column i of a batch array of `rows` values with leading dimension ld (0: one column
+// shared by every instance) into v[0..rows).
+MBSC_HOST_DEVICE void batch_gather(const double* a, int ld, int i, int rows, double* v) {
+  const long long stride = ld > 0 ? ld : 1;
+  const long long column = ld > 0 ? i : 0;
+  for (int k = 0; k < rows; ++k) v[k] = a[k * stride + column];
+}
+
+// An input array of `rows` values can be read for n instances.
+MBSC_HOST_DEVICE bool batch_input_ok(const double* a, int ld, int rows, int n) {
+  return rows == 0 || n == 0 || (a != nullptr && (ld == 0 || ld >= n));
+}
+
+// A batch of n instances can be read and written as `a` describes.
+MBSC_HOST_DEVICE bool batch_layout_ok(int n, const BatchArrays& a, int x_rows, int u_rows, int p_rows, int out_rows) {
+  return n >= 0 && (a.t == nullptr || batch_input_ok(a.t, a.ldt, 1, n)) && batch_input_ok(a.x, a.ldx, x_rows, n) &&
+         batch_input_ok(a.u, a.ldu, u_rows, n) && batch_input_ok(a.p, a.ldp, p_rows, n) &&
+         (out_rows == 0 || n == 0 || (a.out != nullptr && a.ldout >= n));
+}
+
+// v[0..rows) = quiet NaN: what a failed instance shows where its function wrote nothing.
+MBSC_HOST_DEVICE void batch_fill_nan(int rows, double* v) {
+  const std::uint64_t bits = 0x7ff8000000000000u;
+  double nan;
+  std::memcpy(&nan, &bits, sizeof nan);
+  for (int k = 0; k < rows; ++k) v[k] = nan;
+}
+
+// v[0..rows) into column i of a batch array with leading dimension ld.
+MBSC_HOST_DEVICE void batch_scatter(const double* v, int rows, int i, int ld, double* a) {
+  for (int k = 0; k < rows; ++k) a[static_cast<long long>(k) * ld + i] = v[k];
+}
+
+}  // namespace
+
+MBSC_HOST_DEVICE int rhs_at(int i, const BatchArrays& a) {
+  double x[13], out[13];
+  batch_gather(a.x, a.ldx, i, 13, x);
+  const double* p = a.p;
+  double p_i[5];
+  if (a.ldp > 0) {
+    batch_gather(a.p, a.ldp, i, 5, p_i);
+    p = p_i;
+  }
+  batch_fill_nan(13, out);
+  const double t = a.t == nullptr ? 0.0 : a.t[a.ldt > 0 ? i : 0];
+  const int status = rhs(t, x, nullptr, p, out);
+  batch_scatter(out, 13, i, a.ldout, a.out);
+  return status;
+}
+
+MBSC_HOST_DEVICE int rhs_batch(int n, const BatchArrays& a, int* status) {
+  if (!batch_layout_ok(n, a, 13, 0, 5, 13)) return 3;
+  int worst = 0;
+  for (int i = 0; i < n; ++i) {
+    const int code = rhs_at(i, a);
+    if (status != nullptr) status[i] = code;
+    worst = code > worst ? code : worst;
+  }
+  return worst;
 }
 
 }  // namespace rolling_disc_incline
@@ -1410,4 +1474,19 @@ extern "C" int mbsc_rolling_disc_incline_rhs_partition(int k, double t, const do
 
 extern "C" int mbsc_rolling_disc_incline_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::rolling_disc_incline::conditioning_partition(k, t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_rolling_disc_incline_rhs_batch(int n, const double* t, int ldt, const double* x, int ldx, const double* u, int ldu, const double* p, int ldp, double* OUT, int ldout, int* status) {
+  mbsc_gen::rolling_disc_incline::BatchArrays a;
+  a.t = t;
+  a.ldt = ldt;
+  a.x = x;
+  a.ldx = ldx;
+  a.u = u;
+  a.ldu = ldu;
+  a.p = p;
+  a.ldp = ldp;
+  a.out = OUT;
+  a.ldout = ldout;
+  return mbsc_gen::rolling_disc_incline::rhs_batch(n, a, status);
 }

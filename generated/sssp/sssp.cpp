@@ -40,7 +40,7 @@ namespace sssp {
 namespace {
 
 // True when no entry of v[0..n) is infinite or NaN.
-bool all_finite(const double* v, int n) {
+MBSC_HOST_DEVICE bool all_finite(const double* v, int n) {
   bool special = false;
   for (int i = 0; i < n; ++i) {
     std::uint64_t bits;
@@ -60,7 +60,7 @@ namespace {
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
 template <int n, int k>
-int lu_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve(double* A, double* B) {
   // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) {
@@ -119,7 +119,7 @@ namespace {
 // A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
 // machine epsilon mean the solve is numerically singular.
 template <int n, int g, bool spd>
-double rcond_1norm(double* A, const double* G, double* W) {
+MBSC_HOST_DEVICE double rcond_1norm(double* A, const double* G, double* W) {
   if (spd) {
     double dmax = 0.0;
     for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
@@ -172,7 +172,7 @@ double rcond_1norm(double* A, const double* G, double* W) {
 namespace {
 
 // A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
-int solve_1x1(int k, const double* A, double* B) {
+MBSC_HOST_DEVICE int solve_1x1(int k, const double* A, double* B) {
   if (!(std::fabs(A[0]) > 0.0)) return 1;
   for (int j = 0; j < k; ++j) B[j] /= A[0];
   return 0;
@@ -186,7 +186,7 @@ namespace {
 // as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
 // template argument, so the loop over B's columns unrolls at every call site.
 template <int k>
-int lu_solve_2x2(const double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve_2x2(const double* A, double* B) {
   double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
   for (int i = 0; i < 4; ++i) {
     const double v = std::fabs(A[i]);
@@ -219,7 +219,7 @@ namespace {
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
-int chol_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int chol_solve(double* A, double* B) {
   // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
   // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
@@ -258,7 +258,7 @@ int chol_solve(double* A, double* B) {
 
 }  // namespace
 
-int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const auto inputs_finite_ = [&]() {
     const double in_[26] = {p[0], p[1], p[3], p[4], p[5], p[6], x[0], x[1], x[2], x[3], x[4], x[5], x[12], x[13], x[14], x[15], x[16], x[17], x[18], x[19], x[20], x[21], x[22], x[23], x[24], x[25]};
     return all_finite(in_, 26);
@@ -341,7 +341,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   return 0;
 }
 
-int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
   const double t2 = 2.0*x[2];
@@ -373,7 +373,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   return 0;
 }
 
-int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
   const double t2 = 2.0*x[2];
@@ -397,12 +397,12 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double c0 = std::cos(x[12]);
   const double t0 = -p[0]*p[0];
   OUT[0] = t0 + x[0]*x[0] + x[2]*x[2] + x[1]*x[1];
@@ -427,7 +427,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   OUT[0] = 2.0*x[14]*x[1] + 2.0*x[15]*x[2] + 2.0*x[13]*x[0];
   const double t0 = x[4] - x[1];
@@ -450,7 +450,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   const double t0 = 2.0*x[0];
   for (int i = 0; i < 143; ++i) OUT[i] = 0.0;  // 113 of the 143 entries are zero
@@ -493,7 +493,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
-int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   const double t0 = 2.0*x[0];
   OUT[0] = t0;
@@ -535,7 +535,7 @@ int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   const double t0 = 2.0*x[0];
   for (int i = 0; i < 143; ++i) OUT[i] = 0.0;  // 113 of the 143 entries are zero
@@ -578,7 +578,7 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   return 0;
 }
 
-int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   const double t0 = 2.0*x[0];
   OUT[0] = t0;
@@ -620,7 +620,7 @@ int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/,
   return 0;
 }
 
-int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = p[3] + p[4];
   const double t1 = 0.08333333333333333*t0*x[15]*x[15];
   const double t2 = 0.3333333333333333*p[3]*x[19]*x[19];
@@ -642,13 +642,13 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   return 0;
 }
 
-int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int outputs(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[3];
   if (!all_finite(OUT, 1)) return 2;
   return 0;
 }
 
-int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
@@ -679,7 +679,7 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
   return 0;
 }
 
-int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[12]);
   const double t0 = 2.0*x[0];
   const double t1 = 2.0*x[1];
@@ -738,14 +738,14 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   return 0;
 }
 
-int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: return rhs(t, x, u, p, OUT);
     default: return 3;
   }
 }
 
-int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: {
       double rc[3];
@@ -757,6 +757,70 @@ int conditioning_partition(int k, double t, const double* x, const double* u, co
     }
     default: return 3;
   }
+}
+
+namespace {
+
+// Column i of a batch array of `rows` values with leading dimension ld (0: one column
+// shared by every instance) into v[0..rows).
+MBSC_HOST_DEVICE void batch_gather(const double* a, int ld, int i, int rows, double* v) {
+  const long long stride = ld > 0 ? ld : 1;
+  const long long column = ld > 0 ? i : 0;
+  for (int k = 0; k < rows; ++k) v[k] = a[k * stride + column];
+}
+
+// An input array of `rows` values can be read for n instances.
+MBSC_HOST_DEVICE bool batch_input_ok(const double* a, int ld, int rows, int n) {
+  return rows == 0 || n == 0 || (a != nullptr && (ld == 0 || ld >= n));
+}
+
+// A batch of n instances can be read and written as `a` describes.
+MBSC_HOST_DEVICE bool batch_layout_ok(int n, const BatchArrays& a, int x_rows, int u_rows, int p_rows, int out_rows) {
+  return n >= 0 && (a.t == nullptr || batch_input_ok(a.t, a.ldt, 1, n)) && batch_input_ok(a.x, a.ldx, x_rows, n) &&
+         batch_input_ok(a.u, a.ldu, u_rows, n) && batch_input_ok(a.p, a.ldp, p_rows, n) &&
+         (out_rows == 0 || n == 0 || (a.out != nullptr && a.ldout >= n));
+}
+
+// v[0..rows) = quiet NaN: what a failed instance shows where its function wrote nothing.
+MBSC_HOST_DEVICE void batch_fill_nan(int rows, double* v) {
+  const std::uint64_t bits = 0x7ff8000000000000u;
+  double nan;
+  std::memcpy(&nan, &bits, sizeof nan);
+  for (int k = 0; k < rows; ++k) v[k] = nan;
+}
+
+// v[0..rows) into column i of a batch array with leading dimension ld.
+MBSC_HOST_DEVICE void batch_scatter(const double* v, int rows, int i, int ld, double* a) {
+  for (int k = 0; k < rows; ++k) a[static_cast<long long>(k) * ld + i] = v[k];
+}
+
+}  // namespace
+
+MBSC_HOST_DEVICE int rhs_at(int i, const BatchArrays& a) {
+  double x[26], out[26];
+  batch_gather(a.x, a.ldx, i, 26, x);
+  const double* p = a.p;
+  double p_i[7];
+  if (a.ldp > 0) {
+    batch_gather(a.p, a.ldp, i, 7, p_i);
+    p = p_i;
+  }
+  batch_fill_nan(26, out);
+  const double t = a.t == nullptr ? 0.0 : a.t[a.ldt > 0 ? i : 0];
+  const int status = rhs(t, x, nullptr, p, out);
+  batch_scatter(out, 26, i, a.ldout, a.out);
+  return status;
+}
+
+MBSC_HOST_DEVICE int rhs_batch(int n, const BatchArrays& a, int* status) {
+  if (!batch_layout_ok(n, a, 26, 0, 7, 26)) return 3;
+  int worst = 0;
+  for (int i = 0; i < n; ++i) {
+    const int code = rhs_at(i, a);
+    if (status != nullptr) status[i] = code;
+    worst = code > worst ? code : worst;
+  }
+  return worst;
 }
 
 }  // namespace sssp
@@ -824,4 +888,19 @@ extern "C" int mbsc_sssp_rhs_partition(int k, double t, const double* x, const d
 
 extern "C" int mbsc_sssp_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::sssp::conditioning_partition(k, t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_sssp_rhs_batch(int n, const double* t, int ldt, const double* x, int ldx, const double* u, int ldu, const double* p, int ldp, double* OUT, int ldout, int* status) {
+  mbsc_gen::sssp::BatchArrays a;
+  a.t = t;
+  a.ldt = ldt;
+  a.x = x;
+  a.ldx = ldx;
+  a.u = u;
+  a.ldu = ldu;
+  a.p = p;
+  a.ldp = ldp;
+  a.out = OUT;
+  a.ldout = ldout;
+  return mbsc_gen::sssp::rhs_batch(n, a, status);
 }

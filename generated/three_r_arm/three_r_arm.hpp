@@ -29,6 +29,13 @@
 // this exception from the files your version generates.
 #pragma once
 
+// MBSC_HOST_DEVICE qualifies every function of the model's namespace. It is empty unless
+// the including code defines it first: `#define MBSC_HOST_DEVICE __host__ __device__`
+// compiles the model for CUDA or HIP devices as well (docs/batched.md).
+#ifndef MBSC_HOST_DEVICE
+#define MBSC_HOST_DEVICE
+#endif
+
 namespace mbsc_gen {
 namespace three_r_arm {
 
@@ -151,21 +158,21 @@ inline constexpr int kQuaternionIndices[1] = {0};
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reduced mass matrix M (row-major) over the independent speeds kDofNames
 /// OUT: M, kNdof*kNdof values (row-major). Cost: 8 adds, 38 muls, 0 divs, 6 calls, 0 solve flops, total 52.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// forcing h with M z' = h (z = independent speeds)
 /// OUT: h, kNdof values (row-major). Cost: 27 adds, 61 muls, 0 divs, 6 calls, 0 solve flops, total 94.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int forcing(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// inputs u (kInputNames) that give the independent accelerations zdot (kDofNames): the solution of
 /// H u = M zdot - h0, with M z' = h0 + H u the reduced equations (H = dh/du); by LU when kNin ==
@@ -174,28 +181,28 @@ int forcing(double t, const double* x, const double* u, const double* p, double*
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// zdot: the kNdof independent accelerations (kDofNames order); must not be null where kNin > 0 and kNdof > 0.
-int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
+MBSC_HOST_DEVICE int inverse_dynamics(double t, const double* x, const double* zdot, const double* p, double* OUT);
 
 /// position constraint residuals (kPositionConstraintNames)
 /// OUT: r, kNposc values (row-major). Cost: 14 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 32.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int position_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// velocity-level residuals of all constraints (kConstraintNames)
 /// OUT: r, kNc values (row-major). Cost: 14 adds, 18 muls, 0 divs, 6 calls, 0 solve flops, total 38.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int velocity_constraints(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// A = d(velocity residuals)/d(q1) over all speeds, row-major kNc x kNuFull
 /// OUT: A, kNc*kNuFull values (row-major). Cost: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int constraint_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// the entries of constraint_jacobian that are not identically zero, row by row (CSR order: row i holds
 /// kConstraintJacobianColIdx[kConstraintJacobianRowPtr[i] .. kConstraintJacobianRowPtr[i+1]))
@@ -203,14 +210,14 @@ int constraint_jacobian(double t, const double* x, const double* u, const double
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int constraint_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// d(position residuals)/d(q0) over all coordinates, row-major kNposc x kNqFull (for assembly)
 /// OUT: J, kNposc*kNqFull values (row-major). Cost: 0 adds, 12 muls, 0 divs, 6 calls, 0 solve flops, total 18.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int position_jacobian(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// the entries of position_jacobian that are not identically zero, row by row (CSR order: row i holds
 /// kPositionJacobianColIdx[kPositionJacobianRowPtr[i] .. kPositionJacobianRowPtr[i+1]))
@@ -218,52 +225,81 @@ int position_jacobian(double t, const double* x, const double* u, const double* 
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int position_jacobian_values(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// energy: {kinetic T, potential V, total T + V}
 /// OUT: E, 3 values (row-major). Cost: 21 adds, 43 muls, 0 divs, 0 calls, 0 solve flops, total 64.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int energy(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int energy(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// named outputs (kOutputNames)
 /// OUT: y, kNy values (row-major). Cost: 2 adds, 4 muls, 0 divs, 2 calls, 0 solve flops, total 8.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int outputs(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// the full state (all q0, all q1; kFullStateNames): a copy of x in the full layout
 /// OUT: x_full, kNxFull values (row-major). Cost: 0 adds, 0 muls, 0 divs, 0 calls, 0 solve flops, total 0.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int full_state(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int full_state(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// reciprocal condition number of each block the rhs solves (kBlockNames)
 /// OUT: rcond, kNblocks values (row-major). Cost: 8 adds, 38 muls, 0 divs, 6 calls, 63 solve flops, total 115.
 /// Returns 0 on success, 1 if a linear solve is singular, 2 if an output or a solved matrix is not finite
 /// (a NaN or infinite input).
 /// u: not read (kNin = 0); may be null.
-int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// State derivative computed with partition k (0 <= k < kNpartitions, independent speeds
 /// kPartitionNames[k]); every partition gives the same xdot where its blocks are regular.
 /// Returns what that rhs returns, or 3 when k is out of range.
-int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 
 /// OUT[0] = the smallest reciprocal condition number (1-norm) of the solves partition k's
 /// rhs makes at this state (dependent blocks with their gains, the reduced mass
 /// matrix); 1 when it makes none, 0 when one is singular or fails. The
 /// run time switches to another partition when this degrades
 /// (include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.
-int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+MBSC_HOST_DEVICE int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+
+/// Batched evaluation (docs/batched.md). A batch is n instances of one function, each with its own
+/// time, state, inputs and parameters, in struct-of-arrays layout: an array is a matrix with a row
+/// per value and a column per instance, value k of instance i at a[k * ld + i], where ld >= n is
+/// that array's leading dimension. ld = 0 shares one column among all instances (value k at a[k]):
+/// one time or one parameter vector for the whole batch. Outputs are not shared: ldout >= n.
+/// NAME_at(i, a) evaluates instance i (0 <= i < n, the layout unchecked): what a GPU thread calls
+/// where MBSC_HOST_DEVICE is __host__ __device__. NAME_batch(n, a, status) evaluates instances 0
+/// to n-1 in turn on the calling thread, status[i] (status may be null) getting instance i's code;
+/// it returns the largest code, or 3, evaluating nothing, when the layout is invalid (n < 0, a
+/// leading dimension below n other than 0, or x, u, p or out null where the function reads or writes it).
+/// Each instance's values are those of the ordinary function called on its columns, with NaN where
+/// a failing instance's function wrote nothing (a singular solve returns before writing).
+struct BatchArrays {
+  const double* t = nullptr;  // 1 row; null: t = 0 for every instance
+  int ldt = 0;
+  const double* x = nullptr;  // kNx rows
+  int ldx = 0;
+  const double* u = nullptr;  // the third argument: u (kNin rows), zdot (kNdof) or w (kLinearWSize); null where unread
+  int ldu = 0;
+  const double* p = nullptr;  // kNp rows
+  int ldp = 0;
+  double* out = nullptr;  // the function's output, one row per value
+  int ldout = 0;
+};
+
+/// rhs of instance i of a batch; rhs of instances 0 .. n-1 (BatchArrays).
+MBSC_HOST_DEVICE int rhs_at(int i, const BatchArrays& a);
+MBSC_HOST_DEVICE int rhs_batch(int n, const BatchArrays& a, int* status);
 
 }  // namespace three_r_arm
 }  // namespace mbsc_gen
 
-// C entry points with stable names, for FFI and dlopen.
+// C entry points with stable names, for FFI and dlopen (host code).
 extern "C" {
 int mbsc_three_r_arm_rhs(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_mass_matrix(double t, const double* x, const double* u, const double* p, double* OUT);
@@ -281,4 +317,5 @@ int mbsc_three_r_arm_full_state(double t, const double* x, const double* u, cons
 int mbsc_three_r_arm_conditioning(double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
 int mbsc_three_r_arm_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT);
+int mbsc_three_r_arm_rhs_batch(int n, const double* t, int ldt, const double* x, int ldx, const double* u, int ldu, const double* p, int ldp, double* OUT, int ldout, int* status);
 }  // extern "C"

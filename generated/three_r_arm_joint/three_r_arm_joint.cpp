@@ -40,7 +40,7 @@ namespace three_r_arm_joint {
 namespace {
 
 // True when no entry of v[0..n) is infinite or NaN.
-bool all_finite(const double* v, int n) {
+MBSC_HOST_DEVICE bool all_finite(const double* v, int n) {
   bool special = false;
   for (int i = 0; i < n; ++i) {
     std::uint64_t bits;
@@ -60,7 +60,7 @@ namespace {
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
 template <int n, int k>
-int lu_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve(double* A, double* B) {
   // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) {
@@ -119,7 +119,7 @@ namespace {
 // A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
 // machine epsilon mean the solve is numerically singular.
 template <int n, int g, bool spd>
-double rcond_1norm(double* A, const double* G, double* W) {
+MBSC_HOST_DEVICE double rcond_1norm(double* A, const double* G, double* W) {
   if (spd) {
     double dmax = 0.0;
     for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));
@@ -177,7 +177,7 @@ namespace {
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
-int chol_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int chol_solve(double* A, double* B) {
   // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
   // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
@@ -216,7 +216,7 @@ int chol_solve(double* A, double* B) {
 
 }  // namespace
 
-int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -313,7 +313,7 @@ int rhs(double /*t*/, const double* x, const double* /*u*/, const double* p, dou
   return 0;
 }
 
-int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[8]);
   const double c0 = std::cos(x[8]);
   const double s1 = std::sin(x[5]);
@@ -350,7 +350,7 @@ int mass_matrix(double /*t*/, const double* x, const double* /*u*/, const double
   return 0;
 }
 
-int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -383,12 +383,12 @@ int forcing(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int inverse_dynamics(double /*t*/, const double* /*x*/, const double* /*zdot*/, const double* /*p*/, double* OUT) {
   (void)OUT;
   return 0;
 }
 
-int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -412,7 +412,7 @@ int position_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -436,7 +436,7 @@ int velocity_constraints(double /*t*/, const double* x, const double* /*u*/, con
   return 0;
 }
 
-int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -480,7 +480,7 @@ int constraint_jacobian(double /*t*/, const double* x, const double* /*u*/, cons
   return 0;
 }
 
-int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -523,7 +523,7 @@ int constraint_jacobian_values(double /*t*/, const double* x, const double* /*u*
   return 0;
 }
 
-int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -567,7 +567,7 @@ int position_jacobian(double /*t*/, const double* x, const double* /*u*/, const 
   return 0;
 }
 
-int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[2]);
   const double c0 = std::cos(x[2]);
   const double s1 = std::sin(x[5]);
@@ -610,7 +610,7 @@ int position_jacobian_values(double /*t*/, const double* x, const double* /*u*/,
   return 0;
 }
 
-int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double t0 = (0.041666666666666664*(p[2]*p[5]*p[5]))*x[20]*x[20];
   const double t1 = 0.5*p[2]*x[18]*x[18];
   const double t2 = 0.5*p[1]*x[16]*x[16];
@@ -627,7 +627,7 @@ int energy(double /*t*/, const double* x, const double* /*u*/, const double* p, 
   return 0;
 }
 
-int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[8]);
   const double c0 = std::cos(x[8]);
   OUT[0] = x[6] + 0.5*c0*p[5];
@@ -636,7 +636,7 @@ int outputs(double /*t*/, const double* x, const double* /*u*/, const double* p,
   return 0;
 }
 
-int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
+MBSC_HOST_DEVICE int full_state(double /*t*/, const double* x, const double* /*u*/, const double* /*p*/, double* OUT) {
   OUT[0] = x[0];
   OUT[1] = x[1];
   OUT[2] = x[2];
@@ -665,7 +665,7 @@ int full_state(double /*t*/, const double* x, const double* /*u*/, const double*
   return 0;
 }
 
-int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning(double /*t*/, const double* x, const double* /*u*/, const double* p, double* OUT) {
   const double s0 = std::sin(x[8]);
   const double c0 = std::cos(x[8]);
   const double s1 = std::sin(x[5]);
@@ -701,14 +701,14 @@ int conditioning(double /*t*/, const double* x, const double* /*u*/, const doubl
   return 0;
 }
 
-int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int rhs_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: return rhs(t, x, u, p, OUT);
     default: return 3;
   }
 }
 
-int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
+MBSC_HOST_DEVICE int conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   switch (k) {
     case 0: {
       double rc[1];
@@ -720,6 +720,70 @@ int conditioning_partition(int k, double t, const double* x, const double* u, co
     }
     default: return 3;
   }
+}
+
+namespace {
+
+// Column i of a batch array of `rows` values with leading dimension ld (0: one column
+// shared by every instance) into v[0..rows).
+MBSC_HOST_DEVICE void batch_gather(const double* a, int ld, int i, int rows, double* v) {
+  const long long stride = ld > 0 ? ld : 1;
+  const long long column = ld > 0 ? i : 0;
+  for (int k = 0; k < rows; ++k) v[k] = a[k * stride + column];
+}
+
+// An input array of `rows` values can be read for n instances.
+MBSC_HOST_DEVICE bool batch_input_ok(const double* a, int ld, int rows, int n) {
+  return rows == 0 || n == 0 || (a != nullptr && (ld == 0 || ld >= n));
+}
+
+// A batch of n instances can be read and written as `a` describes.
+MBSC_HOST_DEVICE bool batch_layout_ok(int n, const BatchArrays& a, int x_rows, int u_rows, int p_rows, int out_rows) {
+  return n >= 0 && (a.t == nullptr || batch_input_ok(a.t, a.ldt, 1, n)) && batch_input_ok(a.x, a.ldx, x_rows, n) &&
+         batch_input_ok(a.u, a.ldu, u_rows, n) && batch_input_ok(a.p, a.ldp, p_rows, n) &&
+         (out_rows == 0 || n == 0 || (a.out != nullptr && a.ldout >= n));
+}
+
+// v[0..rows) = quiet NaN: what a failed instance shows where its function wrote nothing.
+MBSC_HOST_DEVICE void batch_fill_nan(int rows, double* v) {
+  const std::uint64_t bits = 0x7ff8000000000000u;
+  double nan;
+  std::memcpy(&nan, &bits, sizeof nan);
+  for (int k = 0; k < rows; ++k) v[k] = nan;
+}
+
+// v[0..rows) into column i of a batch array with leading dimension ld.
+MBSC_HOST_DEVICE void batch_scatter(const double* v, int rows, int i, int ld, double* a) {
+  for (int k = 0; k < rows; ++k) a[static_cast<long long>(k) * ld + i] = v[k];
+}
+
+}  // namespace
+
+MBSC_HOST_DEVICE int rhs_at(int i, const BatchArrays& a) {
+  double x[24], out[24];
+  batch_gather(a.x, a.ldx, i, 24, x);
+  const double* p = a.p;
+  double p_i[10];
+  if (a.ldp > 0) {
+    batch_gather(a.p, a.ldp, i, 10, p_i);
+    p = p_i;
+  }
+  batch_fill_nan(24, out);
+  const double t = a.t == nullptr ? 0.0 : a.t[a.ldt > 0 ? i : 0];
+  const int status = rhs(t, x, nullptr, p, out);
+  batch_scatter(out, 24, i, a.ldout, a.out);
+  return status;
+}
+
+MBSC_HOST_DEVICE int rhs_batch(int n, const BatchArrays& a, int* status) {
+  if (!batch_layout_ok(n, a, 24, 0, 10, 24)) return 3;
+  int worst = 0;
+  for (int i = 0; i < n; ++i) {
+    const int code = rhs_at(i, a);
+    if (status != nullptr) status[i] = code;
+    worst = code > worst ? code : worst;
+  }
+  return worst;
 }
 
 }  // namespace three_r_arm_joint
@@ -787,4 +851,19 @@ extern "C" int mbsc_three_r_arm_joint_rhs_partition(int k, double t, const doubl
 
 extern "C" int mbsc_three_r_arm_joint_conditioning_partition(int k, double t, const double* x, const double* u, const double* p, double* OUT) {
   return mbsc_gen::three_r_arm_joint::conditioning_partition(k, t, x, u, p, OUT);
+}
+
+extern "C" int mbsc_three_r_arm_joint_rhs_batch(int n, const double* t, int ldt, const double* x, int ldx, const double* u, int ldu, const double* p, int ldp, double* OUT, int ldout, int* status) {
+  mbsc_gen::three_r_arm_joint::BatchArrays a;
+  a.t = t;
+  a.ldt = ldt;
+  a.x = x;
+  a.ldx = ldx;
+  a.u = u;
+  a.ldu = ldu;
+  a.p = p;
+  a.ldp = ldp;
+  a.out = OUT;
+  a.ldout = ldout;
+  return mbsc_gen::three_r_arm_joint::rhs_batch(n, a, status);
 }

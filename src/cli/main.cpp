@@ -16,6 +16,7 @@
 #include "mbsc/run/inverse_cli.hpp"
 #include "mbsc/run/linearize_command.hpp"
 #include "mbsc/run/run_command.hpp"
+#include "mbsc/run/sweep_command.hpp"
 
 // Sanitizer builds: LeakSanitizer reports a one-time 26-byte allocation that libcln
 // makes at start-up and never frees. That library's, and nothing else, is suppressed
@@ -132,6 +133,81 @@ CLI::Validator finite_above(double low, const std::string& what) {
 
 }  // namespace
 
+/// The options of one integration, shared by `run` and `sweep`: --t-end .. --cache-dir.
+struct IntegrationFlags {
+  std::string formulation = "complement", state = "full";
+  std::vector<std::string> inputs;  // --input name=EXPR|@FILE
+  /// Into `a` what CLI11 does not set directly; false (with the message printed) on a bad --input.
+  bool apply(mbsc::run::RunArgs& a) const;
+};
+
+void add_integration_options(CLI::App* c, mbsc::run::RunArgs& a, IntegrationFlags& f) {
+  c->add_option("--t-end", a.t_end, "end time, s")
+      ->check(finite_above(0, "a positive number of seconds"))
+      ->capture_default_str();
+  c->add_option("--dt-out", a.dt_out, "time between output rows, s (default: t-end / 500)")
+      ->check(finite_above(0, "a positive number of seconds"));
+  c->add_option("--integrator", a.integrator,
+                "integration method: " + [] {
+                  std::string s;
+                  for (const auto& n : mbsc::run::integrator_names()) s += (s.empty() ? "" : ", ") + n;
+                  return s;
+                }())
+      ->capture_default_str();
+  c->add_option("--newton-jacobian", a.newton_jacobian,
+                "bdf and ark-dirk: the Jacobian of their Newton matrices: generated (the model's rhs_jacobian), "
+                "differences (forward differences of the rhs) or sundials (its own difference quotients)")
+      ->check(CLI::IsMember({"generated", "differences", "sundials"}))
+      ->capture_default_str();
+  c->add_option("--rtol", a.rtol, "relative tolerance of adaptive methods (1e-14 .. 0.1)")
+      ->check(finite_above(1e-14 * 0.999, "a relative tolerance of at least 1e-14"))
+      ->check(CLI::Range(0.0, 0.1))
+      ->capture_default_str();
+  c->add_option("--atol", a.atol, "absolute tolerance of adaptive methods")
+      ->check(finite_above(0, "a positive number"))
+      ->capture_default_str();
+  c->add_option("--h", a.h, "step of fixed-step methods, s (default: dt-out / 10)")
+      ->check(finite_above(0, "a positive number of seconds"));
+  c->add_option("--formulation", f.formulation, "complement or multipliers (as for generate)")
+      ->check(CLI::IsMember({"complement", "multipliers"}))
+      ->default_val("complement");
+  c->add_option("--state", f.state, "full or minimal (as for generate; the CSV shows every coordinate and speed)")
+      ->check(CLI::IsMember({"full", "minimal"}))
+      ->default_val("full");
+  c->add_option("--set", a.sets, "a parameter's value for this run: name=value (repeatable)");
+  c->add_option("--init", a.inits,
+                "an initial coordinate or speed: name=value (repeatable); the rest follows by assembly");
+  c->add_option("--input", f.inputs,
+                "an input as an expression of t and the parameters, name=EXPR, or from a CSV column interpolated in t, "
+                "name=@FILE[:COLUMN] (the column 'name' by default; FILE has a column 't') (repeatable)");
+  c->add_option("--input-interpolation", a.input_interpolation, "how a table input is interpolated: linear or cubic")
+      ->check(CLI::IsMember({"linear", "cubic"}))
+      ->capture_default_str();
+  c->add_option("--projection", a.projection,
+                "project onto the constraints after steps: auto (on for the complement form with constraints), on, off")
+      ->capture_default_str();
+  c->add_flag("--continuation", a.continuation,
+              "continue on the branch where the constraints lose rank for an instant (a parallelogram chain's flat "
+              "poses): projected and bridged rhs evaluations there; costs a conditioning report per evaluation");
+  c->add_option("--solver", a.solver, "auto, dense or sparse (as for generate)")
+      ->check(CLI::IsMember({"auto", "dense", "sparse"}))
+      ->default_val("auto");
+  c->add_option("--baumgarte-alpha", a.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)")
+      ->check(finite_above(-1e-300, "a gain of 0 or more"));
+  c->add_option("--baumgarte-beta", a.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)")
+      ->check(finite_above(-1e-300, "a gain of 0 or more"));
+  c->add_option("--cache-dir", a.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");
+}
+
+bool IntegrationFlags::apply(mbsc::run::RunArgs& a) const {
+  a.multipliers = formulation == "multipliers";
+  a.minimal_state = state == "minimal";
+  std::vector<std::pair<std::string, std::string>> pairs;
+  if (!split_name_expr(inputs, "--input", pairs)) return false;
+  for (const auto& [name, expr] : pairs) a.inputs[name] = expr;
+  return true;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"mbsc: symbolic equations of motion for multibody systems, as standalone C++"};
   app.set_version_flag("--version", std::string("mbsc ") + MBSC_VERSION);
@@ -213,6 +289,11 @@ int main(int argc, char** argv) {
               "also emit linear_parts, the Taylor coefficients include/mbsc/runtime/linear_model.hpp forms the linear model from");
   g->add_flag("--python", gen.python,
               "also write OUT/<name>/<name>.py: a ctypes + numpy module over the extern \"C\" functions (README, \"Using it\")");
+  std::vector<std::string> batch;
+  g->add_option("--batch", batch,
+                "also emit NAME_at and NAME_batch for these functions (comma-separated; default rhs, or none with --outputs; none for none): "
+                "evaluation of many states and parameter sets in struct-of-arrays layout, on CPU threads or a GPU "
+                "(docs/batched.md)");
   g->add_flag("--force", gen.force,
               "write into OUT/<name> even when mbsc did not write that folder (only its own files are replaced)");
   int fmi_version = 0;
@@ -235,77 +316,49 @@ int main(int argc, char** argv) {
   gen_work.add_to(g);
 
   mbsc::run::RunArgs run;
-  std::vector<std::string> run_inputs, run_columns, run_plot_columns;
-  std::string run_formulation = "complement";
+  IntegrationFlags run_flags;
+  std::vector<std::string> run_columns, run_plot_columns;
   auto* r = app.add_subcommand("run", "simulate a model: compile it (cached), assemble the initial state, integrate, "
                                       "write CSV and a plot");
   r->add_option("model", run.model, "model file (.mbs, or a robot's .urdf)")->required();
-  r->add_option("--t-end", run.t_end, "end time, s")
-      ->check(finite_above(0, "a positive number of seconds"))
-      ->capture_default_str();
-  r->add_option("--dt-out", run.dt_out, "time between output rows, s (default: t-end / 500)")
-      ->check(finite_above(0, "a positive number of seconds"));
-  r->add_option("--integrator", run.integrator,
-                "integration method: " + [] {
-                  std::string s;
-                  for (const auto& n : mbsc::run::integrator_names()) s += (s.empty() ? "" : ", ") + n;
-                  return s;
-                }())
-      ->capture_default_str();
-  r->add_option("--newton-jacobian", run.newton_jacobian,
-                "bdf and ark-dirk: the Jacobian of their Newton matrices: generated (the model's rhs_jacobian), "
-                "differences (forward differences of the rhs) or sundials (its own difference quotients)")
-      ->check(CLI::IsMember({"generated", "differences", "sundials"}))
-      ->capture_default_str();
-  r->add_option("--rtol", run.rtol, "relative tolerance of adaptive methods (1e-14 .. 0.1)")
-      ->check(finite_above(1e-14 * 0.999, "a relative tolerance of at least 1e-14"))
-      ->check(CLI::Range(0.0, 0.1))
-      ->capture_default_str();
-  r->add_option("--atol", run.atol, "absolute tolerance of adaptive methods")
-      ->check(finite_above(0, "a positive number"))
-      ->capture_default_str();
-  r->add_option("--h", run.h, "step of fixed-step methods, s (default: dt-out / 10)")
-      ->check(finite_above(0, "a positive number of seconds"));
-  r->add_option("--formulation", run_formulation, "complement or multipliers (as for generate)")
-      ->check(CLI::IsMember({"complement", "multipliers"}))
-      ->default_val("complement");
-  std::string run_state = "full";
-  r->add_option("--state", run_state, "full or minimal (as for generate; the CSV shows every coordinate and speed)")
-      ->check(CLI::IsMember({"full", "minimal"}))
-      ->default_val("full");
-  r->add_option("--set", run.sets, "a parameter's value for this run: name=value (repeatable)");
-  r->add_option("--init", run.inits,
-                "an initial coordinate or speed: name=value (repeatable); the rest follows by assembly");
-  r->add_option("--input", run_inputs,
-                "an input as an expression of t and the parameters, name=EXPR, or from a CSV column interpolated in t, "
-                "name=@FILE[:COLUMN] (the column 'name' by default; FILE has a column 't') (repeatable)");
-  r->add_option("--input-interpolation", run.input_interpolation, "how a table input is interpolated: linear or cubic")
-      ->check(CLI::IsMember({"linear", "cubic"}))
-      ->capture_default_str();
+  add_integration_options(r, run, run_flags);
   r->add_option("-o,--out", run.csv, "CSV file (default: <model name>.csv; - for standard output)");
   r->add_option("--columns", run_columns, "CSV columns (default: t, every coordinate and speed, outputs, inputs, energy)");
   r->add_option("--plot", run.plot, "also plot to FILE.svg or FILE.png (gnuplot)");
   r->add_option("--plot-columns", run_plot_columns, "columns to plot against t (default: the outputs, else the dof speeds)");
-  r->add_option("--projection", run.projection,
-                "project onto the constraints after steps: auto (on for the complement form with constraints), on, off")
-      ->capture_default_str();
-  r->add_flag("--continuation", run.continuation,
-              "continue on the branch where the constraints lose rank for an instant (a parallelogram chain's flat "
-              "poses): projected and bridged rhs evaluations there; costs a conditioning report per evaluation");
-  r->add_option("--solver", run.solver, "auto, dense or sparse (as for generate)")
-      ->check(CLI::IsMember({"auto", "dense", "sparse"}))
-      ->default_val("auto");
-  r->add_option("--baumgarte-alpha", run.baumgarte_alpha, "multipliers form: Baumgarte gain alpha, 1/s (default 10)")
-      ->check(finite_above(-1e-300, "a gain of 0 or more"));
-  r->add_option("--baumgarte-beta", run.baumgarte_beta, "multipliers form: Baumgarte gain beta, 1/s (default 10)")
-      ->check(finite_above(-1e-300, "a gain of 0 or more"));
   r->add_flag("--strict", run.strict,
               "exit with code 2 when the summary warns: a column not finite, constraint residuals or an energy change "
               "far beyond the tolerances");
   r->add_flag("--large-output", run.large_output, "write a CSV even when it is estimated above a gigabyte");
-  r->add_option("--cache-dir", run.cache_dir, "where compiled models are kept (default: $XDG_CACHE_HOME/mbsc or ~/.cache/mbsc)");
   WorkFlags run_work;
   run_work.add_to(r);
+
+  mbsc::run::SweepArgs sweep;
+  IntegrationFlags sweep_flags;
+  std::vector<std::string> sweep_summaries;
+  auto* sw = app.add_subcommand("sweep", "many runs of one model, each with its own parameters and initial values, on "
+                                         "every core: a table row per run (docs/sweep.md)");
+  sw->add_option("model", sweep.run.model, "model file (.mbs, or a robot's .urdf)")->required();
+  sw->add_option("--grid", sweep.grids,
+                 "a swept parameter, coordinate or speed: NAME=FROM:TO:STEP, NAME=FROM:TO:logN (N points, log-spaced) or "
+                 "NAME=V1,V2,... (repeatable: every combination)");
+  sw->add_option("--sample", sweep.samples,
+                 "a sampled one: 'NAME~uniform(LO,HI)', 'NAME~normal(MEAN,SD)', 'NAME~loguniform(LO,HI)', "
+                 "'NAME~lognormal(MU,SIGMA)' (repeatable; -n rows per grid point)");
+  sw->add_option("-n", sweep.per_point, "rows per grid point, each with its own samples (default 1)")
+      ->check(CLI::Range(1L, 100000000L));
+  sw->add_option("--seed", sweep.seed, "the sweep's seed; row r draws from a generator seeded by (seed, r), its seed "
+                                       "column")
+      ->capture_default_str();
+  sw->add_option("--summary", sweep_summaries,
+                 "columns per run (comma-separated): final (every coordinate and speed at the end), final:NAME, "
+                 "max:NAME, min:NAME, mean:NAME, maxabs:NAME over the output rows; NAME a column of run's CSV or "
+                 "energy_change (default: final)");
+  sw->add_option("--threads", sweep.threads, "worker threads (default 0: every core)")->check(CLI::Range(0, 4096));
+  sw->add_option("-o,--out", sweep.out, "the table (default: <model name>_sweep.csv); rows go to TABLE.partial first");
+  add_integration_options(sw, sweep.run, sweep_flags);
+  WorkFlags sweep_work;
+  sweep_work.add_to(sw);
 
   mbsc::run::BenchArgs bench;
   std::vector<std::string> bench_formulations, bench_integrators, bench_tolerances, bench_inputs, bench_errcols;
@@ -452,14 +505,18 @@ int main(int argc, char** argv) {
     }
     if (*r) {
       run.work = run_work.args();
-      run.multipliers = run_formulation == "multipliers";
-      run.minimal_state = run_state == "minimal";
       run.columns = split_list(run_columns);
       run.plot_columns = split_list(run_plot_columns);
-      std::vector<std::pair<std::string, std::string>> inputs;
-      if (!split_name_expr(run_inputs, "--input", inputs)) return 1;
-      for (const auto& [name, expr] : inputs) run.inputs[name] = expr;
+      if (!run_flags.apply(run)) return 1;
       return mbsc::run::run_simulation(run, std::cout, std::cerr);
+    }
+    if (*sw) {
+      sweep.run.work = sweep_work.args();
+      // A sweep has no time limit unless --budget sets one (then it covers the whole sweep).
+      if (sw->count("--budget") == 0) sweep.run.work.budget.seconds = 1e9;
+      sweep.summaries = split_list(sweep_summaries);
+      if (!sweep_flags.apply(sweep.run)) return 1;
+      return mbsc::run::run_sweep(sweep, std::cout, std::cerr);
     }
     if (*ei) {
       eig.work = eig_work.args();
@@ -516,6 +573,7 @@ int main(int argc, char** argv) {
       return mbsc::run::run_bench(bench, std::cout, std::cerr);
     }
     for (const auto& o : split_list(outputs)) gen.functions.insert(o);
+    if (g->count("--batch") > 0) gen.batch = split_list(batch);
     gen.minimal_state = state == "minimal";
     gen.multipliers = formulation == "multipliers";
     gen.work = gen_work.args();

@@ -341,6 +341,30 @@ bool stage_depfile(const std::string& path, const std::string& final_dir, const 
   return depfile_text(targets, sources, text, error) && staged.stage(path, text, "--depfile", error);
 }
 
+/// The functions `generate --batch` asks for (GenerateArgs::batch), each emitted by the
+/// model; "" or the message that names one it does not emit.
+std::string batched_functions(const GenerateArgs& a, const emit::GeneratedModel& g, std::vector<std::string>& batched) {
+  std::vector<std::string> emitted;
+  for (const auto& f : g.functions) emitted.push_back(f.name);
+  auto is_emitted = [&](const std::string& name) { return std::find(emitted.begin(), emitted.end(), name) != emitted.end(); };
+  batched.clear();
+  if (!a.batch) {  // rhs, unless --outputs chose the functions (then only what --batch names)
+    if (a.functions.empty() && is_emitted("rhs")) batched.push_back("rhs");
+    return "";
+  }
+  const bool none = std::find(a.batch->begin(), a.batch->end(), "none") != a.batch->end();
+  if (none && a.batch->size() > 1) return "--batch: 'none' stands alone (it asks for no batched functions)";
+  for (const auto& name : *a.batch) {
+    if (name == "none") continue;
+    if (!is_emitted(name))
+      return fmt::format("--batch: '{}' is not a function this generate emits{} (emitted: {}; add it to --outputs "
+                         "where it is one)",
+                         name, did_you_mean(name, emitted), fmt::join(emitted, ", "));
+    if (std::find(batched.begin(), batched.end(), name) == batched.end()) batched.push_back(name);
+  }
+  return "";
+}
+
 }  // namespace
 
 int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
@@ -360,6 +384,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
   std::string python;
   Diagnostics diags;
   bool internal = false;
+  std::string batch_error;  // --batch names a function not emitted
   const bool ok = monitored(a.work, diags, err, [&] {
     if (!load_and_derive(a.model, a.frozen, m, eom, diags, nullptr, a.name, &sources)) return false;
     GenerateOptions opt;
@@ -376,6 +401,10 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     opt.name = a.name;
     g = generate(*m, *eom, opt, diags);
     if (!g) return false;
+    if (const std::string why = batched_functions(a, *g, g->batched); !why.empty()) {
+      batch_error = why;
+      return false;
+    }
     if (a.python && emit::is_python_module_name(g->name))
       diags.warning(a.name.empty() ? m->name_pos : SourcePos{m->name_pos.file, 0, 0},
                     fmt::format("'{0}' is also the name of {1}: `import {0}` may load that module instead of {0}.py, "
@@ -394,6 +423,7 @@ int run_generate(const GenerateArgs& a, std::ostream& out, std::ostream& err) {
     }
     return true;
   });
+  if (!batch_error.empty()) err << "mbsc: error: " << printable(batch_error) << "\n";
   if (!ok) return internal ? 2 : 1;
   // The symbolic work is over (and its monitor stopped): write, all or nothing.
   const std::string& name = g->name;

@@ -12,6 +12,7 @@
 
 #include "../ir/identifiers.hpp"
 #include "mbsc/emit/generated_model.hpp"
+#include "batch_code.hpp"
 #include "number_literal.hpp"
 #include "renderer.hpp"
 #include "support_code.hpp"
@@ -204,22 +205,22 @@ std::string partition_declarations() {
                        "kPartitionNames[k]); every partition gives the same xdot where its blocks are regular.\n"
                        "Returns what that rhs returns, or 3 when k is out of range.",
                        "///") +
-         "\nint rhs_partition(" + kDispatchParams + ");\n\n" +
+         "\nMBSC_HOST_DEVICE int rhs_partition(" + kDispatchParams + ");\n\n" +
          comment_block("OUT[0] = the smallest reciprocal condition number (1-norm) of the solves partition k's\n"
                        "rhs makes at this state (dependent blocks with their gains, the reduced mass\n"
                        "matrix); 1 when it makes none, 0 when one is singular or fails. The\n"
                        "run time switches to another partition when this degrades\n"
                        "(include/mbsc/runtime/partition_selector.hpp). Returns 3 when k is out of range.",
                        "///") +
-         "\nint conditioning_partition(" + kDispatchParams + ");";
+         "\nMBSC_HOST_DEVICE int conditioning_partition(" + kDispatchParams + ");";
 }
 
 std::string partition_definitions(const GeneratedModel& m, const PartitionTable& table) {
-  std::string rhs = std::string("int rhs_partition(") + kDispatchParams + ") {\n  switch (k) {\n";
+  std::string rhs = std::string("MBSC_HOST_DEVICE int rhs_partition(") + kDispatchParams + ") {\n  switch (k) {\n";
   for (std::size_t k = 0; k < table.rhs.size(); ++k)
     rhs += "    case " + std::to_string(k) + ": return " + table.rhs[k] + "(t, x, u, p, OUT);\n";
   rhs += "    default: return 3;\n  }\n}";
-  std::string cond = std::string("int conditioning_partition(") + kDispatchParams + ") {\n";
+  std::string cond = std::string("MBSC_HOST_DEVICE int conditioning_partition(") + kDispatchParams + ") {\n";
   bool any_blocks = false;
   for (const auto& name : table.conditioning) any_blocks = any_blocks || !name.empty();
   if (!any_blocks) cond += "  // No partition solves a block by LU: nothing can degrade.\n  (void)t;\n  (void)x;\n  (void)u;\n  (void)p;\n";
@@ -268,7 +269,7 @@ std::string declarations(const GeneratedModel& m) {
       doc += "\nw: kLinearWSize values: the kNin inputs, the rates of the kNuFull speeds, the kNc multipliers.";
     else if (inputs > 0) doc += "\nu: kNin inputs; must not be null (an assert checks it in debug builds wherever u is read).";
     else doc += "\nu: not read (kNin = 0); may be null.";
-    blocks.push_back(comment_block(doc, "///") + "\nint " + f.name + "(" + parameters(f, false) + ");");
+    blocks.push_back(comment_block(doc, "///") + "\nMBSC_HOST_DEVICE int " + f.name + "(" + parameters(f, false) + ");");
   }
   if (m.partitions) blocks.push_back(partition_declarations());
   return join(blocks, "\n\n");
@@ -284,7 +285,7 @@ std::string definitions(const GeneratedModel& m) {
                               : reads_zdot ? "  assert(zdot != nullptr && \"zdot: kNdof accelerations\");\n"
                               : reads_w    ? "  assert(w != nullptr && \"w: inputs, rates, multipliers\");\n"
                                            : "";
-    blocks.push_back("int " + f.name + "(" + parameters(f, true) + ") {\n" + check + f.body + "\n}");
+    blocks.push_back("MBSC_HOST_DEVICE int " + f.name + "(" + parameters(f, true) + ") {\n" + check + f.body + "\n}");
   }
   if (m.partitions) blocks.push_back(partition_definitions(m, *m.partitions));
   return join(blocks, "\n\n");
@@ -333,6 +334,12 @@ void check_model(const GeneratedModel& m) {
   for (const auto& f : m.functions) claim("function", f.name);
   if (m.partitions)
     for (const char* f : {"rhs_partition", "conditioning_partition"}) claim("function", f);
+  if (!m.batched.empty())
+    for (const char* n : {"BatchArrays", "batch_fill_nan", "batch_gather", "batch_scatter", "batch_input_ok", "batch_layout_ok"}) claim("batch helper", n);
+  for (const auto& f : m.batched) {
+    claim("function", f + "_at");
+    claim("function", f + "_batch");
+  }
 }
 
 }  // namespace
@@ -361,7 +368,11 @@ GeneratedFiles emit(const GeneratedModel& m) {
   h["name"] = m.name;
   h["constants"] = consts;
   h["declarations"] = declarations(m);
+  // The batch fragments start with the blank line that separates them from what precedes.
+  auto after_blank_line = [](const std::string& text) { return text.empty() ? text : "\n" + text; };
+  h["batch_declarations"] = after_blank_line(batch_declarations(m));
   h["c_declarations"] = c_declarations(m);
+  h["batch_c_declarations"] = batch_c_declarations(m);
 
   // Source.
   Fragments s;
@@ -372,7 +383,9 @@ GeneratedFiles emit(const GeneratedModel& m) {
                  (uses_lu2 ? lu_solve_2x2_code() + "\n" : "") +
                  (uses_chol ? chol_solve_code() + "\n" : "") + (uses_psd ? psd_solve_code() + "\n" : "");
   s["definitions"] = definitions(m);
+  s["batch_definitions"] = after_blank_line(batch_definitions(m));
   s["c_definitions"] = c_definitions(m);
+  s["batch_c_definitions"] = after_blank_line(batch_c_definitions(m));
 
   GeneratedFiles out;
   out.header = render("model.hpp.in", template_text("model.hpp.in"), h);

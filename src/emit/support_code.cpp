@@ -11,7 +11,7 @@ const std::string& all_finite_code() {
   static const std::string code = R"cpp(namespace {
 
 // True when no entry of v[0..n) is infinite or NaN.
-bool all_finite(const double* v, int n) {
+MBSC_HOST_DEVICE bool all_finite(const double* v, int n) {
   bool special = false;
   for (int i = 0; i < n; ++i) {
     std::uint64_t bits;
@@ -37,7 +37,7 @@ const std::string& chol_solve_code() {
 // Returns 1 when a pivot is not positive or below 1e-13 times the largest diagonal entry
 // (A not positive definite to working precision); else 0.
 template <int n, int k>
-int chol_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int chol_solve(double* A, double* B) {
   // The largest |diagonal entry|, NaN entries skipped (as std::fmax does, but a compare
   // the compiler keeps inline instead of a call into libm per entry).
   double dmax = 0.0;
@@ -90,7 +90,7 @@ const std::string& psd_solve_code() {
 // lower triangle then holds L (n x r) with P^T A P = L L^T. Returns the r-th pivot over
 // the first: 0 when a pivot is not positive (the rank fell below r).
 template <int n, int r>
-double psd_factor(double* A, int* perm) {
+MBSC_HOST_DEVICE double psd_factor(double* A, int* perm) {
   for (int i = 0; i < n; ++i) perm[i] = i;
   double first = 0.0;
   for (int j = 0; j < r; ++j) {
@@ -133,7 +133,7 @@ double psd_factor(double* A, int* perm) {
 // in the null space Z = P [-L1^-T L2^T; I] of A. B: n x k, replaced by X. Returns 1 when
 // the rank fell below r (the r-th pivot below 1e-13 times the first), else 0.
 template <int n, int k, int r>
-int psd_min_norm_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int psd_min_norm_solve(double* A, double* B) {
   constexpr int d = n - r;
   int perm[n];
   if (!(psd_factor<n, r>(A, perm) > 1e-13)) return 1;
@@ -201,7 +201,7 @@ int psd_min_norm_solve(double* A, double* B) {
 // What `conditioning` reports for such a solve: the r-th pivot over the first (0 where
 // the rank fell below r). A is destroyed.
 template <int n, int r>
-double psd_rcond(double* A) {
+MBSC_HOST_DEVICE double psd_rcond(double* A) {
   int perm[n];
   return psd_factor<n, r>(A, perm);
 }
@@ -222,7 +222,7 @@ const std::string& lu_solve_code() {
 // when a pivot's magnitude is below 1e-13 times the largest magnitude in A (or is not a
 // number); else 0.
 template <int n, int k>
-int lu_solve(double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve(double* A, double* B) {
   // The largest |entry|, NaN entries skipped (as std::fmax does, inline).
   double amax = 0.0;
   for (int i = 0; i < n * n; ++i) {
@@ -281,7 +281,7 @@ const std::string& solve_1x1_code() {
   static const std::string code = R"cpp(namespace {
 
 // A x = B for 1x1 A, k right-hand sides; 1 when A is zero or not a number.
-int solve_1x1(int k, const double* A, double* B) {
+MBSC_HOST_DEVICE int solve_1x1(int k, const double* A, double* B) {
   if (!(std::fabs(A[0]) > 0.0)) return 1;
   for (int j = 0; j < k; ++j) B[j] /= A[0];
   return 0;
@@ -296,7 +296,7 @@ const std::string& chol_1x1_code() {
   static const std::string code = R"cpp(namespace {
 
 // A x = B for a 1x1 A that must be positive (a one-DOF mass matrix); 1 unless A > 0.
-int chol_1x1(int k, const double* A, double* B) {
+MBSC_HOST_DEVICE int chol_1x1(int k, const double* A, double* B) {
   if (!(A[0] > 0.0)) return 1;
   for (int j = 0; j < k; ++j) B[j] /= A[0];
   return 0;
@@ -314,7 +314,7 @@ const std::string& lu_solve_2x2_code() {
 // as lu_solve does it. 1 when a pivot is below 1e-13 times the largest |A| entry. k is a
 // template argument, so the loop over B's columns unrolls at every call site.
 template <int k>
-int lu_solve_2x2(const double* A, double* B) {
+MBSC_HOST_DEVICE int lu_solve_2x2(const double* A, double* B) {
   double amax = 0.0;  // NaN entries skipped, as std::fmax would, without a call into libm
   for (int i = 0; i < 4; ++i) {
     const double v = std::fabs(A[i]);
@@ -356,7 +356,7 @@ const std::string& rcond_code() {
 // A^-1. 0 when lu_solve finds A singular; 1 is perfectly conditioned; values near
 // machine epsilon mean the solve is numerically singular.
 template <int n, int g, bool spd>
-double rcond_1norm(double* A, const double* G, double* W) {
+MBSC_HOST_DEVICE double rcond_1norm(double* A, const double* G, double* W) {
   if (spd) {
     double dmax = 0.0;
     for (int i = 0; i < n; ++i) dmax = std::fmax(dmax, std::fabs(A[i * n + i]));

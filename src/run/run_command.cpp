@@ -26,6 +26,7 @@
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/output_guard.hpp"
+#include "mbsc/run/output_rows.hpp"
 #include "mbsc/run/run_accuracy.hpp"
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/run/start_check.hpp"
@@ -73,15 +74,11 @@ std::vector<std::string> integrator_names() { return available_integrators(); }
 // bicycle's 50 columns are 11 GB).
 constexpr double kLargeOutputBytes = 1e9;
 
-int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
-  // The budgets cover the whole command: past them its watcher ends the process.
-  auto watch = driver::WorkMonitor::whole_command(a.work.budget);
-  (void)out;
+bool check_integration_options(const RunArgs& a, std::string& error) {
   auto fail = [&](const std::string& message) {
-    err << "mbsc: error: " << message << "\n";
-    return 1;
+    error = message;
+    return false;
   };
-  // ---- options that need no model ----
   if (!(a.t_end > 0) || !std::isfinite(a.t_end)) return fail("--t-end must be a positive number of seconds");
   const double dt_out = a.dt_out > 0 ? a.dt_out : a.t_end / 500;
   if (!std::isfinite(dt_out) || a.t_end / dt_out > 1e7)
@@ -94,10 +91,27 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     return fail("--rtol must lie in [1e-14, 0.1] and --atol be a positive number");
   if (a.projection != "auto" && a.projection != "on" && a.projection != "off")
     return fail("--projection takes auto, on or off");
-  if (!a.plot.empty() && plot_format(a.plot).empty())
-    return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
   if (a.h > 0 && a.t_end / a.h > 1e9)
     return fail(fmt::format("--h {:g} makes more than a billion steps to t = {:g}; choose a larger step", a.h, a.t_end));
+  if (!a.multipliers && (a.baumgarte_alpha >= 0 || a.baumgarte_beta >= 0))
+    return fail("--baumgarte applies to --formulation multipliers");
+  return true;
+}
+
+int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
+  // The budgets cover the whole command: past them its watcher ends the process.
+  auto watch = driver::WorkMonitor::whole_command(a.work.budget);
+  (void)out;
+  auto fail = [&](const std::string& message) {
+    err << "mbsc: error: " << message << "\n";
+    return 1;
+  };
+  // ---- options that need no model ----
+  std::string option_error;
+  if (!check_integration_options(a, option_error)) return fail(option_error);
+  const double dt_out = a.dt_out > 0 ? a.dt_out : a.t_end / 500;
+  if (!a.plot.empty() && plot_format(a.plot).empty())
+    return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
 
   // ---- the model ----
   std::vector<std::string> sources;
@@ -107,8 +121,6 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   std::map<std::string, double> sets, inits;
   if (!parse_assignments(a.sets, "--set", sets, error) || !parse_assignments(a.inits, "--init", inits, error))
     return fail(error);
-  if (!a.multipliers && (a.baumgarte_alpha >= 0 || a.baumgarte_beta >= 0))
-    return fail("--baumgarte applies to --formulation multipliers");
   if (a.baumgarte_alpha >= 0) sets["baumgarte_alpha"] = a.baumgarte_alpha;
   if (a.baumgarte_beta >= 0) sets["baumgarte_beta"] = a.baumgarte_beta;
   // Names and output paths are checked before anything is compiled or written.
@@ -182,8 +194,6 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
       x0[static_cast<std::size_t>(i)] =
           init.x[static_cast<std::size_t>(runtime::ModelTable::find(TA.state_names, TA.nx, T.state_names[i]))];
   }
-  const int nfull = T.nq_full + T.nu_full;  // the CSV shows every coordinate and speed
-  std::vector<double> full_x(static_cast<std::size_t>(nfull));
   if (init.assembly.near_singular)
     err << "mbsc: warning: the initial state is " << init.assembly.message
         << "; the run may leave the intended branch (give more coordinates with --init)\n";
@@ -196,18 +206,12 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   }
 
   // ---- columns ----
-  std::vector<std::string> available = {"t"};
-  for (const auto& s : runtime::ModelTable::names_of(T.full_state_names, nfull)) available.push_back(s);
-  const std::size_t first_output = available.size();
-  for (const auto& s : runtime::ModelTable::names_of(T.output_names, T.ny)) available.push_back(s);
-  const std::size_t first_input = available.size();
-  if (T.nin > 0)
-    for (const auto& s : runtime::ModelTable::names_of(T.input_names, T.nin)) available.push_back(s);
   double e0[3] = {0, 0, 0};
   const bool has_energy = T.energy(0.0, x0.data(), u.data(), p.data(), e0) == 0;
-  const std::size_t first_energy = available.size();
-  if (has_energy)
-    for (const char* s : {"kinetic", "potential", "energy"}) available.push_back(s);
+  OutputRows output_rows(T, has_energy);
+  output_rows.set_initial_energy(e0[2]);
+  const std::vector<std::string>& available = output_rows.names();
+  const std::size_t first_output = output_rows.first_output(), first_input = output_rows.first_input();
   std::vector<int> columns;
   if (a.columns.empty()) {
     for (std::size_t i = 0; i < available.size(); ++i) columns.push_back(static_cast<int>(i));
@@ -274,45 +278,11 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // unless --projection off.
   if (a.projection != "off") sim.unit_quaternions = unit_quaternion_indices(*m, T);
   RunProgress progress(a.t_end, a.work.quiet);
-  std::vector<double> row(columns.size()), all(available.size());
-  std::vector<double> y(static_cast<std::size_t>(std::max(1, T.ny))), uu(u.size());
-  double max_drift = 0.0;
-  // Residuals of the rows written (dense output between steps is not projected).
-  double row_position = 0.0, row_velocity = 0.0;
-  std::vector<double> res(static_cast<std::size_t>(std::max({1, T.nposc, T.nc})));
-  // Every row starts from NaN: a value a function could not give (a singular solve) is
-  // written as nan, never the previous row's. Status 2 (a value not finite) still fills
-  // its outputs, which are written as they are.
+  std::vector<double> row(columns.size()), all(available.size()), uu(u.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto gave = [](int status) { return status == 0 || status == 2; };
   auto observe = [&](double t, const std::vector<double>& x) {
-    std::fill(all.begin(), all.end(), nan);
-    all[0] = t;
     if (input_fn(t, uu.data()) != 0) std::fill(uu.begin(), uu.end(), nan);
-    if (T.full_state_layout()) {
-      for (int i = 0; i < T.nx; ++i) all[1 + static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)];
-    } else if (gave(T.full_state(t, x.data(), uu.data(), p.data(), full_x.data()))) {
-      for (int i = 0; i < nfull; ++i) all[1 + static_cast<std::size_t>(i)] = full_x[static_cast<std::size_t>(i)];
-    }
-    if (T.ny > 0 && gave(T.outputs(t, x.data(), uu.data(), p.data(), y.data())))
-      for (int i = 0; i < T.ny; ++i) all[first_output + static_cast<std::size_t>(i)] = y[static_cast<std::size_t>(i)];
-    for (int i = 0; i < T.nin && T.nin > 0; ++i) all[first_input + static_cast<std::size_t>(i)] = uu[static_cast<std::size_t>(i)];
-    if (T.full_state_layout()) {
-      // A residual that is not finite makes the largest one NaN (std::max would drop it).
-      auto largest = [nan](double& worst, double r) { worst = std::isnan(r) || std::isnan(worst) ? nan : std::max(worst, std::fabs(r)); };
-      if (T.nposc > 0 && gave(T.position_constraints(t, x.data(), uu.data(), p.data(), res.data())))
-        for (int i = 0; i < T.nposc; ++i) largest(row_position, res[static_cast<std::size_t>(i)]);
-      if (T.nc > 0 && gave(T.velocity_constraints(t, x.data(), uu.data(), p.data(), res.data())))
-        for (int i = 0; i < T.nc; ++i) largest(row_velocity, res[static_cast<std::size_t>(i)]);
-    }
-    if (has_energy) {
-      double e[3] = {nan, nan, nan};
-      if (gave(T.energy(t, x.data(), uu.data(), p.data(), e))) {
-        for (int i = 0; i < 3; ++i) all[first_energy + static_cast<std::size_t>(i)] = e[i];
-        const double change = std::fabs(e[2] - e0[2]);
-        max_drift = std::isnan(change) || std::isnan(max_drift) ? nan : std::max(max_drift, change);
-      }
-    }
+    output_rows.fill(t, x, uu.data(), p.data(), all);
     for (std::size_t k = 0; k < columns.size(); ++k) row[k] = all[static_cast<std::size_t>(columns[k])];
     csv.row(row);
     non_finite.row(t, row);
@@ -340,8 +310,8 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   accuracy.rtol = a.rtol, accuracy.atol = a.atol;
   accuracy.constrained = T.nposc + T.nc > 0;
   auto worst = [](double row, double step) { return std::isnan(row) ? row : std::max(row, step); };
-  accuracy.position_residual = worst(row_position, r.max_position_residual);
-  accuracy.velocity_residual = worst(row_velocity, r.max_velocity_residual);
+  accuracy.position_residual = worst(output_rows.position_residual(), r.max_position_residual);
+  accuracy.velocity_residual = worst(output_rows.velocity_residual(), r.max_velocity_residual);
   if (accuracy.constrained)
     err << fmt::format("mbsc: largest constraint residuals: position {:.3g}, velocity {:.3g} (at step ends {:.3g}, {:.3g}){}\n",
                        accuracy.position_residual, accuracy.velocity_residual, r.max_position_residual,
@@ -350,6 +320,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
                        : projecting              ? fmt::format("; projected {} times", r.projections)
                                                  : "");
   if (has_energy) {
+    const double max_drift = output_rows.energy_change();
     err << fmt::format("mbsc: energy change: largest |E - E0| = {:.3g} (E0 = {:.6g}{})\n", max_drift, e0[2],
                        a.inputs.empty() ? "" : ", the inputs do work");
     accuracy.energy_defined = std::isfinite(e0[2]);

@@ -211,7 +211,12 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
     (k < t.nq ? init_q : init_u) = true;
   }
   auto value_of = [&](const model::NamedExpr& iv, double& v) {
-    const GiNaC::ex e = GiNaC::evalf(iv.value.subs(values));
+    GiNaC::ex e;
+    try {
+      e = GiNaC::evalf(iv.value.subs(values));
+    } catch (const std::exception&) {  // a division by zero at these parameters
+      e = GiNaC::ex();
+    }
     if (!GiNaC::is_a<GiNaC::numeric>(e) || !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(e).to_double())) {
       error = fmt::format("{}:{}:{}: the initial value of '{}' is not a finite number with these parameters",
                           iv.pos.file, iv.pos.line, iv.pos.col, iv.name);

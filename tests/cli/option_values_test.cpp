@@ -124,3 +124,50 @@ TEST_CASE("a number a double does not hold gets the model language's message on 
     CHECK(r.output.find("not finite") == std::string::npos);
   }
 }
+
+TEST_CASE("generate --batch: the functions batched, none, and names refused", "[cli]") {
+  const fs::path out = fresh_dir("batch");
+  const std::string to = " -o " + quote(out.string());
+  const fs::path source = out / "double_pendulum" / "double_pendulum.cpp";
+  auto text = [&] {
+    std::ifstream in(source);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  // Default: rhs alone.
+  auto r = run(kMbsc + " generate " + kPendulum + to + " --quiet");
+  REQUIRE(r.exit_code == 0);
+  CHECK(text().find("int rhs_batch(int n, const BatchArrays& a, int* status)") != std::string::npos);
+  CHECK(text().find("energy_batch") == std::string::npos);
+  // --outputs chooses the functions: no batch unless asked for.
+  r = run(kMbsc + " generate " + kPendulum + to + " --quiet --outputs rhs,energy");
+  REQUIRE(r.exit_code == 0);
+  CHECK(text().find("BatchArrays") == std::string::npos);
+  r = run(kMbsc + " generate " + kPendulum + to + " --quiet --outputs rhs,energy --batch rhs");
+  REQUIRE(r.exit_code == 0);
+  CHECK(text().find("int rhs_batch(") != std::string::npos);
+  // Named ones, repeated names once.
+  r = run(kMbsc + " generate " + kPendulum + to + " --quiet --batch energy,outputs,energy");
+  REQUIRE(r.exit_code == 0);
+  CHECK(text().find("rhs_batch") == std::string::npos);
+  CHECK(text().find("MBSC_HOST_DEVICE int energy_at(int i, const BatchArrays& a)") != std::string::npos);
+  CHECK(text().find("int outputs_batch(") != std::string::npos);
+  CHECK(text().find("extern \"C\" int mbsc_double_pendulum_energy_batch(") != std::string::npos);
+  // none: no batch code at all.
+  r = run(kMbsc + " generate " + kPendulum + to + " --quiet --batch none");
+  REQUIRE(r.exit_code == 0);
+  CHECK(text().find("BatchArrays") == std::string::npos);
+  // A function not emitted, a misspelt one, none with others: refused, nothing written.
+  const std::string before = text();
+  r = run(kMbsc + " generate " + kPendulum + to + " --outputs rhs --batch energy");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("mbsc: error: --batch: 'energy' is not a function this generate emits (emitted: rhs;") !=
+        std::string::npos);
+  r = run(kMbsc + " generate " + kPendulum + to + " --batch enrgy");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("--batch: 'enrgy' is not a function this generate emits (did you mean 'energy'?)") != std::string::npos);
+  r = run(kMbsc + " generate " + kPendulum + to + " --batch none,rhs");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("--batch: 'none' stands alone") != std::string::npos);
+  CHECK(text() == before);
+  fs::remove_all(out);
+}

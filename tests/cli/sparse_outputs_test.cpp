@@ -26,9 +26,9 @@ std::string slurp(const std::filesystem::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// The lines of `int NAME(` .. the closing brace at column 0.
+// The lines of `MBSC_HOST_DEVICE int NAME(` .. the closing brace at column 0.
 std::vector<std::string> function_lines(const std::string& source, const std::string& name) {
-  const std::size_t begin = source.find("\nint " + name + "(");
+  const std::size_t begin = source.find("\nMBSC_HOST_DEVICE int " + name + "(");
   REQUIRE(begin != std::string::npos);
   const std::size_t end = source.find("\n}\n", begin + 1);
   REQUIRE(end != std::string::npos);

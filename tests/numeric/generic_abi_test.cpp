@@ -5,7 +5,7 @@
 // every function of the common ABI and checks them against each other: sizes written
 // exactly, M z' = h against rhs, the Jacobians against central differences of the
 // residuals, full_state against the state, the partition dispatchers against rhs, u null
-// when the model has no input.
+// when the model has no input, the batched rhs against rhs.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -32,6 +32,7 @@
 #include "sssp/sssp.hpp"
 #include "slider_crank_3d/slider_crank_3d.hpp"
 #include "free_particle/free_particle.hpp"
+#include "batch_check.hpp"
 #include "generic_harness.hpp"
 #include "massless_rod_pendulum/massless_rod_pendulum.hpp"
 #include "parallelogram_chain/parallelogram_chain.hpp"
@@ -250,6 +251,8 @@ void check_model(std::mt19937& rng, bool reduced = true) {
     REQUIRE(M::conditioning_partition(k, a.t, a.x.data(), a.u_ptr(), a.p.data(), scratch) == 0);
     REQUIRE((scratch[0] > 0.0 && scratch[0] <= 1.0));
   }
+  // The batched rhs: instance by instance the ordinary rhs (batch_check.hpp).
+  mbsc_test::check_batch<M>(rng);
 }
 
 // A Jacobian's CSR twin against the dense function at the arguments `a`: a well-formed

@@ -56,6 +56,10 @@
     static constexpr mbsc_test::PartitionFunction rhs_partition = mbsc_gen::NS::rhs_partition;        \
     static constexpr mbsc_test::PartitionFunction conditioning_partition =                            \
         mbsc_gen::NS::conditioning_partition;                                                         \
+    using BatchArrays = mbsc_gen::NS::BatchArrays;                                                    \
+    static constexpr auto rhs_at = mbsc_gen::NS::rhs_at;                                              \
+    static constexpr auto rhs_batch = mbsc_gen::NS::rhs_batch;                                        \
+    static constexpr auto c_rhs_batch = mbsc_##NS##_rhs_batch;                                        \
   }
 
 namespace mbsc_test {

@@ -3,6 +3,7 @@
 /// The CLI subcommands. Each returns the process exit code: 0 ok, 1 user error
 /// (diagnostics printed to stderr), 2 internal error.
 #include <functional>
+#include <optional>
 #include <iosfwd>
 #include <map>
 #include <set>
@@ -66,6 +67,9 @@ struct GenerateArgs {
   bool force = false;               // --force: write into an OUT/<name> mbsc did not write
   std::string depfile;              // --depfile: also write this make-style depfile (driver/depfile.hpp)
   bool python = false;              // --python: also NAME.py (ctypes over the extern "C" functions)
+  /// --batch: functions that also get batched entry points (docs/batched.md); unset: rhs,
+  /// unless --outputs names the functions; {"none"} or empty: none.
+  std::optional<std::vector<std::string>> batch;
   bool linear_parts = false;        // also linear_parts (what `mbsc linearize` compiles)
   bool derivatives = false;         // --derivatives: also rhs_jacobian, inverse_dynamics_jacobian
   bool rhs_jacobian = false;        // also rhs_jacobian alone, capped (GenerateOptions::rhs_jacobian)

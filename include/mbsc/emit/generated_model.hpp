@@ -28,6 +28,9 @@ struct GeneratedModel {
   std::vector<std::pair<std::string, std::vector<long>>> int_lists;              // {"kConstraintJacobianRowPtr", {...}}
   std::vector<ir::LoweredFunction> functions;
   std::optional<PartitionTable> partitions;  // emitted with rhs and conditioning
+  /// Functions that also get batched entry points NAME_at and NAME_batch over a
+  /// struct-of-arrays batch (generate --batch; docs/batched.md).
+  std::vector<std::string> batched;
 };
 
 struct GeneratedFiles {

@@ -45,6 +45,11 @@ struct RunArgs {
 
 int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err);
 
+/// The options of the integration that need no model (--t-end, --dt-out, --integrator,
+/// --rtol, --atol, --projection, --h, --baumgarte-*): false with `error` (no "mbsc:
+/// error:" prefix) for the first bad one. `mbsc run` and `mbsc sweep` check them first.
+bool check_integration_options(const RunArgs& a, std::string& error);
+
 /// The integrators `--integrator` accepts here (the runtime's and, when mbsc was built
 /// with SUNDIALS, its methods).
 std::vector<std::string> integrator_names();

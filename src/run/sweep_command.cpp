@@ -1,0 +1,575 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `mbsc sweep` (include/mbsc/run/sweep_command.hpp, docs/sweep.md). The model is read
+// and compiled once; then worker threads take rows in turn. A row's start (parameter
+// values, assembly of the initial state) uses the model's symbolic expressions, which
+// GiNaC does not let two threads touch: it is made under one lock. The integration, the
+// long part, runs unlocked on the shared compiled model. Finished rows wait in a buffer
+// until every row before them is done, then go to TABLE.partial in row order.
+#include "mbsc/run/sweep_command.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <sstream>
+#include <thread>
+
+#include "mbsc/diag/diagnostics.hpp"
+#include "mbsc/diag/name_suggestions.hpp"
+#include "mbsc/driver/staged_file.hpp"
+#include "mbsc/driver/work_monitor.hpp"
+#include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/input_table.hpp"
+#include "mbsc/run/model_integration.hpp"
+#include "mbsc/run/output_guard.hpp"
+#include "mbsc/run/output_rows.hpp"
+#include "mbsc/run/run_setup.hpp"
+#include "mbsc/run/sha256.hpp"
+#include "mbsc/run/start_check.hpp"
+#include "mbsc/run/sweep_plan.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mbsc::run {
+
+namespace {
+
+const double kNan = std::numeric_limits<double>::quiet_NaN();
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' || c == '\r' ? ' ' : c);
+  return out + "\"";
+}
+
+std::string number_text(double v) { return fmt::format("{}", v == 0.0 ? 0.0 : v); }
+
+/// One summary column resolved: which run column (or the energy change) and how.
+struct Summary {
+  SummarySpec::Kind kind;
+  int column;  // into OutputRows::names(); -1: the energy change |E - E0|
+  std::string header;
+};
+
+/// What one run gives its row.
+struct RowResult {
+  std::string status = "ok";  // ok, failed, stopped, start_error
+  std::string message;
+  double t = kNan;
+  long steps = 0, rhs_evals = 0;
+  double position_residual = kNan, velocity_residual = kNan, energy_change = kNan;
+  std::vector<double> summaries;
+};
+
+/// The running statistic of one summary over the output rows.
+struct Accumulator {
+  double value = kNan, sum = 0.0;
+  long count = 0;
+  void add(SummarySpec::Kind kind, double v) {
+    ++count;
+    sum += v;
+    if (kind == SummarySpec::Kind::Final) {  // the last row's value, whatever came before
+      value = v;
+      return;
+    }
+    if (std::isnan(v) || (count > 1 && std::isnan(value))) {
+      value = kNan;  // a NaN row makes max, min and the mean NaN
+      return;
+    }
+    switch (kind) {
+      case SummarySpec::Kind::Final: value = v; break;
+      case SummarySpec::Kind::Max: value = count == 1 ? v : std::max(value, v); break;
+      case SummarySpec::Kind::Min: value = count == 1 ? v : std::min(value, v); break;
+      case SummarySpec::Kind::MaxAbs: value = count == 1 ? std::fabs(v) : std::max(value, std::fabs(v)); break;
+      case SummarySpec::Kind::Mean: value = v; break;
+    }
+  }
+  double result(SummarySpec::Kind kind) const {
+    if (count == 0) return kNan;
+    return kind == SummarySpec::Kind::Mean && !std::isnan(value) ? sum / static_cast<double>(count) : value;
+  }
+};
+
+/// The fields of a CSV line (commas outside quotes, plus one).
+std::size_t count_fields(const std::string& line) {
+  std::size_t n = 1;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    else if (c == ',' && !quoted) ++n;
+  }
+  return n;
+}
+
+/// TABLE.partial: the first line names the sweep (a digest of everything that decides
+/// its rows), the second is the header, then the rows done, in order.
+struct PartialTable {
+  std::string path;
+  std::FILE* file = nullptr;
+  long rows_done = 0;
+
+  ~PartialTable() {
+    if (file) std::fclose(file);
+  }
+  /// Opens it for appending, keeping the rows a killed sweep of the same signature wrote
+  /// (an unfinished last line is cut off). False with `error` when it holds another sweep.
+  bool open(const std::string& signature_line, const std::string& header, long rows, std::string& error) {
+    std::error_code ec;
+    const std::string head = signature_line + "\n" + header + "\n";
+    bool fresh = !fs::exists(path, ec);
+    if (!fresh) {
+      std::ifstream in(path, std::ios::binary);
+      std::string start(head.size(), '\0');
+      in.read(&start[0], static_cast<std::streamsize>(head.size()));
+      start.resize(static_cast<std::size_t>(in.gcount()));
+      if (start != head) {
+        // Killed before its header was whole: nothing to keep. Otherwise another sweep's.
+        if (head.compare(0, start.size(), start) != 0) {
+          error = fmt::format("'{}' holds the rows of another sweep (other options, or another model text); remove "
+                              "it to start this one afresh", printable(path));
+          return false;
+        }
+        fresh = true;
+      } else {
+        // Complete lines only, each with the header's number of fields and its row number,
+        // in order; what follows the last one (a line cut off) is dropped.
+        const std::size_t fields = count_fields(header);
+        std::size_t end = head.size();
+        for (std::string line; rows_done < rows && std::getline(in, line) && !in.eof();) {
+          if (line.rfind(std::to_string(rows_done) + ",", 0) != 0 || count_fields(line) != fields) break;
+          ++rows_done;
+          end += line.size() + 1;
+        }
+        in.close();
+        fs::resize_file(path, end, ec);
+        if (ec) {
+          error = fmt::format("cannot continue '{}': {}", printable(path), ec.message());
+          return false;
+        }
+        file = std::fopen(path.c_str(), "ab");
+      }
+    }
+    if (fresh) {
+      file = std::fopen(path.c_str(), "wb");
+      if (file) std::fputs(head.c_str(), file);
+    }
+    if (!file || std::fflush(file) != 0) {
+      error = fmt::format("cannot write '{}': {}", printable(path), std::strerror(errno));
+      return false;
+    }
+    return true;
+  }
+  bool append(const std::string& line) { return std::fputs(line.c_str(), file) >= 0 && std::fflush(file) == 0; }
+};
+
+/// A progress line on a terminal (or always with --progress, never with --quiet).
+class SweepProgress {
+ public:
+  SweepProgress(long rows, long done, driver::ProgressMode mode)
+      : rows_(rows), first_(done), always_(mode == driver::ProgressMode::Always),
+        show_(mode == driver::ProgressMode::Always || (mode == driver::ProgressMode::Auto && ::isatty(2))) {}
+  ~SweepProgress() { clear(); }
+  void update(long done, long failed) {
+    if (!show_) return;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (done < rows_ && (wall < 1.0 || wall - last_ < (always_ ? 2.0 : 0.2))) return;
+    last_ = wall;
+    const double rate = (done - first_) / std::max(wall, 1e-9);
+    const std::string left = rate > 0 && done < rows_ ? fmt::format(", about {:.0f} s left", (rows_ - done) / rate) : "";
+    std::fprintf(stderr, always_ ? "mbsc: sweep %ld / %ld rows, %ld failed, %.1f s%s\n"
+                                 : "\r\x1b[Kmbsc: sweep %ld / %ld rows, %ld failed, %.1f s%s",
+                 done, rows_, failed, wall, left.c_str());
+    drawn_ = !always_;
+  }
+  void clear() {
+    if (drawn_) std::fprintf(stderr, "\r\x1b[K");
+    drawn_ = false;
+  }
+
+ private:
+  long rows_, first_;
+  bool always_, show_, drawn_ = false;
+  double last_ = 0.0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
+  auto watch = driver::WorkMonitor::whole_command(a.run.work.budget);
+  (void)out;
+  auto fail = [&](const std::string& message) {
+    err << "mbsc: error: " << message << "\n";
+    return 1;
+  };
+  const RunArgs& ra = a.run;
+  std::string error;
+  if (!check_integration_options(ra, error)) return fail(error);
+  const double dt_out = ra.dt_out > 0 ? ra.dt_out : ra.t_end / 500;
+
+  // ---- the rows ----
+  SweepPlan plan;
+  plan.seed = a.seed;
+  for (const auto& g : a.grids) {
+    SweepGrid grid;
+    if (!parse_grid(g, grid, error)) return fail(error);
+    plan.grids.push_back(grid);
+  }
+  for (const auto& s : a.samples) {
+    SweepSample sample;
+    if (!parse_sample(s, sample, error)) return fail(error);
+    plan.samples.push_back(sample);
+  }
+  if (a.per_point < 0) return fail("-n must be a positive number of rows");
+  if (!plan.samples.empty() && a.per_point == 0) return fail("--sample needs -n, the number of rows per grid point");
+  if (plan.grids.empty() && plan.samples.empty() && a.per_point == 0)
+    return fail("a sweep needs --grid NAME=..., or --sample 'NAME~LAW(A,B)' with -n");
+  plan.per_point = a.per_point > 0 ? a.per_point : 1;
+  const long rows = plan.rows();
+  if (rows > kMaxSweepRows) return fail(fmt::format("the sweep has more than {} rows", kMaxSweepRows));
+  const std::vector<std::string> swept = plan.names();
+  for (std::size_t i = 0; i < swept.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (swept[i] == swept[j]) return fail(fmt::format("'{}' is swept twice", printable(swept[i])));
+  std::vector<SummarySpec> specs;
+  if (!parse_summaries(a.summaries.empty() ? std::vector<std::string>{"final"} : a.summaries, specs, error))
+    return fail(error);
+  if (a.threads < 0) return fail("--threads must be 0 (every core) or more");
+  for (const auto& [name, text] : ra.inputs)
+    if (is_input_table(text))
+      return fail(fmt::format("--input {}: a sweep takes inputs as expressions of t and the parameters, not tables",
+                              printable(name)));
+
+  // ---- the model: read, names routed, compiled once ----
+  std::vector<std::string> sources;
+  const std::optional<model::Model> m = read_model(ra.model, ra.work, sources, err);
+  if (!m) return 1;
+  std::map<std::string, double> sets, inits;
+  if (!parse_assignments(ra.sets, "--set", sets, error) || !parse_assignments(ra.inits, "--init", inits, error))
+    return fail(error);
+  if (ra.baumgarte_alpha >= 0) sets["baumgarte_alpha"] = ra.baumgarte_alpha;
+  if (ra.baumgarte_beta >= 0) sets["baumgarte_beta"] = ra.baumgarte_beta;
+  // A swept name is a parameter (a --set of each row) or a coordinate or speed (an --init).
+  std::vector<bool> is_parameter;
+  for (const auto& name : swept) {
+    if (sets.count(name) || inits.count(name))
+      return fail(fmt::format("'{}' is swept and also given with --set or --init; give it one way", printable(name)));
+    std::string why;
+    const bool parameter = check_names(*m, {{name, 0.0}}, {}, ra.multipliers, why);
+    if (!parameter && !check_names(*m, {}, {{name, 0.0}}, ra.multipliers, why))
+      return fail(fmt::format("--grid/--sample: '{}' is neither a parameter nor a coordinate or speed of model '{}'",
+                              printable(name), m->name));
+    is_parameter.push_back(parameter);
+  }
+  if (!check_names(*m, sets, inits, ra.multipliers, error)) return fail(error);
+  const std::string table_path = a.out.empty() ? m->name + "_sweep.csv" : a.out;
+  const std::string partial_path = table_path + ".partial";
+  if (table_path == "-") return fail("-o: a sweep writes its table to a file (it appends as rows finish)");
+  if (!check_outputs({{"-o", table_path}, {"-o", partial_path}}, sources, error)) return fail(error);
+
+  CompileRequest req;
+  req.model_path = ra.model;
+  req.multipliers = ra.multipliers;
+  req.input_expressions = ra.inputs;
+  req.cache_dir = ra.cache_dir;
+  req.work = ra.work;
+  req.minimal_state = ra.minimal_state;
+  req.solver = ra.solver;
+  const bool newton_method = ra.integrator == "bdf" || ra.integrator == "ark-dirk";
+  const NewtonJacobian newton = ra.newton_jacobian == "differences" ? NewtonJacobian::Differences
+                                : ra.newton_jacobian == "sundials"  ? NewtonJacobian::Sundials
+                                                                    : NewtonJacobian::Generated;
+  req.rhs_jacobian = newton_method && newton == NewtonJacobian::Generated;
+  int code = 1;
+  const auto compiled = compile_model(req, *m, sources, err, code);
+  if (!compiled) return code;
+  const runtime::ModelTable& T = compiled->table();
+  std::unique_ptr<CompiledModel> full_model;
+  if (ra.minimal_state) {
+    CompileRequest full = req;
+    full.minimal_state = false;
+    full_model = compile_model(full, *m, sources, err, code);
+    if (!full_model) return code;
+  }
+  const runtime::ModelTable& TA = ra.minimal_state ? full_model->table() : T;
+
+  // ---- the columns a summary may name ----
+  bool has_energy = false;
+  {
+    // energy returns 4 (not defined) for every state when the model has none (a custom leaf without `kinetic`).
+    std::vector<double> x(static_cast<std::size_t>(T.nx), 0.0), u0(static_cast<std::size_t>(std::max(1, T.nin)), 0.0), p0;
+    double e[3];
+    has_energy = parameter_values(T, sets, p0, error) && T.energy(0.0, x.data(), u0.data(), p0.data(), e) != 4;
+  }
+  const OutputRows columns(T, has_energy);
+  const std::vector<std::string>& names = columns.names();
+  auto column_index = [&](const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+  };
+  const int nfull = T.nq_full + T.nu_full;
+  std::vector<Summary> summaries;
+  for (const auto& s : specs) {
+    if (s.column.empty()) {  // final: every coordinate and speed
+      for (int i = 0; i < nfull; ++i) summaries.push_back({s.kind, 1 + i, "final:" + names[static_cast<std::size_t>(1 + i)]});
+      continue;
+    }
+    bool repeated = false;  // final:x beside final
+    for (const auto& have : summaries) repeated = repeated || have.header == s.header();
+    if (repeated) continue;
+    if (s.column == "energy_change" && has_energy) {
+      summaries.push_back({s.kind, -1, s.header()});
+      continue;
+    }
+    const int c = column_index(s.column);
+    if (c < 0) {
+      std::vector<std::string> known = names;
+      if (has_energy) known.push_back("energy_change");
+      return fail(fmt::format("--summary {}: no column named '{}'{} (columns: {})", printable(s.header()),
+                              printable(s.column), did_you_mean(s.column, known), fmt::join(known, ", ")));
+    }
+    summaries.push_back({s.kind, c, s.header()});
+  }
+  const bool constrained = T.nposc + T.nc > 0 && T.full_state_layout();
+
+  // ---- the table ----
+  std::vector<std::string> header = {"row", "seed"};
+  for (const auto& n : swept) header.push_back(n);
+  for (const auto& s : summaries) header.push_back(s.header);
+  for (const char* h : {"status", "t_reached", "steps", "rhs_evaluations"}) header.push_back(h);
+  if (constrained) {
+    header.push_back("position_residual");
+    header.push_back("velocity_residual");
+  }
+  if (has_energy) header.push_back("energy_change");
+  header.push_back("message");
+  std::string header_line;
+  for (const auto& h : header) header_line += (header_line.empty() ? "" : ",") + csv_field(h);
+  // The signature: everything that decides a row's values (the model's text included).
+  std::string decided = std::string(MBSC_VERSION) + "\n" + header_line + "\n";
+  for (const auto& src : sources) {
+    std::ifstream in(src, std::ios::binary);
+    decided += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()) + "\n";
+  }
+  for (const auto& g : a.grids) decided += "grid " + g + "\n";
+  for (const auto& s : a.samples) decided += "sample " + s + "\n";
+  decided += fmt::format("n {} seed {} t_end {} dt_out {} integrator {} rtol {} atol {} h {} formulation {} state {} "
+                         "solver {} projection {} newton {} continuation {}\n",
+                         plan.per_point, a.seed, ra.t_end, dt_out, ra.integrator, ra.rtol, ra.atol, ra.h,
+                         ra.multipliers, ra.minimal_state, ra.solver, ra.projection, ra.newton_jacobian, ra.continuation);
+  for (const auto& [k, v] : sets) decided += fmt::format("set {}={}\n", k, v);
+  for (const auto& [k, v] : inits) decided += fmt::format("init {}={}\n", k, v);
+  for (const auto& [k, v] : ra.inputs) decided += fmt::format("input {}={}\n", k, v);
+  const std::string signature = "# mbsc sweep " + sha256_hex(decided);
+  PartialTable partial;
+  partial.path = partial_path;
+  if (!partial.open(signature, header_line, rows, error)) return fail(error);
+  const long resumed = partial.rows_done;
+  if (resumed > 0 && !ra.work.quiet)
+    err << fmt::format("mbsc: continuing the sweep in {}: {} of {} rows done\n", printable(partial_path), resumed, rows);
+
+  // ---- one row ----
+  std::mutex symbolic;  // GiNaC: one row's start at a time
+  const bool projection_off = ra.projection == "off";
+  const auto quaternions = projection_off ? std::vector<std::array<int, 4>>{} : unit_quaternion_indices(*m, T);
+  auto run_row = [&](const std::vector<double>& values) {
+    RowResult res;
+    res.summaries.assign(summaries.size(), kNan);
+    std::vector<double> p, x0;
+    std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
+    {
+      std::lock_guard<std::mutex> lock(symbolic);
+      std::map<std::string, double> row_sets = sets, row_inits = inits;
+      for (std::size_t k = 0; k < swept.size(); ++k) (is_parameter[k] ? row_sets : row_inits)[swept[k]] = values[k];
+      std::string why;
+      InitialState init;
+      bool ok = false;
+      try {
+        ok = parameter_values(T, row_sets, p, why);
+        if (ok) {
+          compiled->inputs(0.0, p.data(), u.data());
+          ok = initial_state(*m, TA, p, u, row_inits, 0.0, init, why);
+        }
+        if (ok) {
+          x0 = init.x;
+          if (ra.minimal_state) {
+            x0.assign(static_cast<std::size_t>(T.nx), 0.0);
+            for (int i = 0; i < T.nx; ++i)
+              x0[static_cast<std::size_t>(i)] =
+                  init.x[static_cast<std::size_t>(runtime::ModelTable::find(TA.state_names, TA.nx, T.state_names[i]))];
+          }
+          ok = rhs_finite_at_start(*m, T, TA, 0.0, x0, init.x, u, p, why);
+        }
+      } catch (const std::exception& e) {
+        ok = false;
+        why = std::string("internal error: ") + e.what();
+      }
+      if (!ok) {
+        res.status = "start_error";
+        res.message = why.rfind("mbsc: error: ", 0) == 0 ? why.substr(13) : why;
+        return res;
+      }
+    }
+    // The integration: the compiled model only, no lock.
+    runtime::StepperOptions so;
+    so.rtol = ra.rtol;
+    so.atol = ra.atol;
+    so.h = ra.h > 0 ? ra.h : (ra.integrator == "rk4" ? dt_out / 10 : 0.0);
+    auto input_fn = [&](double t, double* uu) { return compiled->inputs(t, p.data(), uu); };
+    runtime::SimulationOptions sim;
+    sim.t0 = 0.0;
+    sim.t_end = ra.t_end;
+    sim.dt_out = dt_out;
+    using Projection = runtime::SimulationOptions::Projection;
+    sim.projection = ra.projection == "on" ? Projection::On
+                     : projection_off || T.multipliers ? Projection::Off : Projection::Auto;
+    sim.unit_quaternions = quaternions;
+    sim.stop_requested = [&](double) { return ra.work.budget.seconds_left() <= 0; };
+    std::vector<Accumulator> acc(summaries.size());
+    OutputRows rows_of_run(T, has_energy);
+    std::vector<double> all, uu(u.size());
+    auto observe = [&](double t, const std::vector<double>& x) {
+      if (input_fn(t, uu.data()) != 0) std::fill(uu.begin(), uu.end(), kNan);
+      rows_of_run.fill(t, x, uu.data(), p.data(), all);
+      const double energy = has_energy ? all[columns.first_energy() + 2] : kNan;
+      for (std::size_t k = 0; k < summaries.size(); ++k) {
+        if (summaries[k].column >= 0) acc[k].add(summaries[k].kind, all[static_cast<std::size_t>(summaries[k].column)]);
+        else if (!std::isnan(energy)) acc[k].add(summaries[k].kind, std::fabs(energy - rows_of_run.initial_energy()));  // as the column
+      }
+    };
+    const Integration run = integrate(*compiled, p, x0, ra.integrator, so, sim, observe, ra.continuation, newton, input_fn);
+    const runtime::SimulationResult& sr = run.result;
+    res.t = sr.t;
+    res.steps = run.stats.steps;
+    res.rhs_evals = run.stats.rhs_evals;
+    // As mbsc run reports them: the rows' residuals and those at the step ends.
+    auto worst = [](double row, double step) { return std::isnan(row) ? row : std::max(row, step); };
+    res.position_residual = worst(rows_of_run.position_residual(), sr.max_position_residual);
+    res.velocity_residual = worst(rows_of_run.velocity_residual(), sr.max_velocity_residual);
+    res.energy_change = rows_of_run.energy_change();
+    for (std::size_t k = 0; k < summaries.size(); ++k) res.summaries[k] = acc[k].result(summaries[k].kind);
+    if (!sr.ok()) {
+      res.status = sr.status == runtime::SimulationResult::Status::Stopped ? "stopped" : "failed";
+      res.message = sr.message;
+    }
+    return res;
+  };
+  auto row_text = [&](long r, std::uint64_t row_seed, const std::vector<double>& values, const RowResult& res) {
+    std::string line = std::to_string(r) + "," + std::to_string(row_seed);
+    for (double v : values) line += "," + number_text(v);
+    for (double v : res.summaries) line += "," + number_text(v);
+    line += "," + res.status + "," + number_text(res.t) + "," + std::to_string(res.steps) + "," + std::to_string(res.rhs_evals);
+    if (constrained) line += "," + number_text(res.position_residual) + "," + number_text(res.velocity_residual);
+    if (has_energy) line += "," + number_text(res.energy_change);
+    return line + "," + csv_field(res.message) + "\n";
+  };
+
+  // ---- the workers ----
+  const long todo = rows - resumed;
+  const int threads = static_cast<int>(std::max<long>(
+      1, std::min<long>(todo, a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))));
+  std::atomic<long> next{resumed};
+  std::atomic<bool> stopped{false};
+  std::mutex table;  // the buffer, the partial file, the counts, the progress line
+  std::map<long, std::string> waiting;
+  long written = resumed, failed = 0;
+  bool write_failed = false;
+  // Tests kill a sweep here (as a user would) after this many rows in the partial table.
+  const char* abort_env = std::getenv("MBSC_SWEEP_ABORT_AFTER_ROWS");
+  const long abort_after = abort_env ? std::atol(abort_env) : -1;
+  SweepProgress progress(rows, resumed, ra.work.quiet ? driver::ProgressMode::Never : ra.work.progress);
+  watch.note("sweeping", fmt::format("{} rows of model {}", rows, m->name));
+  const auto t_start = std::chrono::steady_clock::now();
+  // A row is started only while fewer than `ahead` rows wait behind an unfinished one, so the
+  // buffer stays bounded when one row runs long.
+  const long ahead = 64L * threads;
+  std::condition_variable row_written;
+  auto worker = [&] {
+    for (long r; !stopped && (r = next++) < rows;) {
+      {
+        std::unique_lock<std::mutex> lock(table);
+        row_written.wait(lock, [&] { return stopped || r < written + ahead; });
+        if (stopped) return;
+      }
+      std::uint64_t row_seed = 0;
+      const std::vector<double> values = plan.values(r, row_seed);
+      RowResult res;
+      try {
+        res = run_row(values);
+      } catch (const std::exception& e) {  // (a thread must not let one escape)
+        res = RowResult();
+        res.summaries.assign(summaries.size(), kNan);
+        res.status = "failed";
+        res.message = std::string("internal error: ") + e.what();
+      }
+      std::lock_guard<std::mutex> lock(table);
+      if (res.status == "stopped") {  // the budget: this row is not done
+        stopped = true;
+        row_written.notify_all();
+        return;
+      }
+      failed += res.status != "ok";
+      waiting[r] = row_text(r, row_seed, values, res);
+      for (auto it = waiting.begin(); it != waiting.end() && it->first == written && !write_failed; it = waiting.erase(it)) {
+        if (!partial.append(it->second)) {  // (disk full): stop; the rows written so far stay whole
+          write_failed = stopped = true;
+          break;
+        }
+        ++written;
+        if (abort_after >= 0 && written >= abort_after) std::_Exit(3);
+      }
+      row_written.notify_all();
+      progress.update(written, failed);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  progress.clear();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if (write_failed) return fail(fmt::format("writing '{}' failed (disk full?)", printable(partial_path)));
+  if (written < rows)
+    return fail(fmt::format("the sweep ran out of its time budget ({:g} s, raise it with --budget SECONDS) after {} of "
+                            "{} rows; they are in {}; run the same command again to continue",
+                            ra.work.budget.seconds, written, rows, printable(partial_path)));
+
+  // ---- the table, whole: the partial one without its signature line ----
+  std::fclose(partial.file);
+  partial.file = nullptr;
+  // Copied in pieces: a table of 10^5 rows of a bicycle's states is a hundred megabytes.
+  std::ifstream in(partial_path, std::ios::binary);
+  std::string skipped;
+  std::getline(in, skipped);
+  driver::StagedFile staged;
+  if (!staged.open(table_path, "-o", error)) return fail(error);
+  std::vector<char> piece(1 << 20);
+  while (in) {
+    in.read(piece.data(), static_cast<std::streamsize>(piece.size()));
+    if (in.gcount() > 0) staged.write(std::string(piece.data(), static_cast<std::size_t>(in.gcount())));
+  }
+  if (in.bad()) return fail(fmt::format("reading '{}' failed", printable(partial_path)));
+  if (!staged.commit(error)) return fail(error);
+  std::error_code ec;
+  fs::remove(partial_path, ec);
+  if (!ra.work.quiet)
+    err << fmt::format("mbsc: sweep of {}: {} rows{} on {} thread{} in {:.3g} s, {} failed; wrote {}\n", m->name, rows,
+                       resumed > 0 ? fmt::format(" ({} from an earlier run)", resumed) : "", threads,
+                       threads == 1 ? "" : "s", wall, failed, printable(table_path));
+  return 0;
+}
+
+}  // namespace mbsc::run

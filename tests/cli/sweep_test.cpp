@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
+// `mbsc sweep` as a user calls it: the rows a grid and samples make, each row equal to
+// `mbsc run` of its values alone, the same table from one thread or two, a killed sweep
+// continued to the same table, a failing row kept as data, and bad input refused with
+// nothing written.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include "run_command.hpp"
+
+namespace fs = std::filesystem;
+using namespace mbsc_test;
+
+namespace {
+
+const std::string kMbsc = MBSC_BINARY;
+
+/// A pendulum on a rod of length l, the bob tied to the angle by position constraints.
+const char* kPendulum =
+    "model pend\nparameter l = 1.5, m = 2, g = 9.81\ngravity (0, -g)\n"
+    "body b : particle2d { mass m }\nsubsystem arm {\n  coordinate th\n  speed w = th'\n}\n"
+    "constraint position { b.x - l*sin(arm.th) = 0; b.y + l*cos(arm.th) = 0 }\n"
+    "independent arm.w\ninitial arm.th = 2.5\noutput angle = arm.th\noutput energy\n";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// A CSV as text cells (the sweep's message column is the only one that may be quoted).
+struct Table {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::string at(std::size_t r, const std::string& column) const {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == column) return rows.at(r).at(i);
+    FAIL("no column " << column);
+    return "";
+  }
+};
+
+Table read_table(const fs::path& p) {
+  Table t;
+  std::ifstream in(p);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) cells.push_back(cell), cell.clear();
+      else cell += c;
+    }
+    cells.push_back(cell);
+    if (t.header.empty()) t.header = cells;
+    else t.rows.push_back(cells);
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("mbsc sweep: rows from grids and samples, each equal to mbsc run of its values", "[cli][sweep]") {
+  const fs::path dir = fresh_dir("sweep");
+  write(dir / "pend.mbs", kPendulum);
+  const std::string cache = " --cache-dir " + quote((dir / "cache").string());
+  const std::string sweep = kMbsc + " sweep " + quote((dir / "pend.mbs").string()) + cache +
+                            " --grid l=1:2:0.5 --sample 'arm.th~uniform(0.5,1.5)' -n 2 --seed 7 --t-end 1"
+                            " --summary final,final:angle,max:energy_change,mean:b.y";
+  auto r = run(sweep + " --threads 2 -o " + quote((dir / "two.csv").string()));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("6 rows on 2 threads") != std::string::npos);
+  CHECK(!fs::exists(dir / "two.csv.partial"));
+  const Table t = read_table(dir / "two.csv");
+  REQUIRE(t.rows.size() == 6);
+  CHECK(t.header.front() == "row");
+  CHECK(t.header.back() == "message");
+  const std::vector<double> grid = {1, 1, 1.5, 1.5, 2, 2};
+  std::map<std::string, int> seeds;
+  for (std::size_t i = 0; i < 6; ++i) {
+    CHECK(t.at(i, "row") == std::to_string(i));
+    CHECK(std::stod(t.at(i, "l")) == grid[i]);
+    const double th = std::stod(t.at(i, "arm.th"));
+    CHECK((th >= 0.5 && th < 1.5));
+    CHECK(t.at(i, "status") == "ok");
+    CHECK(std::stod(t.at(i, "t_reached")) == 1.0);
+    ++seeds[t.at(i, "seed")];
+    // The angle's final value is the summary of the output, and |E - E0| stays small.
+    CHECK(t.at(i, "final:angle") == t.at(i, "final:arm.th"));
+    CHECK(std::stod(t.at(i, "max:energy_change")) < 1e-6);
+    CHECK(std::stod(t.at(i, "mean:b.y")) < 0.0);
+  }
+  CHECK(seeds.size() == 6);  // a seed per row
+  // Two rows re-run alone with mbsc run: the same final state, to the last digit.
+  for (std::size_t i : {1u, 4u}) {
+    const fs::path csv = dir / ("row" + std::to_string(i) + ".csv");
+    r = run(kMbsc + " run " + quote((dir / "pend.mbs").string()) + cache + " --t-end 1 --set l=" + t.at(i, "l") +
+            " --init arm.th=" + t.at(i, "arm.th") + " -o " + quote(csv.string()));
+    REQUIRE(r.exit_code == 0);
+    const Table one = read_table(csv);
+    for (const char* name : {"arm.th", "arm.w", "b.x", "b.y", "b.u", "b.v"})
+      CHECK(one.at(one.rows.size() - 1, name) == t.at(i, std::string("final:") + name));
+  }
+  // One thread: the same bytes.
+  r = run(sweep + " --threads 1 -o " + quote((dir / "one.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  CHECK(slurp(dir / "one.csv") == slurp(dir / "two.csv"));
+
+  // Killed after 3 rows (the test hook stops the process as a kill would): the partial
+  // table holds them; the same command again continues to the same table.
+  const fs::path resumed = dir / "resumed.csv";
+  r = run("MBSC_SWEEP_ABORT_AFTER_ROWS=3 " + sweep + " -o " + quote(resumed.string()));
+  CHECK(r.exit_code == 3);
+  CHECK(!fs::exists(resumed));
+  REQUIRE(fs::exists(dir / "resumed.csv.partial"));
+  r = run(sweep + " -o " + quote(resumed.string()));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("continuing the sweep") != std::string::npos);
+  CHECK(r.output.find("3 of 6 rows done") != std::string::npos);
+  CHECK(r.output.find("(3 from an earlier run)") != std::string::npos);
+  CHECK(slurp(resumed) == slurp(dir / "two.csv"));
+  CHECK(!fs::exists(dir / "resumed.csv.partial"));
+  // A partial table of other options is not continued.
+  r = run("MBSC_SWEEP_ABORT_AFTER_ROWS=2 " + sweep + " -o " + quote(resumed.string()));
+  CHECK(r.exit_code == 3);
+  r = run(sweep + " --rtol 1e-9 -o " + quote(resumed.string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("holds the rows of another sweep") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc sweep: a failing row is data; bad input is refused with nothing written", "[cli][sweep][bad]") {
+  const fs::path dir = fresh_dir("sweep_bad");
+  write(dir / "pend.mbs", kPendulum);
+  const std::string base = kMbsc + " sweep " + quote((dir / "pend.mbs").string()) + " --cache-dir " +
+                           quote((dir / "cache").string()) + " --t-end 0.5 -o " + quote((dir / "t.csv").string());
+  // A rod of length 0 cannot be assembled at the start; the other row runs.
+  auto r = run(base + " --grid l=0,1");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("1 failed") != std::string::npos);
+  const Table t = read_table(dir / "t.csv");
+  REQUIRE(t.rows.size() == 2);
+  CHECK(t.at(0, "status") != "ok");
+  CHECK(!t.at(0, "message").empty());
+  CHECK(t.at(1, "status") == "ok");
+  CHECK(t.at(1, "message").empty());
+  fs::remove(dir / "t.csv");
+
+  // An initial value over a parameter that is 0 in one row (2.5 / l at l = 0), on two
+  // threads: that row fails, and the sweep goes on.
+  write(dir / "div.mbs", std::string(kPendulum).replace(std::string(kPendulum).find("arm.th = 2.5"), 12, "arm.th = 2.5/l"));
+  r = run(kMbsc + " sweep " + quote((dir / "div.mbs").string()) + " --cache-dir " + quote((dir / "cache").string()) +
+          " --t-end 0.5 --threads 2 --grid l=0,1,2 -o " + quote((dir / "div.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  const Table d = read_table(dir / "div.csv");
+  REQUIRE(d.rows.size() == 3);
+  CHECK(d.at(0, "status") != "ok");
+  CHECK(!d.at(0, "message").empty());
+  CHECK(d.at(1, "status") == "ok");
+  CHECK(d.at(2, "status") == "ok");
+
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {" --grid mass=1:2:0.5", "'mass' is neither a parameter nor a coordinate or speed of model 'pend'"},
+      {" --grid l=2:1:0.5", "TO must not lie below FROM"},
+      {" --grid l=1:2:0", "STEP must be a positive number"},
+      {" --grid l=1:2:log1", "logN takes a whole number of points"},
+      {" --sample 'l~uniform(1,2)'", "--sample needs -n"},
+      {" --sample 'l~gauss(1,2)' -n 3", "unknown law 'gauss'"},
+      {" --sample 'l~normal(1,-2)' -n 3", "the standard deviation must be above 0"},
+      {" --grid l=1,2 --set l=3", "'l' is swept and also given with --set or --init"},
+      {" --grid l=1,2 --grid l=3", "'l' is swept twice"},
+      {" --grid l=1,2 --summary max:anlge", "no column named 'anlge' (did you mean 'angle'?)"},
+      {" --grid l=1,2 --summary median:angle", "unknown item 'median:angle'"},
+      {" --grid l=1,2 --summary max", "'max' needs a column"},
+      {"", "a sweep needs --grid"},
+      {" --grid l=1,2 --input 'u=@f.csv'", "not tables"},
+  };
+  for (const auto& [args, message] : bad) {
+    INFO(args);
+    r = run(base + args);
+    INFO(r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("mbsc: error: ") != std::string::npos);
+    CHECK(r.output.find(message) != std::string::npos);
+    CHECK(!fs::exists(dir / "t.csv"));
+    CHECK(!fs::exists(dir / "t.csv.partial"));
+  }
+  fs::remove_all(dir);
+}
