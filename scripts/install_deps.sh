@@ -14,7 +14,9 @@ pkgs=(g++ cmake make pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev
 # configure time). Its hard dependencies bring MPI, PETSc, hypre and Trilinos development
 # packages: 135 packages, 68 MB to download, 310 MB installed on top of the build group
 # (without recommends; with them 3 more).
-lean=(gnuplot-nox libsundials-dev)  # installed without their recommends
+# libopenmpi-dev, openmpi-bin: `mbsc sweep` across the ranks of mpirun (optional at configure
+# time; libsundials-dev brings the first already).
+lean=(gnuplot-nox libsundials-dev libopenmpi-dev openmpi-bin)  # installed without their recommends
 if [ "${1:-}" = sanitize ]; then pkgs+=(clang-14 libclang-rt-14-dev lld-14 llvm-14); fi
 if [ "${1:-}" = test ]; then lean+=(texlive-latex-base); fi
 installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }

@@ -33,7 +33,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 # random trees up to 20 bodies instead of 40, the same code paths; the Release run of
 # the test command runs the full sizes.
 export MBSC_TEST_SCALE=small
-CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Sanitize -DMBSC_BUILD_TESTS=ON -DMBSC_SLOW_TESTS=ON -DMBSC_BUILD_APPS=OFF -DMBSC_PRINT_TESTS=OFF \
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD" -DCMAKE_BUILD_TYPE=Sanitize -DMBSC_BUILD_TESTS=ON -DMBSC_SLOW_TESTS=ON -DMBSC_BUILD_APPS=OFF -DMBSC_MPI=OFF -DMBSC_PRINT_TESTS=OFF \
   -DMBSC_FUZZ=ON -DCMAKE_CXX_FLAGS="$FLAGS" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined -fuse-ld=lld" >/dev/null
 # symbolized LOG COMMAND...: runs COMMAND, its output also kept in LOG; when it fails,
 # prints the sanitizer reports of LOG again with function, file and line.

@@ -337,7 +337,7 @@ int main(int argc, char** argv) {
   IntegrationFlags sweep_flags;
   std::vector<std::string> sweep_summaries;
   auto* sw = app.add_subcommand("sweep", "many runs of one model, each with its own parameters and initial values, on "
-                                         "every core: a table row per run (docs/sweep.md)");
+                                         "every core, or across the ranks of mpirun: a table row per run (docs/sweep.md)");
   sw->add_option("model", sweep.run.model, "model file (.mbs, or a robot's .urdf)")->required();
   sw->add_option("--grid", sweep.grids,
                  "a swept parameter, coordinate or speed: NAME=FROM:TO:STEP, NAME=FROM:TO:logN (N points, log-spaced) or "
@@ -354,7 +354,7 @@ int main(int argc, char** argv) {
                  "columns per run (comma-separated): final (every coordinate and speed at the end), final:NAME, "
                  "max:NAME, min:NAME, mean:NAME, maxabs:NAME over the output rows; NAME a column of run's CSV or "
                  "energy_change (default: final)");
-  sw->add_option("--threads", sweep.threads, "worker threads (default 0: every core)")->check(CLI::Range(0, 4096));
+  sw->add_option("--threads", sweep.threads, "worker threads (default 0: every core; one per rank under mpirun)")->check(CLI::Range(0, 4096));
   sw->add_option("-o,--out", sweep.out, "the table (default: <model name>_sweep.csv); rows go to TABLE.partial first");
   add_integration_options(sw, sweep.run, sweep_flags);
   WorkFlags sweep_work;

@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -38,6 +39,7 @@
 #include "mbsc/run/sha256.hpp"
 #include "mbsc/run/start_check.hpp"
 #include "mbsc/run/sweep_plan.hpp"
+#include "mbsc/run/sweep_ranks.hpp"
 
 namespace fs = std::filesystem;
 
@@ -208,9 +210,19 @@ class SweepProgress {
 
 }  // namespace
 
-int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
+int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   auto watch = driver::WorkMonitor::whole_command(a.run.work.budget);
   (void)out;
+  // Under MPI every rank checks the same input and meets the same errors; rank 0 says so.
+  std::string ranks_error;
+  const std::unique_ptr<SweepRanks> ranks = sweep_ranks(ranks_error);
+  const bool writer = ranks->rank() == 0;
+  std::ostringstream other_ranks;
+  std::ostream& err = writer ? err_stream : other_ranks;
+  if (!ranks_error.empty()) {
+    err << "mbsc: error: " << ranks_error << "\n";
+    return 1;
+  }
   auto fail = [&](const std::string& message) {
     err << "mbsc: error: " << message << "\n";
     return 1;
@@ -294,16 +306,23 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
                                                                     : NewtonJacobian::Generated;
   req.rhs_jacobian = newton_method && newton == NewtonJacobian::Generated;
   int code = 1;
-  const auto compiled = compile_model(req, *m, sources, err, code);
-  if (!compiled) return code;
+  // Under MPI rank 0 compiles (or finds the cache) before the others read the cache; a
+  // rank that cannot ends them all.
+  std::unique_ptr<CompiledModel> compiled, full_model;
+  auto compile = [&] {
+    compiled = compile_model(req, *m, sources, err, code);
+    if (compiled && ra.minimal_state) {  // the initial state is assembled on the full state
+      CompileRequest full = req;
+      full.minimal_state = false;
+      full_model = compile_model(full, *m, sources, err, code);
+    }
+    return compiled && (full_model || !ra.minimal_state);
+  };
+  bool ready = writer && compile();
+  ranks->barrier();
+  if (!writer) ready = compile();
+  if (ranks->all_min(ready ? 1 : 0) == 0) return ready ? 1 : code;
   const runtime::ModelTable& T = compiled->table();
-  std::unique_ptr<CompiledModel> full_model;
-  if (ra.minimal_state) {
-    CompileRequest full = req;
-    full.minimal_state = false;
-    full_model = compile_model(full, *m, sources, err, code);
-    if (!full_model) return code;
-  }
   const runtime::ModelTable& TA = ra.minimal_state ? full_model->table() : T;
 
   // ---- the columns a summary may name ----
@@ -376,8 +395,11 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
   const std::string signature = "# mbsc sweep " + sha256_hex(decided);
   PartialTable partial;
   partial.path = partial_path;
-  if (!partial.open(signature, header_line, rows, error)) return fail(error);
-  const long resumed = partial.rows_done;
+  // Rank 0 owns the files; the others learn from it where the sweep starts (-1: it cannot).
+  const bool opened = !writer || partial.open(signature, header_line, rows, error);
+  const long resumed = ranks->broadcast(opened ? partial.rows_done : -1);
+  if (!opened) return fail(error);
+  if (resumed < 0) return 1;
   if (resumed > 0 && !ra.work.quiet)
     err << fmt::format("mbsc: continuing the sweep in {}: {} of {} rows done\n", printable(partial_path), resumed, rows);
 
@@ -478,35 +500,84 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
   };
 
   // ---- the workers ----
-  const long todo = rows - resumed;
-  const int threads = static_cast<int>(std::max<long>(
-      1, std::min<long>(todo, a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())))));
-  std::atomic<long> next{resumed};
+  // Rows are taken in order: alone from one counter; under MPI rank 0 takes its own from
+  // it and hands the others theirs when they ask (a few at a time, so a rank that draws
+  // long runs takes fewer). The default is every core alone, one thread per rank under MPI
+  // (a rank per core).
+  const bool under_mpi = ranks->size() > 1;
+  const int wanted = a.threads > 0 ? a.threads
+                     : under_mpi   ? 1
+                                   : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = static_cast<int>(std::max<long>(1, std::min<long>(rows - resumed, wanted)));
+  long next = resumed;  // rank 0: the next row nobody has taken
   std::atomic<bool> stopped{false};
-  std::mutex table;  // the buffer, the partial file, the counts, the progress line
+  std::mutex table;  // the buffer, the partial file, the counts, the progress line, the rows handed out
   std::map<long, std::string> waiting;
   long written = resumed, failed = 0;
   bool write_failed = false;
   // Tests kill a sweep here (as a user would) after this many rows in the partial table.
   const char* abort_env = std::getenv("MBSC_SWEEP_ABORT_AFTER_ROWS");
   const long abort_after = abort_env ? std::atol(abort_env) : -1;
-  SweepProgress progress(rows, resumed, ra.work.quiet ? driver::ProgressMode::Never : ra.work.progress);
+  SweepProgress progress(rows, resumed,
+                         ra.work.quiet || !writer ? driver::ProgressMode::Never : ra.work.progress);
   watch.note("sweeping", fmt::format("{} rows of model {}", rows, m->name));
   const auto t_start = std::chrono::steady_clock::now();
-  // A row is started only while fewer than `ahead` rows wait behind an unfinished one, so the
-  // buffer stays bounded when one row runs long.
-  const long ahead = 64L * threads;
-  std::condition_variable row_written;
-  auto worker = [&] {
-    for (long r; !stopped && (r = next++) < rows;) {
-      {
-        std::unique_lock<std::mutex> lock(table);
-        row_written.wait(lock, [&] { return stopped || r < written + ahead; });
-        if (stopped) return;
+  // A row is started only while fewer than `ahead` rows (of all ranks) wait behind an
+  // unfinished one, so the buffer stays bounded when one row runs long. Under MPI a rank
+  // keeps up to kQueued rows per thread queued (see the asks below), inside the window.
+  constexpr long kQueued = 256;
+  const long ahead = (under_mpi ? 2 * kQueued : 64L) * threads * ranks->size();
+  std::condition_variable row_written, rows_came;
+  std::deque<long> assigned;  // rank > 0: rows rank 0 handed out, not yet started
+  bool no_more_rows = false;  // rank > 0: rank 0 said so
+  std::vector<SweepMessage> outbox;  // rank > 0: finished lines for rank 0
+  double row_seconds = 0.0;  // the time this rank's rows took, and how many it ran
+  long rows_run = 0;
+  // A finished row (with `table` held): rank 0 puts it in order into the partial table;
+  // the others leave it for the main thread to send.
+  auto deliver = [&](long r, std::string line, bool row_failed) {
+    failed += row_failed;
+    if (!writer) {
+      SweepMessage m;
+      m.kind = SweepMessage::Kind::Line;
+      m.row = r;
+      m.line = std::move(line);
+      m.failed = row_failed;
+      outbox.push_back(std::move(m));
+      return;
+    }
+    waiting[r] = std::move(line);
+    for (auto it = waiting.begin(); it != waiting.end() && it->first == written && !write_failed; it = waiting.erase(it)) {
+      if (!partial.append(it->second)) {  // (disk full): stop; the rows written so far stay whole
+        write_failed = stopped = true;
+        break;
       }
+      ++written;
+      if (abort_after >= 0 && written >= abort_after) std::_Exit(3);
+    }
+    row_written.notify_all();
+    progress.update(written, failed);
+  };
+  // The next row for a worker of this rank; false when there is none.
+  auto take_row = [&](long& r) {
+    std::unique_lock<std::mutex> lock(table);
+    if (!writer) {
+      rows_came.wait(lock, [&] { return stopped || !assigned.empty() || no_more_rows; });
+      if (stopped || assigned.empty()) return false;
+      r = assigned.front();
+      assigned.pop_front();
+      return true;
+    }
+    if (stopped || (r = next++) >= rows) return false;
+    row_written.wait(lock, [&] { return stopped || r < written + ahead; });
+    return !stopped;
+  };
+  auto worker = [&] {
+    for (long r; take_row(r);) {
       std::uint64_t row_seed = 0;
       const std::vector<double> values = plan.values(r, row_seed);
       RowResult res;
+      const auto row_start = std::chrono::steady_clock::now();
       try {
         res = run_row(values);
       } catch (const std::exception& e) {  // (a thread must not let one escape)
@@ -519,26 +590,108 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
       if (res.status == "stopped") {  // the budget: this row is not done
         stopped = true;
         row_written.notify_all();
+        rows_came.notify_all();
         return;
       }
-      failed += res.status != "ok";
-      waiting[r] = row_text(r, row_seed, values, res);
-      for (auto it = waiting.begin(); it != waiting.end() && it->first == written && !write_failed; it = waiting.erase(it)) {
-        if (!partial.append(it->second)) {  // (disk full): stop; the rows written so far stay whole
-          write_failed = stopped = true;
-          break;
-        }
-        ++written;
-        if (abort_after >= 0 && written >= abort_after) std::_Exit(3);
-      }
-      row_written.notify_all();
-      progress.update(written, failed);
+      deliver(r, row_text(r, row_seed, values, res), res.status != "ok");
+      row_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - row_start).count();
+      ++rows_run;
     }
   };
   std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  if (!under_mpi) {  // alone: this thread works too
+    for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+  } else {
+    // Under MPI only this thread talks to MPI. Rank 0 answers asks for rows and takes the
+    // other ranks' lines into the table until every rank is done; another rank keeps a few
+    // rows queued for its workers and sends their lines.
+    std::atomic<int> working{threads};
+    for (int k = 0; k < threads; ++k) pool.emplace_back([&] {
+      worker();
+      --working;
+    });
+    int ranks_done = 0;
+    bool asking = false;
+    // An answer without rows (the window is full) is asked again a little later.
+    auto ask_from = std::chrono::steady_clock::now();
+    for (SweepMessage m;;) {
+      bool idle = true;
+      while (ranks->poll(m)) {
+        idle = false;
+        std::lock_guard<std::mutex> lock(table);
+        switch (m.kind) {
+          case SweepMessage::Kind::Ask: {  // (rank 0) rows in order, inside the window
+            SweepMessage reply;
+            reply.kind = SweepMessage::Kind::Rows;
+            reply.peer = m.peer;
+            while (!stopped && static_cast<long>(reply.rows.size()) < m.count && next < rows && next < written + ahead)
+              reply.rows.push_back(next++);
+            reply.end = stopped || next >= rows;
+            ranks->send(reply);
+            break;
+          }
+          case SweepMessage::Kind::Rows:  // (rank > 0)
+            assigned.insert(assigned.end(), m.rows.begin(), m.rows.end());
+            no_more_rows = m.end;
+            asking = false;
+            if (m.rows.empty()) ask_from = std::chrono::steady_clock::now() + std::chrono::milliseconds(5);
+            rows_came.notify_all();
+            break;
+          case SweepMessage::Kind::Line: deliver(m.row, std::move(m.line), m.failed); break;
+          case SweepMessage::Kind::Done:  // (rank 0) a rank whose budget ran out stops the sweep
+            ++ranks_done;
+            if (m.stopped) {
+              stopped = true;
+              row_written.notify_all();
+            }
+            break;
+        }
+      }
+      std::vector<SweepMessage> lines;
+      bool ask = false;
+      long ask_count = 0;
+      {
+        std::lock_guard<std::mutex> lock(table);
+        lines.swap(outbox);
+        // Enough rows queued for about 20 ms of work (4 per thread until a row has run),
+        // asked for when half of them are left: the workers never wait for an answer,
+        // and the last rows of a sweep still spread over the ranks.
+        const long queued = std::clamp<long>(
+            rows_run > 0 ? std::lround(threads * 0.02 * rows_run / std::max(row_seconds, 1e-9)) : 4L * threads,
+            4L * threads, kQueued * threads);
+        ask = !writer && !asking && !no_more_rows && !stopped && 2 * static_cast<long>(assigned.size()) < queued &&
+              std::chrono::steady_clock::now() >= ask_from;
+        if (ask) ask_count = queued - static_cast<long>(assigned.size());
+      }
+      for (auto& line : lines) ranks->send(line);
+      if (ask) {
+        SweepMessage m_ask;
+        m_ask.kind = SweepMessage::Kind::Ask;
+        m_ask.count = ask_count;
+        ranks->send(m_ask);
+        asking = true;
+      }
+      idle = idle && lines.empty();
+      // The workers' end is read before the outbox is: then no line can come after.
+      bool finished = working == 0;
+      {
+        std::lock_guard<std::mutex> lock(table);
+        finished = finished && outbox.empty();
+      }
+      if (finished && (writer ? ranks_done == ranks->size() - 1 : !asking)) break;
+      if (idle) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    for (auto& t : pool) t.join();
+    if (!writer) {
+      SweepMessage done;
+      done.kind = SweepMessage::Kind::Done;
+      done.stopped = stopped;
+      ranks->send(done);
+      return stopped ? 1 : 0;
+    }
+  }
   progress.clear();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (write_failed) return fail(fmt::format("writing '{}' failed (disk full?)", printable(partial_path)));
@@ -566,9 +719,10 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err) {
   std::error_code ec;
   fs::remove(partial_path, ec);
   if (!ra.work.quiet)
-    err << fmt::format("mbsc: sweep of {}: {} rows{} on {} thread{} in {:.3g} s, {} failed; wrote {}\n", m->name, rows,
-                       resumed > 0 ? fmt::format(" ({} from an earlier run)", resumed) : "", threads,
-                       threads == 1 ? "" : "s", wall, failed, printable(table_path));
+    err << fmt::format("mbsc: sweep of {}: {} rows{} on {}{} thread{} in {:.3g} s, {} failed; wrote {}\n", m->name, rows,
+                       resumed > 0 ? fmt::format(" ({} from an earlier run)", resumed) : "",
+                       under_mpi ? fmt::format("{} ranks of ", ranks->size()) : "", threads, threads == 1 ? "" : "s", wall,
+                       failed, printable(table_path));
   return 0;
 }
 
