@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-2.0-or-later
 # `mbsc sweep` under MPI (ctest entry sweep_mpi, where mbsc was built with MPI): the table
-# of `mpirun --oversubscribe -n 3 mbsc sweep ...` equals the local one byte for byte, and
-# so does that of 300 short rows over 4 ranks of 2 threads; bad input gives one message
-# and no table; a sweep stopped by its time budget keeps the right rows; a sweep killed under MPI after 4 rows continues under MPI to the same
-# table; and one continued without mpirun too.
+# and trajectories of `mpirun --oversubscribe -n 3 mbsc sweep ...` equal the local ones
+# byte for byte, and so does the table of 300 short rows over 4 ranks of 2 threads; bad
+# input gives one message and no table; a sweep stopped by its time budget keeps the
+# right rows; a sweep killed under MPI after 4 rows continues under MPI to the same table
+# and trajectories, and one continued without mpirun too.
 #   sweep_mpi.sh MBSC WORK_DIR
 set -euo pipefail
 mbsc=$1 work=$2
@@ -29,10 +30,11 @@ mpirun_cmd=(mpirun --oversubscribe)
 [ "$(id -u)" -eq 0 ] && mpirun_cmd+=(--allow-run-as-root)
 sweep=("$mbsc" sweep pend.mbs --cache-dir cache --grid l=1:2:0.25 --sample 'arm.th~normal(1,0.2)' -n 4 --t-end 0.5
        --summary final,max:energy_change -q)
-"${sweep[@]}" -o local.csv
-"${mpirun_cmd[@]}" -n 3 "${sweep[@]}" -o mpi.csv
+"${sweep[@]}" -o local.csv --trajectories local_traj
+"${mpirun_cmd[@]}" -n 3 "${sweep[@]}" -o mpi.csv --trajectories mpi_traj
 cmp local.csv mpi.csv
-echo "sweep_mpi: 3 ranks: the same $(($(wc -l < mpi.csv) - 1)) rows as the local sweep"
+diff -r local_traj mpi_traj
+echo "sweep_mpi: 3 ranks: the same $(($(wc -l < mpi.csv) - 1)) rows and trajectories as the local sweep"
 # Many short rows over 4 ranks of 2 threads (rows handed out many times, in batches).
 many=("$mbsc" sweep pend.mbs --cache-dir cache --sample 'arm.th~uniform(0.5,2.5)' --sample 'l~loguniform(0.5,2)' -n 300
       --t-end 0.05 --summary max:angle -q)
@@ -63,14 +65,16 @@ cmp <(tail -n +3 budget.csv.partial) <(tail -n +2 kept.csv)
 echo "sweep_mpi: stopped by its budget after $kept rows, the same as run alone"
 # Killed under MPI after 4 rows (rank 0 ends as a kill would; mpirun ends the others).
 if MBSC_SWEEP_ABORT_AFTER_ROWS=4 "${mpirun_cmd[@]}" -n 3 -x MBSC_SWEEP_ABORT_AFTER_ROWS "${sweep[@]}" -o resumed.csv \
+     --trajectories resumed_traj \
      >/dev/null 2>&1; then
   echo "sweep_mpi: the killed sweep finished" >&2
   exit 1
 fi
 [ -f resumed.csv.partial ] && [ ! -f resumed.csv ]
 [ "$(($(wc -l < resumed.csv.partial) - 2))" -eq 4 ]
-"${mpirun_cmd[@]}" -n 3 "${sweep[@]}" -o resumed.csv
+"${mpirun_cmd[@]}" -n 3 "${sweep[@]}" -o resumed.csv --trajectories resumed_traj
 cmp local.csv resumed.csv
+diff -r local_traj resumed_traj
 [ ! -f resumed.csv.partial ]
 # Killed under MPI, continued alone.
 MBSC_SWEEP_ABORT_AFTER_ROWS=7 "${mpirun_cmd[@]}" -n 3 -x MBSC_SWEEP_ABORT_AFTER_ROWS "${sweep[@]}" -o mixed.csv \

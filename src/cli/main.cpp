@@ -356,6 +356,11 @@ int main(int argc, char** argv) {
                  "energy_change (default: final)");
   sw->add_option("--threads", sweep.threads, "worker threads (default 0: every core; one per rank under mpirun)")->check(CLI::Range(0, 4096));
   sw->add_option("-o,--out", sweep.out, "the table (default: <model name>_sweep.csv); rows go to TABLE.partial first");
+  std::vector<std::string> sweep_columns;
+  sw->add_option("--trajectories", sweep.trajectories,
+                 "also each row's trajectory, the CSV mbsc run writes, to DIR/row_R.csv (R the row, zero-padded)");
+  sw->add_option("--columns", sweep_columns, "the trajectories' columns (default: those of mbsc run)");
+  sw->add_flag("--large-output", sweep.run.large_output, "write the trajectories even when estimated above a gigabyte");
   add_integration_options(sw, sweep.run, sweep_flags);
   WorkFlags sweep_work;
   sweep_work.add_to(sw);
@@ -515,6 +520,7 @@ int main(int argc, char** argv) {
       // A sweep has no time limit unless --budget sets one (then it covers the whole sweep).
       if (sw->count("--budget") == 0) sweep.run.work.budget.seconds = 1e9;
       sweep.summaries = split_list(sweep_summaries);
+      sweep.run.columns = split_list(sweep_columns);
       if (!sweep_flags.apply(sweep.run)) return 1;
       return mbsc::run::run_sweep(sweep, std::cout, std::cerr);
     }

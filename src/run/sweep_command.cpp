@@ -31,6 +31,7 @@
 #include "mbsc/driver/staged_file.hpp"
 #include "mbsc/driver/work_monitor.hpp"
 #include "mbsc/run/compiled_model.hpp"
+#include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/input_table.hpp"
 #include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/output_guard.hpp"
@@ -178,6 +179,12 @@ struct PartialTable {
 };
 
 /// A progress line on a terminal (or always with --progress, never with --quiet).
+/// A message for the table's message column: without the "mbsc: error: " of a whole line.
+std::string without_error_prefix(const std::string& message) {
+  const std::string prefix = "mbsc: error: ";
+  return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+}
+
 class SweepProgress {
  public:
   SweepProgress(long rows, long done, driver::ProgressMode mode)
@@ -364,6 +371,36 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   }
   const bool constrained = T.nposc + T.nc > 0 && T.full_state_layout();
 
+  // ---- the trajectories (--trajectories DIR): each row's CSV, as mbsc run writes it ----
+  const bool trajectories = !a.trajectories.empty();
+  std::vector<int> trajectory_columns;
+  std::vector<std::string> trajectory_names;
+  if (!trajectories && !ra.columns.empty()) return fail("--columns: the trajectories' columns; give --trajectories DIR too");
+  if (trajectories) {
+    if (ra.columns.empty()) {
+      for (std::size_t i = 0; i < names.size(); ++i) trajectory_columns.push_back(static_cast<int>(i));
+    } else {
+      std::vector<std::string> wanted = ra.columns;
+      if (wanted.front() != "t") wanted.insert(wanted.begin(), "t");
+      if (!choose_columns(names, wanted, trajectory_columns, error)) return fail("--columns: " + error);
+    }
+    for (int c : trajectory_columns) trajectory_names.push_back(names[static_cast<std::size_t>(c)]);
+    std::error_code ec;
+    if (fs::exists(a.trajectories, ec) && !fs::is_directory(a.trajectories, ec))
+      return fail(fmt::format("--trajectories: '{}' is not a folder", printable(a.trajectories)));
+    // As mbsc run: output far larger than anyone reads is refused unless asked for.
+    const double bytes = static_cast<double>(rows) * (std::floor(ra.t_end / dt_out) + 2) *
+                         (static_cast<double>(trajectory_names.size()) * 21.0 + 1.0);
+    if (bytes > 1e9 && !ra.large_output)
+      return fail(fmt::format("--trajectories: {} rows of trajectories would take about {:.3g} GB; choose a larger "
+                              "--dt-out or fewer --columns, or pass --large-output to write them anyway",
+                              rows, bytes / 1e9));
+  }
+  const int row_digits = static_cast<int>(std::to_string(std::max(0L, rows - 1)).size());
+  auto trajectory_path = [&](long r) {
+    return (fs::path(a.trajectories) / fmt::format("row_{:0{}}.csv", r, row_digits)).string();
+  };
+
   // ---- the table ----
   std::vector<std::string> header = {"row", "seed"};
   for (const auto& n : swept) header.push_back(n);
@@ -392,7 +429,14 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   for (const auto& [k, v] : sets) decided += fmt::format("set {}={}\n", k, v);
   for (const auto& [k, v] : inits) decided += fmt::format("init {}={}\n", k, v);
   for (const auto& [k, v] : ra.inputs) decided += fmt::format("input {}={}\n", k, v);
+  if (trajectories) decided += fmt::format("trajectories {} {}\n", a.trajectories, fmt::join(trajectory_names, ","));
   const std::string signature = "# mbsc sweep " + sha256_hex(decided);
+  // Every rank needs the trajectories' folder (on a file system they share).
+  std::error_code folder_error;
+  if (trajectories) fs::create_directories(a.trajectories, folder_error);
+  if (ranks->all_min(!trajectories || fs::is_directory(a.trajectories, folder_error) ? 1 : 0) == 0)
+    return fail(fmt::format("--trajectories: cannot create the folder '{}'{}", printable(a.trajectories),
+                            folder_error ? " (" + folder_error.message() + ")" : std::string()));
   PartialTable partial;
   partial.path = partial_path;
   // Rank 0 owns the files; the others learn from it where the sweep starts (-1: it cannot).
@@ -407,7 +451,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   std::mutex symbolic;  // GiNaC: one row's start at a time
   const bool projection_off = ra.projection == "off";
   const auto quaternions = projection_off ? std::vector<std::array<int, 4>>{} : unit_quaternion_indices(*m, T);
-  auto run_row = [&](const std::vector<double>& values) {
+  auto run_row = [&](long r, const std::vector<double>& values) {
     RowResult res;
     res.summaries.assign(summaries.size(), kNan);
     std::vector<double> p, x0;
@@ -441,7 +485,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
       }
       if (!ok) {
         res.status = "start_error";
-        res.message = why.rfind("mbsc: error: ", 0) == 0 ? why.substr(13) : why;
+        res.message = without_error_prefix(why);
         return res;
       }
     }
@@ -460,6 +504,14 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
                      : projection_off || T.multipliers ? Projection::Off : Projection::Auto;
     sim.unit_quaternions = quaternions;
     sim.stop_requested = [&](double) { return ra.work.budget.seconds_left() <= 0; };
+    CsvTable trajectory;  // (uncommitted, e.g. when the budget stops the row, it is removed)
+    std::string write_error;
+    if (trajectories && !trajectory.open(trajectory_path(r), trajectory_names, write_error)) {
+      res.status = "failed";
+      res.message = without_error_prefix(write_error);
+      return res;
+    }
+    std::vector<double> trajectory_row(trajectory_columns.size());
     std::vector<Accumulator> acc(summaries.size());
     OutputRows rows_of_run(T, has_energy);
     std::vector<double> all, uu(u.size());
@@ -467,6 +519,11 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
       if (input_fn(t, uu.data()) != 0) std::fill(uu.begin(), uu.end(), kNan);
       rows_of_run.fill(t, x, uu.data(), p.data(), all);
       const double energy = has_energy ? all[columns.first_energy() + 2] : kNan;
+      if (trajectories) {
+        for (std::size_t k = 0; k < trajectory_columns.size(); ++k)
+          trajectory_row[k] = all[static_cast<std::size_t>(trajectory_columns[k])];
+        trajectory.row(trajectory_row);
+      }
       for (std::size_t k = 0; k < summaries.size(); ++k) {
         if (summaries[k].column >= 0) acc[k].add(summaries[k].kind, all[static_cast<std::size_t>(summaries[k].column)]);
         else if (!std::isnan(energy)) acc[k].add(summaries[k].kind, std::fabs(energy - rows_of_run.initial_energy()));  // as the column
@@ -486,6 +543,11 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
     if (!sr.ok()) {
       res.status = sr.status == runtime::SimulationResult::Status::Stopped ? "stopped" : "failed";
       res.message = sr.message;
+    }
+    // A failed run's trajectory is kept up to the failure, as its row says.
+    if (trajectories && res.status != "stopped" && !trajectory.close(write_error)) {
+      res.status = "failed";
+      res.message = without_error_prefix(write_error);
     }
     return res;
   };
@@ -579,7 +641,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
       RowResult res;
       const auto row_start = std::chrono::steady_clock::now();
       try {
-        res = run_row(values);
+        res = run_row(r, values);
       } catch (const std::exception& e) {  // (a thread must not let one escape)
         res = RowResult();
         res.summaries.assign(summaries.size(), kNan);

@@ -105,6 +105,22 @@ TEST_CASE("mbsc sweep: rows from grids and samples, each equal to mbsc run of it
     for (const char* name : {"arm.th", "arm.w", "b.x", "b.y", "b.u", "b.v"})
       CHECK(one.at(one.rows.size() - 1, name) == t.at(i, std::string("final:") + name));
   }
+  // The trajectories: row i's file is the CSV mbsc run writes for its values, byte for byte.
+  const fs::path traj = dir / "traj";
+  r = run(sweep + " --threads 2 --trajectories " + quote(traj.string()) + " -o " + quote((dir / "with_traj.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  CHECK(slurp(dir / "with_traj.csv") == slurp(dir / "two.csv"));
+  for (std::size_t i = 0; i < 6; ++i) CHECK(fs::exists(traj / ("row_" + std::to_string(i) + ".csv")));
+  CHECK(std::distance(fs::directory_iterator(traj), fs::directory_iterator()) == 6);  // no temporaries left
+  for (std::size_t i : {1u, 4u}) CHECK(slurp(traj / ("row_" + std::to_string(i) + ".csv")) == slurp(dir / ("row" + std::to_string(i) + ".csv")));
+  // Chosen columns, t first.
+  r = run(sweep + " --trajectories " + quote((dir / "angles").string()) + " --columns angle -o " +
+          quote((dir / "angles.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  const Table angles = read_table(dir / "angles" / "row_3.csv");
+  CHECK(angles.header == std::vector<std::string>{"t", "angle"});
+  CHECK(angles.at(angles.rows.size() - 1, "angle") == t.at(3, "final:arm.th"));
+
   // One thread: the same bytes.
   r = run(sweep + " --threads 1 -o " + quote((dir / "one.csv").string()));
   REQUIRE(r.exit_code == 0);
@@ -179,6 +195,10 @@ TEST_CASE("mbsc sweep: a failing row is data; bad input is refused with nothing 
       {" --grid l=1,2 --summary max", "'max' needs a column"},
       {"", "a sweep needs --grid"},
       {" --grid l=1,2 --input 'u=@f.csv'", "not tables"},
+      {" --grid l=1,2 --columns angle", "--columns: the trajectories' columns; give --trajectories DIR too"},
+      {" --grid l=1,2 --trajectories tr --columns anlge", "no column named 'anlge' (did you mean 'angle'?)"},
+      {" --grid l=1,2 --trajectories " + quote((dir / "pend.mbs").string()), "is not a folder"},
+      {" --grid l=1:2:1e-5 --dt-out 1e-5 --trajectories tr", "pass --large-output to write them anyway"},
   };
   for (const auto& [args, message] : bad) {
     INFO(args);

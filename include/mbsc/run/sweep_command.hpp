@@ -18,7 +18,7 @@
 namespace mbsc::run {
 
 struct SweepArgs {
-  RunArgs run;                         // the model and the options of each run (not its -o, columns, plot)
+  RunArgs run;                         // the model and the options of each run (not its -o or plot)
   std::vector<std::string> grids;      // --grid NAME=FROM:TO:STEP | NAME=FROM:TO:logN | NAME=V1,V2
   std::vector<std::string> samples;    // --sample 'NAME~LAW(A,B)'
   long per_point = 0;                  // -n: rows per grid point (0: 1; needed with --sample)
@@ -26,6 +26,7 @@ struct SweepArgs {
   std::vector<std::string> summaries;  // --summary (default: final)
   int threads = 0;                     // --threads (0: every core)
   std::string out;                     // -o (default: <model name>_sweep.csv)
+  std::string trajectories;            // --trajectories DIR: each row's CSV as mbsc run writes it (run.columns, run.large_output)
 };
 
 int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err);
