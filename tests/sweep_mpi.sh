@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 # `mbsc sweep` under MPI (ctest entry sweep_mpi, where mbsc was built with MPI): the table
 # and trajectories of `mpirun --oversubscribe -n 3 mbsc sweep ...` equal the local ones
-# byte for byte, and so does the table of 300 short rows over 4 ranks of 2 threads; bad
-# input gives one message and no table; a sweep stopped by its time budget keeps the
-# right rows; a sweep killed under MPI after 4 rows continues under MPI to the same table
-# and trajectories, and one continued without mpirun too.
+# byte for byte, and so do the table of 300 short rows over 4 ranks of 2 threads and rows
+# of eigenvalues (--eig); bad input gives one message and no table; a sweep stopped by
+# its time budget keeps the right rows; a sweep killed under MPI after 4 rows continues
+# under MPI to the same table and trajectories, and one continued without mpirun too.
 #   sweep_mpi.sh MBSC WORK_DIR
 set -euo pipefail
 mbsc=$1 work=$2
@@ -42,6 +42,12 @@ many=("$mbsc" sweep pend.mbs --cache-dir cache --sample 'arm.th~uniform(0.5,2.5)
 "${mpirun_cmd[@]}" -n 4 --bind-to none "${many[@]}" --threads 2 -o many_mpi.csv
 cmp many_local.csv many_mpi.csv
 echo "sweep_mpi: 4 ranks of 2 threads: the same $(($(wc -l < many_mpi.csv) - 1)) rows"
+# Rows of eigenvalues (--eig) over 3 ranks.
+eig=("$mbsc" sweep pend.mbs --cache-dir cache --eig --grid l=0.5:2:0.1 --grid arm.th=0,3.141592653589793 -q)
+"${eig[@]}" -o eig_local.csv
+"${mpirun_cmd[@]}" -n 3 "${eig[@]}" -o eig_mpi.csv
+cmp eig_local.csv eig_mpi.csv
+echo "sweep_mpi: --eig over 3 ranks: the same $(($(wc -l < eig_mpi.csv) - 1)) rows"
 # Bad input under MPI: one message (from rank 0), exit code 1, no table.
 if "${mpirun_cmd[@]}" -n 3 "$mbsc" sweep pend.mbs --cache-dir cache --grid nosuch=1:2:0.5 -o bad.csv 2> bad.err; then
   echo "sweep_mpi: a sweep of an unknown parameter succeeded" >&2

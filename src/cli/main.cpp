@@ -361,6 +361,12 @@ int main(int argc, char** argv) {
                  "also each row's trajectory, the CSV mbsc run writes, to DIR/row_R.csv (R the row, zero-padded)");
   sw->add_option("--columns", sweep_columns, "the trajectories' columns (default: those of mbsc run)");
   sw->add_flag("--large-output", sweep.run.large_output, "write the trajectories even when estimated above a gigabyte");
+  std::vector<std::string> sweep_find, sweep_steady, sweep_keep;
+  sw->add_flag("--eig", sweep.eig, "each row: the eigenvalues of the linear model at its values (as mbsc linearize), not a run");
+  sw->add_option("--find", sweep_find, "with --eig: a steady motion per row, the unknowns (with --steady)");
+  sw->add_option("--steady", sweep_steady, "with --eig and --find: the state components whose rates must vanish");
+  sw->add_option("--keep", sweep_keep, "with --eig: components the minimal state takes first (e.g. lean,steer)");
+  sw->add_option("--t", sweep.eig_t, "with --eig: the reference time, s")->check(finite_above(-1e300, "a number of seconds"));
   add_integration_options(sw, sweep.run, sweep_flags);
   WorkFlags sweep_work;
   sweep_work.add_to(sw);
@@ -521,6 +527,13 @@ int main(int argc, char** argv) {
       if (sw->count("--budget") == 0) sweep.run.work.budget.seconds = 1e9;
       sweep.summaries = split_list(sweep_summaries);
       sweep.run.columns = split_list(sweep_columns);
+      sweep.find = split_list(sweep_find);
+      sweep.steady = split_list(sweep_steady);
+      sweep.keep = split_list(sweep_keep);
+      if (!sweep.eig && (sw->count("--find") + sw->count("--steady") + sw->count("--keep") + sw->count("--t") > 0)) {
+        std::cerr << "mbsc: error: --find, --steady, --keep and --t belong to --eig (the eigenvalues of each row)\n";
+        return 1;
+      }
       if (!sweep_flags.apply(sweep.run)) return 1;
       return mbsc::run::run_sweep(sweep, std::cout, std::cerr);
     }

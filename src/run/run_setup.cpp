@@ -18,6 +18,7 @@
 #include "mbsc/model/expr_convert.hpp"
 #include "mbsc/model/option_expression.hpp"
 #include "mbsc/model/rigid3d.hpp"
+#include "mbsc/model/value_bound.hpp"
 
 namespace mbsc::run {
 
@@ -210,18 +211,26 @@ bool initial_state(const model::Model& m, const runtime::ModelTable& t, const st
     }
     (k < t.nq ? init_q : init_u) = true;
   }
+  std::vector<std::pair<GiNaC::ex, double>> numbers;
+  for (const auto& [sym, value] : values)
+    if (GiNaC::is_a<GiNaC::numeric>(value)) numbers.emplace_back(sym, GiNaC::ex_to<GiNaC::numeric>(value).to_double());
   auto value_of = [&](const model::NamedExpr& iv, double& v) {
-    GiNaC::ex e;
-    try {
-      e = GiNaC::evalf(iv.value.subs(values));
-    } catch (const std::exception&) {  // a division by zero at these parameters
-      e = GiNaC::ex();
-    }
-    if (!GiNaC::is_a<GiNaC::numeric>(e) || !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(e).to_double())) {
+    auto not_finite = [&] {
       error = fmt::format("{}:{}:{}: the initial value of '{}' is not a finite number with these parameters",
                           iv.pos.file, iv.pos.line, iv.pos.col, iv.name);
       return false;
+    };
+    // Undefined in double arithmetic (a division by zero at these parameters): refused
+    // before GiNaC meets it, which throws from inside its constructors and leaks what
+    // they had built. Otherwise the exact value, evaluated by GiNaC.
+    if (const auto d = model::value_at(iv.value, numbers); d && !std::isfinite(*d)) return not_finite();
+    GiNaC::ex e;
+    try {
+      e = GiNaC::evalf(iv.value.subs(values));
+    } catch (const std::exception&) {  // (what the walk does not know)
+      e = GiNaC::ex();
     }
+    if (!GiNaC::is_a<GiNaC::numeric>(e) || !std::isfinite(GiNaC::ex_to<GiNaC::numeric>(e).to_double())) return not_finite();
     v = GiNaC::ex_to<GiNaC::numeric>(e).to_double();
     return true;
   };

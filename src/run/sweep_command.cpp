@@ -39,6 +39,7 @@
 #include "mbsc/run/run_setup.hpp"
 #include "mbsc/run/sha256.hpp"
 #include "mbsc/run/start_check.hpp"
+#include "mbsc/run/sweep_eigen_rows.hpp"
 #include "mbsc/run/sweep_plan.hpp"
 #include "mbsc/run/sweep_ranks.hpp"
 
@@ -264,8 +265,17 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
     for (std::size_t j = 0; j < i; ++j)
       if (swept[i] == swept[j]) return fail(fmt::format("'{}' is swept twice", printable(swept[i])));
   std::vector<SummarySpec> specs;
-  if (!parse_summaries(a.summaries.empty() ? std::vector<std::string>{"final"} : a.summaries, specs, error))
+  if (a.eig) {  // (the rows are eigenvalues, not runs)
+    if (!a.summaries.empty()) return fail("--summary: the rows of --eig are eigenvalues, not runs");
+    if (!a.trajectories.empty()) return fail("--trajectories: the rows of --eig are eigenvalues, not runs");
+    if (ra.multipliers || ra.minimal_state)
+      return fail("--eig linearizes the complement form in a minimal state of its own: leave out --formulation and --state");
+    if (a.find.size() != a.steady.size())
+      return fail(fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", a.find.size(),
+                              a.steady.size()));
+  } else if (!parse_summaries(a.summaries.empty() ? std::vector<std::string>{"final"} : a.summaries, specs, error)) {
     return fail(error);
+  }
   if (a.threads < 0) return fail("--threads must be 0 (every core) or more");
   for (const auto& [name, text] : ra.inputs)
     if (is_input_table(text))
@@ -316,7 +326,19 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   // Under MPI rank 0 compiles (or finds the cache) before the others read the cache; a
   // rank that cannot ends them all.
   std::unique_ptr<CompiledModel> compiled, full_model;
+  EigenRowOptions eig_options;
+  eig_options.base.model_path = ra.model;
+  eig_options.base.sets = ra.sets;
+  eig_options.base.inits = ra.inits;
+  for (const auto& [name, text] : ra.inputs) eig_options.base.inputs.push_back(name + "=" + text);
+  eig_options.base.t = a.eig_t;
+  eig_options.base.cache_dir = ra.cache_dir;
+  eig_options.base.work = ra.work;
+  eig_options.find = a.find;
+  eig_options.steady = a.steady;
+  eig_options.keep = a.keep;
   auto compile = [&] {
+    if (a.eig) return static_cast<bool>(compiled = compile_for_linearization(eig_options.base, *m, sources, err, code));
     compiled = compile_model(req, *m, sources, err, code);
     if (compiled && ra.minimal_state) {  // the initial state is assembled on the full state
       CompileRequest full = req;
@@ -369,7 +391,20 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
     }
     summaries.push_back({s.kind, c, s.header()});
   }
-  const bool constrained = T.nposc + T.nc > 0 && T.full_state_layout();
+  const bool constrained = !a.eig && T.nposc + T.nc > 0 && T.full_state_layout();
+  if (a.eig) has_energy = false;
+
+  // ---- --eig: the columns, from the first row's reference ----
+  SweepEigenRows eigen_rows(*m, *compiled, eig_options);
+  auto row_values = [&](const std::vector<double>& values) {
+    std::map<std::string, double> named;
+    for (std::size_t k = 0; k < swept.size(); ++k) named[swept[k]] = values[k];
+    return named;
+  };
+  if (a.eig) {
+    std::uint64_t first_seed = 0;
+    if (!eigen_rows.prepare(row_values(plan.values(0, first_seed)), error)) return fail(error);
+  }
 
   // ---- the trajectories (--trajectories DIR): each row's CSV, as mbsc run writes it ----
   const bool trajectories = !a.trajectories.empty();
@@ -405,7 +440,12 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   std::vector<std::string> header = {"row", "seed"};
   for (const auto& n : swept) header.push_back(n);
   for (const auto& s : summaries) header.push_back(s.header);
-  for (const char* h : {"status", "t_reached", "steps", "rhs_evaluations"}) header.push_back(h);
+  if (a.eig) {
+    for (const auto& c : eigen_rows.columns()) header.push_back(c);
+    header.push_back("status");
+  } else {
+    for (const char* h : {"status", "t_reached", "steps", "rhs_evaluations"}) header.push_back(h);
+  }
   if (constrained) {
     header.push_back("position_residual");
     header.push_back("velocity_residual");
@@ -430,6 +470,9 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   for (const auto& [k, v] : inits) decided += fmt::format("init {}={}\n", k, v);
   for (const auto& [k, v] : ra.inputs) decided += fmt::format("input {}={}\n", k, v);
   if (trajectories) decided += fmt::format("trajectories {} {}\n", a.trajectories, fmt::join(trajectory_names, ","));
+  if (a.eig)
+    decided += fmt::format("eig t {} find {} steady {} keep {}\n", a.eig_t, fmt::join(a.find, ","), fmt::join(a.steady, ","),
+                           fmt::join(a.keep, ","));
   const std::string signature = "# mbsc sweep " + sha256_hex(decided);
   // Every rank needs the trajectories' folder (on a file system they share).
   std::error_code folder_error;
@@ -437,6 +480,17 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   if (ranks->all_min(!trajectories || fs::is_directory(a.trajectories, folder_error) ? 1 : 0) == 0)
     return fail(fmt::format("--trajectories: cannot create the folder '{}'{}", printable(a.trajectories),
                             folder_error ? " (" + folder_error.message() + ")" : std::string()));
+  // A sweep killed while rows were writing their trajectories leaves those files'
+  // temporaries (.row_R.csv.mbsc-tmp-XXXXXX, driver/staged_file.hpp); rank 0 removes them
+  // before any row of this sweep starts (the other ranks wait for it below).
+  if (trajectories && writer) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(a.trajectories, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(".row_", 0) == 0 && name.find(".csv.mbsc-tmp-") != std::string::npos && entry.is_regular_file(ec))
+        fs::remove(entry.path(), ec);
+    }
+  }
   PartialTable partial;
   partial.path = partial_path;
   // Rank 0 owns the files; the others learn from it where the sweep starts (-1: it cannot).
@@ -453,6 +507,17 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   const auto quaternions = projection_off ? std::vector<std::array<int, 4>>{} : unit_quaternion_indices(*m, T);
   auto run_row = [&](long r, const std::vector<double>& values) {
     RowResult res;
+    if (a.eig) {
+      if (ra.work.budget.seconds_left() <= 0) {  // the budget: this row is not done
+        res.status = "stopped";
+        return res;
+      }
+      EigenRow e = eigen_rows.row(row_values(values), symbolic);
+      res.summaries = std::move(e.values);
+      res.status = e.status;
+      res.message = without_error_prefix(e.message);
+      return res;
+    }
     res.summaries.assign(summaries.size(), kNan);
     std::vector<double> p, x0;
     std::vector<double> u(static_cast<std::size_t>(std::max(1, T.nin)), 0.0);
@@ -555,6 +620,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
     std::string line = std::to_string(r) + "," + std::to_string(row_seed);
     for (double v : values) line += "," + number_text(v);
     for (double v : res.summaries) line += "," + number_text(v);
+    if (a.eig) return line + "," + res.status + "," + csv_field(res.message) + "\n";
     line += "," + res.status + "," + number_text(res.t) + "," + std::to_string(res.steps) + "," + std::to_string(res.rhs_evals);
     if (constrained) line += "," + number_text(res.position_residual) + "," + number_text(res.velocity_residual);
     if (has_energy) line += "," + number_text(res.energy_change);
@@ -644,7 +710,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
         res = run_row(r, values);
       } catch (const std::exception& e) {  // (a thread must not let one escape)
         res = RowResult();
-        res.summaries.assign(summaries.size(), kNan);
+        res.summaries.assign(a.eig ? eigen_rows.columns().size() : summaries.size(), kNan);
         res.status = "failed";
         res.message = std::string("internal error: ") + e.what();
       }

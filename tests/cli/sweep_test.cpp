@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 // `mbsc sweep` as a user calls it: the rows a grid and samples make, each row equal to
 // `mbsc run` of its values alone, the same table from one thread or two, a killed sweep
-// continued to the same table, a failing row kept as data, and bad input refused with
-// nothing written.
+// continued to the same table, a failing row kept as data, bad input refused with
+// nothing written, and rows of eigenvalues (--eig) against the pendulum's closed form.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -146,6 +147,77 @@ TEST_CASE("mbsc sweep: rows from grids and samples, each equal to mbsc run of it
   r = run(sweep + " --rtol 1e-9 -o " + quote(resumed.string()));
   CHECK(r.exit_code == 1);
   CHECK(r.output.find("holds the rows of another sweep") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("mbsc sweep --eig: each row's eigenvalues, as the closed form and mbsc eig give them", "[cli][sweep][eig]") {
+  const fs::path dir = fresh_dir("sweep_eig");
+  write(dir / "pend.mbs", kPendulum);
+  const std::string base = kMbsc + " sweep " + quote((dir / "pend.mbs").string()) + " --cache-dir " +
+                           quote((dir / "cache").string()) + " --eig";
+  // Hanging (th = 0): +-i sqrt(g/l); upright (th = pi): +-sqrt(g/l), one unstable.
+  auto r = run(base + " --grid l=0.5:2:0.5 --grid arm.th=0,3.141592653589793 --threads 2 -o " +
+               quote((dir / "eig.csv").string()));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const Table t = read_table(dir / "eig.csv");
+  REQUIRE(t.rows.size() == 8);
+  CHECK(t.header == std::vector<std::string>{"row", "seed", "l", "arm.th", "max_real", "unstable", "cyclic", "eig1.re",
+                                             "eig1.im", "eig2.re", "eig2.im", "status", "message"});
+  for (std::size_t i = 0; i < 8; ++i) {
+    INFO("row " << i);
+    REQUIRE(t.at(i, "status") == "ok");
+    const double omega = std::sqrt(9.81 / std::stod(t.at(i, "l")));
+    const bool upright = std::stod(t.at(i, "arm.th")) > 1;
+    CHECK(std::stoi(t.at(i, "cyclic")) == 0);
+    CHECK(std::stoi(t.at(i, "unstable")) == (upright ? 1 : 0));
+    const double re1 = std::stod(t.at(i, "eig1.re")), im1 = std::stod(t.at(i, "eig1.im"));
+    const double re2 = std::stod(t.at(i, "eig2.re")), im2 = std::stod(t.at(i, "eig2.im"));
+    if (upright) {
+      CHECK(re1 == Approx(omega).epsilon(1e-9));
+      CHECK(re2 == Approx(-omega).epsilon(1e-9));
+      CHECK(std::fabs(im1) + std::fabs(im2) < 1e-9);
+      CHECK(std::stod(t.at(i, "max_real")) == re1);
+    } else {
+      CHECK(std::fabs(re1) + std::fabs(re2) < 1e-9 * omega);
+      CHECK(std::fabs(im1) == Approx(omega).epsilon(1e-9));
+      CHECK(im1 == Approx(-im2).epsilon(1e-12));
+    }
+  }
+  // The same rows as mbsc eig sweeping l (its columns re_k, im_k in rising real part).
+  r = run(kMbsc + " eig " + quote((dir / "pend.mbs").string()) + " --cache-dir " + quote((dir / "cache").string()) +
+          " --sweep l=0.5:2:0.5 --init arm.th=3.141592653589793 -q -o " + quote((dir / "eig_command.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  const Table e = read_table(dir / "eig_command.csv");
+  REQUIRE(e.rows.size() == 4);
+  for (std::size_t k = 0; k < 4; ++k) {
+    CHECK(e.at(k, "re_2") == t.at(2 * k + 1, "eig1.re"));
+    CHECK(e.at(k, "re_1") == t.at(2 * k + 1, "eig2.re"));
+  }
+  // A steady motion per row: from near the top, the search finds the upright equilibrium.
+  r = run(base + " --grid l=1,2 --init arm.th=3 --find arm.th --steady arm.w -o " + quote((dir / "found.csv").string()));
+  REQUIRE(r.exit_code == 0);
+  const Table f = read_table(dir / "found.csv");
+  REQUIRE(f.rows.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(std::stod(f.at(i, "found:arm.th")) == Approx(M_PI).epsilon(1e-10));
+    CHECK(f.at(i, "unstable") == "1");
+  }
+  // Options that belong to runs, or to --eig alone.
+  for (const auto& [args, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --grid l=1,2 --summary final", "the rows of --eig are eigenvalues, not runs"},
+           {" --grid l=1,2 --find arm.th", "--find names 1 unknown(s) and --steady 0 rate(s)"},
+           {" --grid l=0,1", "--eig: at the first row"}}) {
+    INFO(args);
+    r = run(base + args + " -o " + quote((dir / "bad.csv").string()));
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find(message) != std::string::npos);
+    CHECK(!fs::exists(dir / "bad.csv"));
+  }
+  r = run(kMbsc + " sweep " + quote((dir / "pend.mbs").string()) + " --grid l=1,2 --keep arm.th -o " +
+          quote((dir / "bad.csv").string()));
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("belong to --eig") != std::string::npos);
   fs::remove_all(dir);
 }
 

@@ -27,6 +27,9 @@ struct SweepArgs {
   int threads = 0;                     // --threads (0: every core)
   std::string out;                     // -o (default: <model name>_sweep.csv)
   std::string trajectories;            // --trajectories DIR: each row's CSV as mbsc run writes it (run.columns, run.large_output)
+  bool eig = false;                    // --eig: each row's eigenvalues of the linear model instead of a run
+  std::vector<std::string> find, steady, keep;  // with --eig: a steady motion per row; the minimal state's first components
+  double eig_t = 0.0;                  // with --eig: the reference time (--t)
 };
 
 int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err);
