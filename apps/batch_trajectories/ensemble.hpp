@@ -44,18 +44,7 @@ inline std::vector<double> column(const std::vector<double>& a, int rows, int n,
   return v;
 }
 
-/// The largest relative change of the total energy over the ensemble, from e0 (n values).
-inline double energy_drift(const Ensemble& e, const std::vector<double>& e0) {
-  double worst = 0.0;
-  for (int i = 0; i < e.n; ++i) {
-    const std::vector<double> x = column(e.x, dp::kNx, e.n, i), p = column(e.p, dp::kNp, e.n, i);
-    double E[3];
-    dp::energy(0.0, x.data(), nullptr, p.data(), E);
-    worst = std::fmax(worst, std::fabs(E[2] - e0[static_cast<std::size_t>(i)]) / std::fmax(1.0, std::fabs(e0[static_cast<std::size_t>(i)])));
-  }
-  return worst;
-}
-
+/// The total energy of each pendulum.
 inline std::vector<double> energies(const Ensemble& e) {
   std::vector<double> out(static_cast<std::size_t>(e.n));
   for (int i = 0; i < e.n; ++i) {
@@ -65,6 +54,15 @@ inline std::vector<double> energies(const Ensemble& e) {
     out[static_cast<std::size_t>(i)] = E[2];
   }
   return out;
+}
+
+/// The largest relative change of the total energy over the ensemble, from e0 (n values).
+inline double energy_drift(const Ensemble& e, const std::vector<double>& e0) {
+  const std::vector<double> now = energies(e);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < now.size(); ++i)
+    worst = std::fmax(worst, std::fabs(now[i] - e0[i]) / std::fmax(1.0, std::fabs(e0[i])));
+  return worst;
 }
 
 }  // namespace ensemble

@@ -35,6 +35,11 @@ std::string to_string(const SourcePos& pos) {
          std::to_string(pos.col);
 }
 
+std::string without_error_prefix(const std::string& message) {
+  const std::string prefix = "mbsc: error: ";
+  return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+}
+
 std::string printable(const std::string& text) {
   std::string out;
   out.reserve(text.size());

@@ -3,6 +3,7 @@
 #include "mbsc/run/csv_table.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fmt/format.h>
@@ -72,6 +73,22 @@ bool choose_columns(const std::vector<std::string>& available, const std::vector
     indices.push_back(found);
   }
   return true;
+}
+
+bool csv_columns(const std::vector<std::string>& available, const std::vector<std::string>& wanted,
+                 std::vector<int>& indices, std::string& error) {
+  if (wanted.empty()) {
+    indices.clear();
+    for (std::size_t i = 0; i < available.size(); ++i) indices.push_back(static_cast<int>(i));
+    return true;
+  }
+  std::vector<std::string> named = wanted;
+  if (named.front() != "t") named.insert(named.begin(), "t");
+  return choose_columns(available, named, indices, error);
+}
+
+double csv_bytes(double t_end, double dt_out, std::size_t columns) {
+  return (std::floor(t_end / dt_out) + 2) * (static_cast<double>(columns) * 21.0 + 1.0);
 }
 
 }  // namespace mbsc::run

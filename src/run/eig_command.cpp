@@ -116,9 +116,7 @@ int run_eig(const EigArgs& a, std::ostream& out, std::ostream& err) {
                               printable(name), did_you_mean(name, pool)));
   }
   const auto state_names = runtime::ModelTable::names_of(T.state_names, T.nx);
-  if (a.find.size() != a.steady.size())
-    return fail(fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", a.find.size(),
-                            a.steady.size()));
+  if (a.find.size() != a.steady.size()) return fail(find_steady_count_error(a.find.size(), a.steady.size()));
   if (std::find(a.find.begin(), a.find.end(), name) != a.find.end())
     return fail(fmt::format("--find {}: that is the swept value; a steady motion solves for other unknowns", printable(name)));
 

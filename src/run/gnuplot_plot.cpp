@@ -77,7 +77,7 @@ bool render(const std::string& script_body, const std::string& format, int width
   }
   driver::StagedFile file;
   if (!file.stage(image, r.output, "--plot", error) || !file.commit(error)) {
-    if (error.rfind("mbsc: error: ", 0) == 0) error = error.substr(13);
+    error = without_error_prefix(error);
     return false;
   }
   return true;

@@ -88,12 +88,16 @@ bool reference_state(const model::Model& m, const CompiledModel& c, const Refere
   return true;
 }
 
+std::string find_steady_count_error(std::size_t unknowns, std::size_t rates) {
+  return fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", unknowns, rates);
+}
+
 bool find_steady(const model::Model& m, const CompiledModel& c, ReferenceRequest& req, const std::vector<std::string>& unknowns,
                  const std::vector<std::string>& steady, LinearReference& ref, std::string& error) {
   const runtime::ModelTable& t = c.table();
   const int k = static_cast<int>(unknowns.size());
   if (k == 0 || static_cast<int>(steady.size()) != k) {
-    error = fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", k, steady.size());
+    error = find_steady_count_error(unknowns.size(), steady.size());
     return false;
   }
   const auto state = runtime::ModelTable::names_of(t.state_names, t.nx);

@@ -22,6 +22,7 @@
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/input_table.hpp"
+#include "mbsc/run/integration_settings.hpp"
 #include "mbsc/run/gnuplot_plot.hpp"
 #include "mbsc/run/integrators.hpp"
 #include "mbsc/run/model_integration.hpp"
@@ -65,14 +66,9 @@ class RunProgress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-
 }  // namespace
 
 std::vector<std::string> integrator_names() { return available_integrators(); }
-
-// Past this estimated size a CSV needs --large-output (about a gigabyte: 10^7 rows of a
-// bicycle's 50 columns are 11 GB).
-constexpr double kLargeOutputBytes = 1e9;
 
 bool check_integration_options(const RunArgs& a, std::string& error) {
   auto fail = [&](const std::string& message) {
@@ -80,7 +76,7 @@ bool check_integration_options(const RunArgs& a, std::string& error) {
     return false;
   };
   if (!(a.t_end > 0) || !std::isfinite(a.t_end)) return fail("--t-end must be a positive number of seconds");
-  const double dt_out = a.dt_out > 0 ? a.dt_out : a.t_end / 500;
+  const double dt_out = output_step(a);
   if (!std::isfinite(dt_out) || a.t_end / dt_out > 1e7)
     return fail("--dt-out gives more than 10 million output rows; choose a larger --dt-out");
   const auto known = integrator_names();
@@ -109,7 +105,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   // ---- options that need no model ----
   std::string option_error;
   if (!check_integration_options(a, option_error)) return fail(option_error);
-  const double dt_out = a.dt_out > 0 ? a.dt_out : a.t_end / 500;
+  const double dt_out = output_step(a);
   if (!a.plot.empty() && plot_format(a.plot).empty())
     return fail(fmt::format("--plot: '{}' should end in .svg or .png", printable(a.plot)));
 
@@ -151,20 +147,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     tables.emplace_back(static_cast<std::size_t>(in - m->inputs.begin()), std::move(table));
   }
 
-  CompileRequest req;
-  req.model_path = a.model;
-  req.multipliers = a.multipliers;
-  req.input_expressions = input_expressions;
-  req.cache_dir = a.cache_dir;
-  req.work = a.work;
-  req.minimal_state = a.minimal_state;
-  req.solver = a.solver;
-  // The Newton methods' matrices from the generated Jacobian (compiled only for them).
-  const bool newton_method = a.integrator == "bdf" || a.integrator == "ark-dirk";
-  const NewtonJacobian newton = a.newton_jacobian == "differences" ? NewtonJacobian::Differences
-                                : a.newton_jacobian == "sundials"  ? NewtonJacobian::Sundials
-                                                                   : NewtonJacobian::Generated;
-  req.rhs_jacobian = newton_method && newton == NewtonJacobian::Generated;
+  const CompileRequest req = compile_request(a, input_expressions);
   int code = 1;
   const auto compiled = compile_model(req, *m, sources, err, code);
   if (!compiled) return code;
@@ -213,13 +196,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   const std::vector<std::string>& available = output_rows.names();
   const std::size_t first_output = output_rows.first_output(), first_input = output_rows.first_input();
   std::vector<int> columns;
-  if (a.columns.empty()) {
-    for (std::size_t i = 0; i < available.size(); ++i) columns.push_back(static_cast<int>(i));
-  } else {
-    std::vector<std::string> wanted = a.columns;
-    if (wanted.front() != "t") wanted.insert(wanted.begin(), "t");
-    if (!choose_columns(available, wanted, columns, error)) return fail("--columns: " + error);
-  }
+  if (!csv_columns(available, a.columns, columns, error)) return fail("--columns: " + error);
   std::vector<std::string> column_names;
   for (int c : columns) column_names.push_back(available[static_cast<std::size_t>(c)]);
   std::vector<int> plotted;
@@ -242,7 +219,7 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   }
   // A CSV far larger than anyone reads is refused before the run, unless asked for.
   const double rows_expected = std::floor(a.t_end / dt_out) + 2;
-  const double bytes_expected = rows_expected * (static_cast<double>(column_names.size()) * 21.0 + 1.0);
+  const double bytes_expected = csv_bytes(a.t_end, dt_out, column_names.size());
   if (csv_path != "-" && bytes_expected > kLargeOutputBytes && !a.large_output)
     return fail(fmt::format("-o: the CSV would take about {:.3g} GB ({:.3g} rows of {} columns); choose a larger "
                             "--dt-out or fewer --columns, or pass --large-output to write it anyway",
@@ -255,28 +232,15 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
   NonFiniteColumns non_finite(column_names);
 
   // ---- integrate ----
-  runtime::StepperOptions so;
-  so.rtol = a.rtol;
-  so.atol = a.atol;
-  so.h = a.h > 0 ? a.h : (a.integrator == "rk4" ? dt_out / 10 : 0.0);
+  const runtime::StepperOptions so = stepper_options(a);
   auto input_fn = [&](double t, double* uu) {
     const int status = compiled->inputs(t, p.data(), uu);
     for (const auto& [k, table] : tables) uu[k] = table.at(t);
     return status;
   };
-  runtime::SimulationOptions sim;
-  sim.t0 = 0.0;
-  sim.t_end = a.t_end;
-  sim.dt_out = dt_out;
-  // auto: on for the complement form (the runtime's default), off for the multipliers
-  // form, which has its own stabilization (Baumgarte).
-  using Projection = runtime::SimulationOptions::Projection;
-  sim.projection = a.projection == "on" ? Projection::On
-                   : a.projection == "off" || T.multipliers ? Projection::Off : Projection::Auto;
-  const bool projecting = sim.projection != Projection::Off && T.nposc + T.nc > 0 && T.full_state_layout();
-  // Unit quaternions of rigid3d bodies: kept at |e| = 1 after each step (both forms)
-  // unless --projection off.
-  if (a.projection != "off") sim.unit_quaternions = unit_quaternion_indices(*m, T);
+  const runtime::SimulationOptions sim = simulation_options(a, *m, T);
+  const bool projecting =
+      sim.projection != runtime::SimulationOptions::Projection::Off && T.nposc + T.nc > 0 && T.full_state_layout();
   RunProgress progress(a.t_end, a.work.quiet);
   std::vector<double> row(columns.size()), all(available.size()), uu(u.size());
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -288,10 +252,10 @@ int run_simulation(const RunArgs& a, std::ostream& out, std::ostream& err) {
     non_finite.row(t, row);
     progress.update(t);
   };
-  // The time budget covers the whole command: the run stops where it runs out.
-  sim.stop_requested = [&](double) { return a.work.budget.seconds_left() <= 0; };
+  // (The time budget covers the whole command: the run stops where it runs out.)
   watch.note("integrating", "model " + m->name);
-  const Integration run = integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation, newton, input_fn);
+  const Integration run =
+      integrate(*compiled, p, x0, a.integrator, so, sim, observe, a.continuation, newton_jacobian(a), input_fn);
   const runtime::SimulationResult& r = run.result;
   const double cpu = run.cpu_seconds;
   progress.clear();

@@ -33,6 +33,7 @@
 #include "mbsc/run/compiled_model.hpp"
 #include "mbsc/run/csv_table.hpp"
 #include "mbsc/run/input_table.hpp"
+#include "mbsc/run/integration_settings.hpp"
 #include "mbsc/run/model_integration.hpp"
 #include "mbsc/run/output_guard.hpp"
 #include "mbsc/run/output_rows.hpp"
@@ -180,12 +181,6 @@ struct PartialTable {
 };
 
 /// A progress line on a terminal (or always with --progress, never with --quiet).
-/// A message for the table's message column: without the "mbsc: error: " of a whole line.
-std::string without_error_prefix(const std::string& message) {
-  const std::string prefix = "mbsc: error: ";
-  return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
-}
-
 class SweepProgress {
  public:
   SweepProgress(long rows, long done, driver::ProgressMode mode)
@@ -238,7 +233,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   const RunArgs& ra = a.run;
   std::string error;
   if (!check_integration_options(ra, error)) return fail(error);
-  const double dt_out = ra.dt_out > 0 ? ra.dt_out : ra.t_end / 500;
+  const double dt_out = output_step(ra);
 
   // ---- the rows ----
   SweepPlan plan;
@@ -270,9 +265,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
     if (!a.trajectories.empty()) return fail("--trajectories: the rows of --eig are eigenvalues, not runs");
     if (ra.multipliers || ra.minimal_state)
       return fail("--eig linearizes the complement form in a minimal state of its own: leave out --formulation and --state");
-    if (a.find.size() != a.steady.size())
-      return fail(fmt::format("--find names {} unknown(s) and --steady {} rate(s): give as many of each", a.find.size(),
-                              a.steady.size()));
+    if (a.find.size() != a.steady.size()) return fail(find_steady_count_error(a.find.size(), a.steady.size()));
   } else if (!parse_summaries(a.summaries.empty() ? std::vector<std::string>{"final"} : a.summaries, specs, error)) {
     return fail(error);
   }
@@ -309,19 +302,8 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   if (table_path == "-") return fail("-o: a sweep writes its table to a file (it appends as rows finish)");
   if (!check_outputs({{"-o", table_path}, {"-o", partial_path}}, sources, error)) return fail(error);
 
-  CompileRequest req;
-  req.model_path = ra.model;
-  req.multipliers = ra.multipliers;
-  req.input_expressions = ra.inputs;
-  req.cache_dir = ra.cache_dir;
-  req.work = ra.work;
-  req.minimal_state = ra.minimal_state;
-  req.solver = ra.solver;
-  const bool newton_method = ra.integrator == "bdf" || ra.integrator == "ark-dirk";
-  const NewtonJacobian newton = ra.newton_jacobian == "differences" ? NewtonJacobian::Differences
-                                : ra.newton_jacobian == "sundials"  ? NewtonJacobian::Sundials
-                                                                    : NewtonJacobian::Generated;
-  req.rhs_jacobian = newton_method && newton == NewtonJacobian::Generated;
+  const CompileRequest req = compile_request(ra, ra.inputs);  // (the inputs are expressions, checked above)
+  const NewtonJacobian newton = newton_jacobian(ra);
   int code = 1;
   // Under MPI rank 0 compiles (or finds the cache) before the others read the cache; a
   // rank that cannot ends them all.
@@ -412,21 +394,14 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
   std::vector<std::string> trajectory_names;
   if (!trajectories && !ra.columns.empty()) return fail("--columns: the trajectories' columns; give --trajectories DIR too");
   if (trajectories) {
-    if (ra.columns.empty()) {
-      for (std::size_t i = 0; i < names.size(); ++i) trajectory_columns.push_back(static_cast<int>(i));
-    } else {
-      std::vector<std::string> wanted = ra.columns;
-      if (wanted.front() != "t") wanted.insert(wanted.begin(), "t");
-      if (!choose_columns(names, wanted, trajectory_columns, error)) return fail("--columns: " + error);
-    }
+    if (!csv_columns(names, ra.columns, trajectory_columns, error)) return fail("--columns: " + error);
     for (int c : trajectory_columns) trajectory_names.push_back(names[static_cast<std::size_t>(c)]);
     std::error_code ec;
     if (fs::exists(a.trajectories, ec) && !fs::is_directory(a.trajectories, ec))
       return fail(fmt::format("--trajectories: '{}' is not a folder", printable(a.trajectories)));
     // As mbsc run: output far larger than anyone reads is refused unless asked for.
-    const double bytes = static_cast<double>(rows) * (std::floor(ra.t_end / dt_out) + 2) *
-                         (static_cast<double>(trajectory_names.size()) * 21.0 + 1.0);
-    if (bytes > 1e9 && !ra.large_output)
+    const double bytes = static_cast<double>(rows) * csv_bytes(ra.t_end, dt_out, trajectory_names.size());
+    if (bytes > kLargeOutputBytes && !ra.large_output)
       return fail(fmt::format("--trajectories: {} rows of trajectories would take about {:.3g} GB; choose a larger "
                               "--dt-out or fewer --columns, or pass --large-output to write them anyway",
                               rows, bytes / 1e9));
@@ -503,8 +478,8 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
 
   // ---- one row ----
   std::mutex symbolic;  // GiNaC: one row's start at a time
-  const bool projection_off = ra.projection == "off";
-  const auto quaternions = projection_off ? std::vector<std::array<int, 4>>{} : unit_quaternion_indices(*m, T);
+  const runtime::StepperOptions stepper = stepper_options(ra);
+  const runtime::SimulationOptions simulation = simulation_options(ra, *m, T);  // (the same for every row)
   auto run_row = [&](long r, const std::vector<double>& values) {
     RowResult res;
     if (a.eig) {
@@ -555,20 +530,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
       }
     }
     // The integration: the compiled model only, no lock.
-    runtime::StepperOptions so;
-    so.rtol = ra.rtol;
-    so.atol = ra.atol;
-    so.h = ra.h > 0 ? ra.h : (ra.integrator == "rk4" ? dt_out / 10 : 0.0);
     auto input_fn = [&](double t, double* uu) { return compiled->inputs(t, p.data(), uu); };
-    runtime::SimulationOptions sim;
-    sim.t0 = 0.0;
-    sim.t_end = ra.t_end;
-    sim.dt_out = dt_out;
-    using Projection = runtime::SimulationOptions::Projection;
-    sim.projection = ra.projection == "on" ? Projection::On
-                     : projection_off || T.multipliers ? Projection::Off : Projection::Auto;
-    sim.unit_quaternions = quaternions;
-    sim.stop_requested = [&](double) { return ra.work.budget.seconds_left() <= 0; };
     CsvTable trajectory;  // (uncommitted, e.g. when the budget stops the row, it is removed)
     std::string write_error;
     if (trajectories && !trajectory.open(trajectory_path(r), trajectory_names, write_error)) {
@@ -594,7 +556,7 @@ int run_sweep(const SweepArgs& a, std::ostream& out, std::ostream& err_stream) {
         else if (!std::isnan(energy)) acc[k].add(summaries[k].kind, std::fabs(energy - rows_of_run.initial_energy()));  // as the column
       }
     };
-    const Integration run = integrate(*compiled, p, x0, ra.integrator, so, sim, observe, ra.continuation, newton, input_fn);
+    const Integration run = integrate(*compiled, p, x0, ra.integrator, stepper, simulation, observe, ra.continuation, newton, input_fn);
     const runtime::SimulationResult& sr = run.result;
     res.t = sr.t;
     res.steps = run.stats.steps;

@@ -19,7 +19,7 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 }
 
 SweepEigenRows::SweepEigenRows(const model::Model& m, const CompiledModel& compiled, EigenRowOptions options)
-    : m_(m), compiled_(compiled), o_(std::move(options)) {}
+    : m_(m), compiled_(compiled), parts_(parts_of(compiled, m)), o_(std::move(options)) {}
 
 bool SweepEigenRows::eigenvalues(const std::map<std::string, double>& values, std::mutex* symbolic,
                                  std::vector<std::complex<double>>& eig, std::vector<double>& found, int& cyclic,
@@ -41,7 +41,7 @@ bool SweepEigenRows::eigenvalues(const std::map<std::string, double>& values, st
   for (const auto& name : o_.find) found.push_back(r.overrides.at(name));
   status = "failed";
   runtime::LinearModel lin;
-  if (runtime::linear_model(parts_of(compiled_, m_), r.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, why) != 0)
+  if (runtime::linear_model(parts_, r.t, ref.x.data(), ref.u.data(), ref.p.data(), lin, why) != 0)
     return false;
   std::vector<int> sel;
   if (!minimal_state(lin, compiled_.table(), o_.keep, sel, why)) return false;

@@ -51,4 +51,8 @@ std::string printable(const std::string& text);
 /// "file:line:col" (or "file" when line is 0).
 std::string to_string(const SourcePos& pos);
 
+/// A message without the "mbsc: error: " that begins a whole error line, for a caller
+/// that puts it into a sentence or a table cell of its own.
+std::string without_error_prefix(const std::string& message);
+
 }  // namespace mbsc

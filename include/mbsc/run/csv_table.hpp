@@ -44,4 +44,18 @@ class CsvTable {
 bool choose_columns(const std::vector<std::string>& available, const std::vector<std::string>& wanted,
                     std::vector<int>& indices, std::string& error);
 
+/// A run's CSV columns (--columns): every available one when `wanted` is empty, else t
+/// (first, whether named or not) and those named; false with choose_columns' `error`.
+bool csv_columns(const std::vector<std::string>& available, const std::vector<std::string>& wanted,
+                 std::vector<int>& indices, std::string& error);
+
+/// A CSV far larger than anyone reads is refused before the run unless asked for
+/// (--large-output): above this many bytes, as estimated by csv_bytes (about a gigabyte:
+/// 10^7 rows of a bicycle's 50 columns are 11 GB).
+constexpr double kLargeOutputBytes = 1e9;
+
+/// About how many bytes a run's CSV takes: its rows (t = 0, then every dt_out to t_end)
+/// of `columns` numbers of up to 21 characters.
+double csv_bytes(double t_end, double dt_out, std::size_t columns);
+
 }  // namespace mbsc::run

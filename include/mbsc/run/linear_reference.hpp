@@ -50,6 +50,10 @@ runtime::LinearParts parts_of(const CompiledModel& c, const model::Model& m);
 bool reference_state(const model::Model& m, const CompiledModel& c, const ReferenceRequest& req, LinearReference& ref,
                      std::string& error);
 
+/// The error for --find unknowns and --steady rates whose numbers differ (each unknown
+/// needs a rate that vanishes).
+std::string find_steady_count_error(std::size_t unknowns, std::size_t rates);
+
 /// A steady motion: the values of `unknowns` (coordinates or speeds of the state, --let
 /// names or parameters) that make the rates of `steady` (state components) vanish, by
 /// Newton's method from the request's own values (finite-difference Jacobian, each

@@ -51,6 +51,7 @@ class SweepEigenRows {
 
   const model::Model& m_;
   const CompiledModel& compiled_;
+  runtime::LinearParts parts_;  // the compiled model's linear parts, taken once
   EigenRowOptions o_;
   int n_ = 0;
   std::vector<std::string> columns_;
